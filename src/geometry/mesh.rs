@@ -1,0 +1,138 @@
+//! A closed polygon mesh: vertex positions and faces as index loops (CCW seen from outside).
+
+use super::{Point3, Vector3};
+use serde::{Deserialize, Serialize};
+
+/// Polygon mesh. Faces may have any number of vertices and may be non-convex; after
+/// [`repair`](super::repair) they are planar, the mesh is closed, manifold and outward oriented.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Mesh {
+    pub vertices: Vec<Point3>,
+    pub faces: Vec<Vec<usize>>,
+}
+
+/// Axis-aligned bounding box.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Aabb3 {
+    pub min: Point3,
+    pub max: Point3,
+}
+
+impl Aabb3 {
+    /// The empty box (min = +inf, max = -inf); `extend` grows it.
+    pub fn empty() -> Self {
+        Self {
+            min: Point3::from(Vector3::repeat(f64::INFINITY)),
+            max: Point3::from(Vector3::repeat(f64::NEG_INFINITY)),
+        }
+    }
+
+    pub fn from_points<'a>(points: impl IntoIterator<Item = &'a Point3>) -> Self {
+        let mut b = Self::empty();
+        for p in points {
+            b.extend(p);
+        }
+        b
+    }
+
+    pub fn extend(&mut self, p: &Point3) {
+        self.min = self.min.inf(p);
+        self.max = self.max.sup(p);
+    }
+
+    pub fn merge(&mut self, other: &Aabb3) {
+        self.min = self.min.inf(&other.min);
+        self.max = self.max.sup(&other.max);
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.min.x > self.max.x
+    }
+
+    /// Length of the diagonal (0 for the empty box).
+    pub fn diagonal(&self) -> f64 {
+        if self.is_empty() { 0.0 } else { (self.max - self.min).norm() }
+    }
+
+    pub fn loosened(&self, margin: f64) -> Self {
+        let m = Vector3::repeat(margin);
+        Self { min: self.min - m, max: self.max + m }
+    }
+
+    pub fn intersects(&self, other: &Aabb3) -> bool {
+        (0..3).all(|k| self.min[k] <= other.max[k] && other.min[k] <= self.max[k])
+    }
+}
+
+impl Mesh {
+    pub fn new(vertices: Vec<Point3>, faces: Vec<Vec<usize>>) -> Self {
+        Self { vertices, faces }
+    }
+
+    /// Axis-aligned box `[min, max]` as a closed mesh (6 quads, outward CCW).
+    pub fn cuboid(min: Point3, max: Point3) -> Self {
+        let v = |x: bool, y: bool, z: bool| {
+            Point3::new(
+                if x { max.x } else { min.x },
+                if y { max.y } else { min.y },
+                if z { max.z } else { min.z },
+            )
+        };
+        let vertices = vec![
+            v(false, false, false),
+            v(true, false, false),
+            v(true, true, false),
+            v(false, true, false),
+            v(false, false, true),
+            v(true, false, true),
+            v(true, true, true),
+            v(false, true, true),
+        ];
+        let faces = vec![
+            vec![0, 3, 2, 1],
+            vec![4, 5, 6, 7],
+            vec![0, 1, 5, 4],
+            vec![1, 2, 6, 5],
+            vec![2, 3, 7, 6],
+            vec![3, 0, 4, 7],
+        ];
+        Self { vertices, faces }
+    }
+
+    /// Prism: a CCW (seen from +z) planar polygon at z = z0 extruded to z = z1 > z0.
+    /// The polygon may be non-convex; side faces are quads, caps are single polygon faces.
+    pub fn extrude_z(polygon: &[[f64; 2]], z0: f64, z1: f64) -> Self {
+        let n = polygon.len();
+        let mut vertices: Vec<Point3> =
+            polygon.iter().map(|p| Point3::new(p[0], p[1], z0)).collect();
+        vertices.extend(polygon.iter().map(|p| Point3::new(p[0], p[1], z1)));
+        let mut faces = vec![(0..n).rev().collect::<Vec<_>>(), (n..2 * n).collect()];
+        for i in 0..n {
+            let j = (i + 1) % n;
+            faces.push(vec![i, j, n + j, n + i]);
+        }
+        Self { vertices, faces }
+    }
+
+    pub fn aabb(&self) -> Aabb3 {
+        Aabb3::from_points(&self.vertices)
+    }
+
+    /// The face's vertex positions in order.
+    pub fn face_points(&self, f: usize) -> impl Iterator<Item = Point3> + '_ {
+        self.faces[f].iter().map(|&i| self.vertices[i])
+    }
+
+    /// Every vertex mapped by an affine map `p -> s * p + t` (s > 0 keeps orientation).
+    pub fn scaled_translated(&self, s: f64, t: Vector3) -> Self {
+        Self {
+            vertices: self.vertices.iter().map(|p| Point3::from(p.coords * s + t)).collect(),
+            faces: self.faces.clone(),
+        }
+    }
+
+    /// Every vertex mapped by `f` (faces unchanged).
+    pub fn map_points(&self, f: impl Fn(&Point3) -> Point3) -> Self {
+        Self { vertices: self.vertices.iter().map(f).collect(), faces: self.faces.clone() }
+    }
+}

@@ -1,0 +1,76 @@
+//! Tolerances relative to the model size.
+//!
+//! Every length tolerance is a fraction of the model's bounding-box diagonal (`scale`), every
+//! area tolerance a fraction of `scale²`, so a scene in millimetres and the same scene in
+//! metres give the same welds, interfaces and verdicts.
+
+use serde::{Deserialize, Serialize};
+
+/// Relative tolerances (dimensionless). Defaults in the field docs.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct Tolerances {
+    /// Vertices closer than `weld * scale` are merged. Default 1e-7.
+    pub weld: f64,
+    /// A face whose vertices leave its best-fit plane by more than `planarity * scale` is
+    /// triangulated (with a warning); flatter faces are used with their best-fit plane.
+    /// Default 1e-2 (cut stone data such as the Armadillo vault has faces 1.5 cm out of plane
+    /// on a 20 m model; triangulating them would break their contact with the neighbours).
+    pub planarity: f64,
+    /// Two faces are coplanar when every vertex of each is within `coplanar * scale` of the
+    /// other's plane. Default 3e-3 (3 mm on a 1 m model): the BRG dome and Armadillo data have
+    /// joints up to 2.9 cm open on 10–20 m models. Tighten it for exact CAD geometry.
+    pub coplanar: f64,
+    /// Two faces are opposite when the angle between one's normal and the reverse of the
+    /// other's is below this, in degrees. Default 6 (the dome and Armadillo data have joints
+    /// up to 5.6° open); for large faces the coplanarity test is the stricter one.
+    pub angle_deg: f64,
+    /// An overlap piece is an interface when its area is at least `min_area` times the smaller
+    /// of the two face areas and at least `min_area * 1e-4 * scale²`. Default 1e-3.
+    pub min_area: f64,
+    /// A block whose volume is below `min_volume * (block diagonal)³` is rejected. Default 1e-9.
+    pub min_volume: f64,
+}
+
+impl Default for Tolerances {
+    fn default() -> Self {
+        Self {
+            weld: 1e-7,
+            planarity: 1e-2,
+            coplanar: 3e-3,
+            angle_deg: 6.0,
+            min_area: 1e-3,
+            min_volume: 1e-9,
+        }
+    }
+}
+
+/// Tolerances resolved to absolute values for one model of size `scale`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AbsTolerances {
+    pub scale: f64,
+    pub weld: f64,
+    pub planarity: f64,
+    pub coplanar: f64,
+    /// cos of the angle tolerance: faces are opposite when `n_a · n_b <= -cos_angle`.
+    pub cos_angle: f64,
+    pub min_area_rel: f64,
+    pub min_area_abs: f64,
+    pub min_volume_rel: f64,
+}
+
+impl Tolerances {
+    /// Absolute tolerances for a model whose bounding-box diagonal is `scale` (> 0).
+    pub fn resolve(&self, scale: f64) -> AbsTolerances {
+        AbsTolerances {
+            scale,
+            weld: self.weld * scale,
+            planarity: self.planarity * scale,
+            coplanar: self.coplanar * scale,
+            cos_angle: self.angle_deg.to_radians().cos(),
+            min_area_rel: self.min_area,
+            min_area_abs: self.min_area * 1e-4 * scale * scale,
+            min_volume_rel: self.min_volume,
+        }
+    }
+}

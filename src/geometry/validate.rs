@@ -1,0 +1,278 @@
+//! Mesh validation and repair: weld, drop collapsed faces, check closed and manifold, make the
+//! orientation consistent and outward, triangulate non-planar faces, reject degenerate solids.
+//!
+//! Errors name the face or vertex (indices into the mesh as given); the caller adds the file and
+//! block. Repairs that change the mesh are returned as warnings, never done silently.
+
+use super::polygon::{Frame, area_vector, planarity_deviation};
+use super::tolerances::AbsTolerances;
+use super::{MassProperties, Mesh, Point3};
+use std::collections::{HashMap, VecDeque};
+use thiserror::Error;
+
+/// Why a mesh cannot be used as a block.
+#[derive(Debug, Error, Clone, PartialEq)]
+pub enum MeshError {
+    #[error("the mesh is empty ({vertices} vertices, {faces} faces); a block needs a closed surface")]
+    Empty { vertices: usize, faces: usize },
+    #[error("vertex {vertex} has a non-finite coordinate {coords:?}")]
+    NonFinite { vertex: usize, coords: [f64; 3] },
+    #[error("face {face} refers to vertex {index}, but there are only {count} vertices")]
+    BadIndex { face: usize, index: usize, count: usize },
+    #[error("face {face} has {count} vertices; a face needs at least 3")]
+    TooFewVertices { face: usize, count: usize },
+    #[error(
+        "the mesh is not closed: edge ({a}, {b}) of face {face} has no neighbouring face (a hole in the surface)"
+    )]
+    Open { face: usize, a: usize, b: usize },
+    #[error("the mesh is not manifold: edge ({a}, {b}) is shared by {count} faces (first: face {face})")]
+    NonManifold { face: usize, a: usize, b: usize, count: usize },
+    #[error(
+        "faces {face} and {other} cannot be oriented consistently (a one-sided surface, e.g. a Möbius strip)"
+    )]
+    NonOrientable { face: usize, other: usize },
+    #[error("the enclosed volume {volume:e} is zero or too small for the block's size (flat or degenerate mesh)")]
+    ZeroVolume { volume: f64 },
+}
+
+/// A repair that changed the mesh.
+#[derive(Debug, Clone, PartialEq)]
+pub enum MeshWarning {
+    Welded { merged: usize },
+    DroppedFace { face: usize, why: &'static str },
+    FlippedFaces { count: usize },
+    InvertedOrientation,
+    Triangulated { face: usize, deviation: f64 },
+}
+
+impl std::fmt::Display for MeshWarning {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            MeshWarning::Welded { merged } => write!(f, "welded {merged} duplicate vertices"),
+            MeshWarning::DroppedFace { face, why } => write!(f, "dropped face {face}: {why}"),
+            MeshWarning::FlippedFaces { count } => {
+                write!(f, "flipped {count} faces to make the orientation consistent")
+            }
+            MeshWarning::InvertedOrientation => {
+                write!(f, "the faces were oriented inwards; flipped all of them")
+            }
+            MeshWarning::Triangulated { face, deviation } => {
+                write!(f, "face {face} is not planar (deviation {deviation:e}); triangulated it")
+            }
+        }
+    }
+}
+
+/// A valid mesh and what was changed to get it.
+#[derive(Debug, Clone)]
+pub struct Repaired {
+    pub mesh: Mesh,
+    pub mass: MassProperties,
+    pub warnings: Vec<MeshWarning>,
+}
+
+/// Validates and repairs `mesh` with tolerances resolved for the model's size.
+pub fn repair(mesh: &Mesh, tol: &AbsTolerances) -> Result<Repaired, MeshError> {
+    if mesh.vertices.is_empty() || mesh.faces.is_empty() {
+        return Err(MeshError::Empty { vertices: mesh.vertices.len(), faces: mesh.faces.len() });
+    }
+    for (i, p) in mesh.vertices.iter().enumerate() {
+        if !p.iter().all(|c| c.is_finite()) {
+            return Err(MeshError::NonFinite { vertex: i, coords: [p.x, p.y, p.z] });
+        }
+    }
+    for (f, face) in mesh.faces.iter().enumerate() {
+        if face.len() < 3 {
+            return Err(MeshError::TooFewVertices { face: f, count: face.len() });
+        }
+        if let Some(&index) = face.iter().find(|&&i| i >= mesh.vertices.len()) {
+            return Err(MeshError::BadIndex { face: f, index, count: mesh.vertices.len() });
+        }
+    }
+    let mut warnings = Vec::new();
+    let (vertices, remap, merged) = weld(&mesh.vertices, tol.weld);
+    if merged > 0 {
+        warnings.push(MeshWarning::Welded { merged });
+    }
+    // Faces in welded indices; `origin[k]` is the input face index of face k (for messages).
+    let mut faces = Vec::with_capacity(mesh.faces.len());
+    let mut origin = Vec::with_capacity(mesh.faces.len());
+    for (f, face) in mesh.faces.iter().enumerate() {
+        let mut loop_: Vec<usize> = Vec::with_capacity(face.len());
+        for &i in face {
+            let j = remap[i];
+            if loop_.last() != Some(&j) {
+                loop_.push(j);
+            }
+        }
+        while loop_.len() > 1 && loop_.first() == loop_.last() {
+            loop_.pop();
+        }
+        if loop_.len() < 3 {
+            warnings.push(MeshWarning::DroppedFace { face: f, why: "collapsed by welding" });
+            continue;
+        }
+        faces.push(loop_);
+        origin.push(f);
+    }
+    orient_consistently(&mut faces, &origin, &mut warnings)?;
+    let mut out = Mesh { vertices, faces };
+    let mut mass = MassProperties::of_mesh(&out);
+    if mass.volume < 0.0 {
+        for face in &mut out.faces {
+            face.reverse();
+        }
+        warnings.push(MeshWarning::InvertedOrientation);
+        mass = MassProperties::of_mesh(&out);
+    }
+    let diag = out.aabb().diagonal();
+    if !(mass.volume > tol.min_volume_rel * diag.powi(3)) {
+        return Err(MeshError::ZeroVolume { volume: mass.volume });
+    }
+    triangulate_non_planar(&mut out, &origin, tol.planarity, &mut warnings);
+    Ok(Repaired { mesh: out, mass, warnings })
+}
+
+/// Merges vertices closer than `tol` (grid hashing with cell size `tol`, neighbours checked).
+/// Returns the kept vertices, the map old index → new index and the number merged.
+fn weld(points: &[Point3], tol: f64) -> (Vec<Point3>, Vec<usize>, usize) {
+    let cell = |p: &Point3| -> [i64; 3] {
+        let c = |x: f64| (x / tol).floor() as i64;
+        [c(p.x), c(p.y), c(p.z)]
+    };
+    let mut grid: HashMap<[i64; 3], Vec<usize>> = HashMap::with_capacity(points.len());
+    let mut kept: Vec<Point3> = Vec::with_capacity(points.len());
+    let mut remap = Vec::with_capacity(points.len());
+    for p in points {
+        let k = cell(p);
+        let mut found = None;
+        'search: for dx in -1..=1 {
+            for dy in -1..=1 {
+                for dz in -1..=1 {
+                    if let Some(list) = grid.get(&[k[0] + dx, k[1] + dy, k[2] + dz]) {
+                        if let Some(&j) = list.iter().find(|&&j| (kept[j] - p).norm() <= tol) {
+                            found = Some(j);
+                            break 'search;
+                        }
+                    }
+                }
+            }
+        }
+        let j = found.unwrap_or_else(|| {
+            kept.push(*p);
+            grid.entry(k).or_default().push(kept.len() - 1);
+            kept.len() - 1
+        });
+        remap.push(j);
+    }
+    let merged = points.len() - kept.len();
+    (kept, remap, merged)
+}
+
+/// Checks that every edge has exactly two faces and flips faces (breadth first from face 0 of
+/// each connected patch) until every edge is used once in each direction.
+fn orient_consistently(
+    faces: &mut [Vec<usize>],
+    origin: &[usize],
+    warnings: &mut Vec<MeshWarning>,
+) -> Result<(), MeshError> {
+    // undirected edge -> [(face, forward?)]
+    let mut edges: HashMap<(usize, usize), Vec<(usize, bool)>> = HashMap::new();
+    for (f, face) in faces.iter().enumerate() {
+        for k in 0..face.len() {
+            let (a, b) = (face[k], face[(k + 1) % face.len()]);
+            let key = (a.min(b), a.max(b));
+            edges.entry(key).or_default().push((f, a < b));
+        }
+    }
+    // Report the first offending edge in face order, deterministically.
+    for (f, face) in faces.iter().enumerate() {
+        for k in 0..face.len() {
+            let (a, b) = (face[k], face[(k + 1) % face.len()]);
+            let uses = &edges[&(a.min(b), a.max(b))];
+            match uses.len() {
+                2 => {}
+                1 => return Err(MeshError::Open { face: origin[f], a, b }),
+                count => {
+                    return Err(MeshError::NonManifold { face: origin[uses[0].0], a, b, count });
+                }
+            }
+        }
+    }
+    let n = faces.len();
+    let mut flip: Vec<Option<bool>> = vec![None; n];
+    let mut queue = VecDeque::new();
+    for seed in 0..n {
+        if flip[seed].is_some() {
+            continue;
+        }
+        flip[seed] = Some(false);
+        queue.push_back(seed);
+        while let Some(f) = queue.pop_front() {
+            let face = &faces[f];
+            for k in 0..face.len() {
+                let (a, b) = (face[k], face[(k + 1) % face.len()]);
+                for &(g, g_forward) in &edges[&(a.min(b), a.max(b))] {
+                    if g == f {
+                        continue;
+                    }
+                    // Consistent neighbours traverse the shared edge in opposite directions.
+                    let f_dir = (a < b) != flip[f].unwrap();
+                    let needed = g_forward == f_dir; // same direction: g must be flipped
+                    match flip[g] {
+                        None => {
+                            flip[g] = Some(needed);
+                            queue.push_back(g);
+                        }
+                        Some(x) if x != needed => {
+                            return Err(MeshError::NonOrientable { face: origin[f], other: origin[g] });
+                        }
+                        _ => {}
+                    }
+                }
+            }
+        }
+    }
+    let count = flip.iter().filter(|x| **x == Some(true)).count();
+    if count > 0 {
+        for (face, fl) in faces.iter_mut().zip(&flip) {
+            if *fl == Some(true) {
+                face.reverse();
+            }
+        }
+        // Flipping the larger part is the same repair as flipping the smaller one plus a global
+        // inversion; report the smaller number so the warning describes the actual defect.
+        warnings.push(MeshWarning::FlippedFaces { count: count.min(n - count) });
+    }
+    Ok(())
+}
+
+/// Replaces faces that leave their plane by more than `tol` with ear-clipped triangles.
+fn triangulate_non_planar(mesh: &mut Mesh, origin: &[usize], tol: f64, warnings: &mut Vec<MeshWarning>) {
+    let mut out = Vec::with_capacity(mesh.faces.len());
+    let mut earcut = earcut::Earcut::new();
+    let mut tris: Vec<usize> = Vec::new();
+    for (k, face) in mesh.faces.iter().enumerate() {
+        let pts: Vec<Point3> = face.iter().map(|&i| mesh.vertices[i]).collect();
+        let deviation = planarity_deviation(&pts);
+        if face.len() <= 3 || deviation <= tol {
+            out.push(face.clone());
+            continue;
+        }
+        let frame = Frame::from_normal(pts[0], area_vector(&pts));
+        earcut.earcut(pts.iter().map(|p| frame.to_2d(p)), &[] as &[usize], &mut tris);
+        if tris.is_empty() {
+            // Ear clipping failed (self-overlapping projection): fall back to a fan.
+            tris = (1..face.len() - 1).flat_map(|i| [0, i, i + 1]).collect();
+        }
+        let p2: Vec<[f64; 2]> = pts.iter().map(|p| frame.to_2d(p)).collect();
+        for t in tris.chunks(3) {
+            // Keep the face's orientation whatever the triangulator's winding.
+            let ccw = super::polygon::signed_area_2d(&[p2[t[0]], p2[t[1]], p2[t[2]]]) >= 0.0;
+            let (b, c) = if ccw { (t[1], t[2]) } else { (t[2], t[1]) };
+            out.push(vec![face[t[0]], face[b], face[c]]);
+        }
+        warnings.push(MeshWarning::Triangulated { face: origin[k], deviation });
+    }
+    mesh.faces = out;
+}

@@ -1,0 +1,169 @@
+//! compas 2 `Assembly` JSON (compas_assembly, compas_cra): blocks, supports and the stored
+//! interfaces (and forces, where the file was saved after a solve).
+//!
+//! Layout: `data.graph.data.node[key].block.data.{vertex, face}` with `vertex[k] = {x, y, z}`
+//! and `face[f] = [vertex keys]`; `node[key].is_support`; `data.graph.data.edge[u][v].interfaces`
+//! with `points`, `frame` (`point`, `xaxis`, `yaxis`; normal = xaxis × yaxis, the outward normal
+//! of u's face) and optional `forces` (`c_np`, `c_nn`, `c_u`, `c_v` per point). Block names are
+//! the node keys. compas files carry no density or units: the scene gets the default material.
+
+use super::IoError;
+use crate::geometry::{Mesh, Point3, Vector3};
+use crate::model::{Block, Scene};
+use serde_json::Value;
+use std::collections::HashMap;
+use std::path::Path;
+
+/// True when the JSON value looks like a compas Assembly.
+pub fn is_compas(value: &Value) -> bool {
+    value.pointer("/data/graph/data/node").is_some()
+}
+
+/// An interface as stored by compas, for comparison.
+#[derive(Clone, Debug)]
+pub struct StoredInterface {
+    pub u: String,
+    pub v: String,
+    pub points: Vec<Point3>,
+    /// xaxis × yaxis of the stored frame.
+    pub normal: Vector3,
+    /// Per point `[c_np, c_nn, c_u, c_v]` along (n, n, xaxis, yaxis), when stored.
+    pub forces: Option<Vec<[f64; 4]>>,
+    pub xaxis: Vector3,
+    pub yaxis: Vector3,
+}
+
+fn graph<'a>(path: &Path, value: &'a Value) -> Result<&'a Value, IoError> {
+    value
+        .pointer("/data/graph/data")
+        .ok_or_else(|| IoError::format(path, "not a compas Assembly: no data.graph.data"))
+}
+
+/// Node keys in a deterministic order: numeric keys by value, then the others by text.
+fn sorted_keys(map: &serde_json::Map<String, Value>) -> Vec<&String> {
+    let mut keys: Vec<&String> = map.keys().collect();
+    keys.sort_by(|a, b| match (a.parse::<i64>(), b.parse::<i64>()) {
+        (Ok(x), Ok(y)) => x.cmp(&y),
+        (Ok(_), Err(_)) => std::cmp::Ordering::Less,
+        (Err(_), Ok(_)) => std::cmp::Ordering::Greater,
+        _ => a.cmp(b),
+    });
+    keys
+}
+
+/// Reads the blocks and supports of a compas Assembly.
+pub fn scene_from_value(path: &Path, value: &Value) -> Result<Scene, IoError> {
+    let g = graph(path, value)?;
+    let nodes = g
+        .get("node")
+        .and_then(Value::as_object)
+        .ok_or_else(|| IoError::format(path, "data.graph.data.node is not an object"))?;
+    let mut blocks = Vec::with_capacity(nodes.len());
+    for key in sorted_keys(nodes) {
+        let node = &nodes[key];
+        let mesh = node
+            .pointer("/block/data")
+            .ok_or_else(|| IoError::format(path, format!("node '{key}' has no block mesh")))
+            .and_then(|m| mesh_from_value(path, key, m))?;
+        let support = node.get("is_support").and_then(Value::as_bool).unwrap_or(false);
+        blocks.push(Block { name: key.clone(), mesh, support, density: None });
+    }
+    Ok(Scene::new(super::stem(path), blocks))
+}
+
+fn mesh_from_value(path: &Path, key: &str, m: &Value) -> Result<Mesh, IoError> {
+    let bad = |what: String| IoError::format(path, format!("block '{key}': {what}"));
+    let verts = m.get("vertex").and_then(Value::as_object).ok_or_else(|| bad("no vertex table".into()))?;
+    let faces = m.get("face").and_then(Value::as_object).ok_or_else(|| bad("no face table".into()))?;
+    let mut index = HashMap::with_capacity(verts.len());
+    let mut vertices = Vec::with_capacity(verts.len());
+    for vk in sorted_keys(verts) {
+        let v = &verts[vk];
+        let c = |axis: &str| -> Result<f64, IoError> {
+            v.get(axis)
+                .and_then(Value::as_f64)
+                .ok_or_else(|| bad(format!("vertex '{vk}' has no numeric '{axis}'")))
+        };
+        index.insert(vk.as_str(), vertices.len());
+        vertices.push(Point3::new(c("x")?, c("y")?, c("z")?));
+    }
+    let mut out_faces = Vec::with_capacity(faces.len());
+    for fk in sorted_keys(faces) {
+        let list = faces[fk].as_array().ok_or_else(|| bad(format!("face '{fk}' is not a list")))?;
+        let mut face = Vec::with_capacity(list.len());
+        for item in list {
+            let k = match item {
+                Value::Number(n) => n.to_string(),
+                Value::String(s) => s.clone(),
+                _ => return Err(bad(format!("face '{fk}' has a non-key entry {item}"))),
+            };
+            let i = index.get(k.as_str()).ok_or_else(|| bad(format!("face '{fk}' refers to missing vertex '{k}'")))?;
+            face.push(*i);
+        }
+        out_faces.push(face);
+    }
+    Ok(Mesh::new(vertices, out_faces))
+}
+
+fn point(v: &Value) -> Option<Point3> {
+    // A plain [x, y, z] or a compas Point {"dtype": ..., "data": [x, y, z]}.
+    let arr = v.as_array().or_else(|| v.get("data").and_then(Value::as_array))?;
+    if arr.len() != 3 {
+        return None;
+    }
+    Some(Point3::new(arr[0].as_f64()?, arr[1].as_f64()?, arr[2].as_f64()?))
+}
+
+/// Reads the interfaces stored in a compas Assembly file (empty when none are stored).
+pub fn stored_interfaces(path: &Path, value: &Value) -> Result<Vec<StoredInterface>, IoError> {
+    let g = graph(path, value)?;
+    let Some(edges) = g.get("edge").and_then(Value::as_object) else { return Ok(Vec::new()) };
+    let mut out = Vec::new();
+    for u in sorted_keys(edges) {
+        let Some(targets) = edges[u].as_object() else { continue };
+        for v in sorted_keys(targets) {
+            let Some(list) = targets[v].get("interfaces").and_then(Value::as_array) else { continue };
+            for item in list {
+                let d = item.get("data").unwrap_or(item);
+                let bad = || IoError::format(path, format!("edge {u}->{v}: malformed interface"));
+                let points: Vec<Point3> = d
+                    .get("points")
+                    .and_then(Value::as_array)
+                    .ok_or_else(bad)?
+                    .iter()
+                    .map(point)
+                    .collect::<Option<_>>()
+                    .ok_or_else(bad)?;
+                let frame = d.get("frame").map(|f| f.get("data").unwrap_or(f)).ok_or_else(bad)?;
+                let axis = |k: &str| frame.get(k).and_then(point).map(|p| p.coords).ok_or_else(bad);
+                let (xaxis, yaxis) = (axis("xaxis")?, axis("yaxis")?);
+                let forces = d.get("forces").and_then(Value::as_array).map(|fs| {
+                    fs.iter()
+                        .map(|f| {
+                            let c = |k: &str| f.get(k).and_then(Value::as_f64).unwrap_or(0.0);
+                            [c("c_np"), c("c_nn"), c("c_u"), c("c_v")]
+                        })
+                        .collect()
+                });
+                out.push(StoredInterface {
+                    u: u.clone(),
+                    v: v.clone(),
+                    points,
+                    normal: xaxis.cross(&yaxis).normalize(),
+                    forces,
+                    xaxis,
+                    yaxis,
+                });
+            }
+        }
+    }
+    Ok(out)
+}
+
+/// Reads a compas Assembly file's stored interfaces.
+pub fn load_stored_interfaces(path: &Path) -> Result<Vec<StoredInterface>, IoError> {
+    let text = super::read_text(path)?;
+    let value: Value =
+        serde_json::from_str(&text).map_err(|source| IoError::Json { path: path.to_path_buf(), source })?;
+    stored_interfaces(path, &value)
+}

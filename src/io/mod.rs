@@ -1,0 +1,90 @@
+//! Readers and writers. Every error names the file; scene readers never panic on bad input.
+//!
+//! Formats: voussoir scene JSON (`.json` with a `blocks` list), compas 2 Assembly JSON (`.json`
+//! with `data.graph`), Wavefront OBJ (one block per `o`/`g`; names starting with `support` are
+//! supports), STL ascii/binary (one block). Writes are atomic (temporary file + rename).
+
+pub mod compas;
+mod obj;
+pub mod scene_json;
+mod stl;
+
+use crate::model::Scene;
+use std::path::{Path, PathBuf};
+use thiserror::Error;
+
+/// Why a file could not be read or written.
+#[derive(Debug, Error)]
+pub enum IoError {
+    #[error("{path}: cannot read: {source}")]
+    Read {
+        path: PathBuf,
+        #[source]
+        source: std::io::Error,
+    },
+    #[error("{path}: cannot write: {source}")]
+    Write {
+        path: PathBuf,
+        #[source]
+        source: std::io::Error,
+    },
+    #[error("{path}: not valid JSON: {source}")]
+    Json {
+        path: PathBuf,
+        #[source]
+        source: serde_json::Error,
+    },
+    #[error("{path}: {message}")]
+    Format { path: PathBuf, message: String },
+    #[error("{path}: unknown file type (expected .json, .obj or .stl)")]
+    UnknownType { path: PathBuf },
+}
+
+impl IoError {
+    pub(crate) fn format(path: &Path, message: impl Into<String>) -> Self {
+        IoError::Format { path: path.to_path_buf(), message: message.into() }
+    }
+}
+
+/// Reads a scene from any supported file type, chosen by extension (and for JSON by content).
+pub fn load_scene(path: &Path) -> Result<Scene, IoError> {
+    let ext = path.extension().and_then(|e| e.to_str()).map(|e| e.to_ascii_lowercase());
+    match ext.as_deref() {
+        Some("json") => {
+            let text = read_text(path)?;
+            let value: serde_json::Value = serde_json::from_str(&text)
+                .map_err(|source| IoError::Json { path: path.to_path_buf(), source })?;
+            if compas::is_compas(&value) {
+                compas::scene_from_value(path, &value)
+            } else {
+                scene_json::scene_from_value(path, value)
+            }
+        }
+        Some("obj") => obj::read(path),
+        Some("stl") => stl::read(path),
+        _ => Err(IoError::UnknownType { path: path.to_path_buf() }),
+    }
+}
+
+pub(crate) fn read_text(path: &Path) -> Result<String, IoError> {
+    std::fs::read_to_string(path).map_err(|source| IoError::Read { path: path.to_path_buf(), source })
+}
+
+/// File name stem, used as a default block or scene name.
+pub(crate) fn stem(path: &Path) -> String {
+    path.file_stem().and_then(|s| s.to_str()).unwrap_or("scene").to_string()
+}
+
+/// Writes `bytes` to `path` atomically: a temporary file in the same folder, then a rename, so
+/// a reader never sees a half-written file and a failed write leaves the old file intact.
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), IoError> {
+    let err = |source| IoError::Write { path: path.to_path_buf(), source };
+    let dir = path.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(Path::new("."));
+    let name = path.file_name().and_then(|n| n.to_str()).unwrap_or("out");
+    let tmp = dir.join(format!(".{name}.tmp-{}", std::process::id()));
+    std::fs::write(&tmp, bytes).map_err(err)?;
+    std::fs::rename(&tmp, path).map_err(|e| {
+        let _ = std::fs::remove_file(&tmp);
+        err(e)
+    })
+}

@@ -1,0 +1,17 @@
+//! # voussoir
+//!
+//! Rigid-block (discrete-element) assemblies: does a set of blocks stand by compression and
+//! friction alone, and if not, where and by how much does it fail?
+//!
+//! The pipeline: a [`model::Scene`] (named blocks, supports, material) is validated into an
+//! [`model::Assembly`] (repaired meshes, mass properties), whose contact
+//! [`interfaces`] are detected automatically; the [`statics`] module solves the rigid-block
+//! equilibrium problem over them.
+//!
+//! Conventions: SI units, z up, gravity (0, 0, −9.81); moments about each block's volume
+//! centroid; an interface a→b has its normal pointing from a into b and b receives +f.
+
+pub mod geometry;
+pub mod interfaces;
+pub mod io;
+pub mod model;

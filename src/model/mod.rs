@@ -1,0 +1,106 @@
+//! The scene model: named blocks (closed polygon meshes), supports, material, gravity and the
+//! optional ground plane; and [`Assembly`], the validated form every analysis works on.
+//!
+//! Units SI (m, kg, N), z up, gravity (0, 0, −9.81) by default. Supports are fixed bodies: they
+//! get no equilibrium rows. The ground plane z = 0, when enabled, supports faces lying on it.
+
+mod assembly;
+
+pub use assembly::{Assembly, AssemblyBlock, ModelError, Warning};
+
+use crate::geometry::{Mesh, Vector3};
+use serde::{Deserialize, Serialize};
+
+/// Index of a block in its [`Scene`] / [`Assembly`] (stable for a given scene; names are the
+/// user-facing stable ids).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
+pub struct BlockId(pub usize);
+
+/// One rigid block as given by the user.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Block {
+    pub name: String,
+    pub mesh: Mesh,
+    /// Fixed body: no equilibrium rows, takes any reaction.
+    pub support: bool,
+    /// Overrides the scene's density for this block (kg/m³).
+    pub density: Option<f64>,
+}
+
+impl Block {
+    pub fn new(name: impl Into<String>, mesh: Mesh) -> Self {
+        Self { name: name.into(), mesh, support: false, density: None }
+    }
+
+    pub fn support(mut self, yes: bool) -> Self {
+        self.support = yes;
+        self
+    }
+}
+
+/// Material shared by all blocks unless a block overrides its density.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Material {
+    /// kg/m³. Default 600 (the seed paper's case studies).
+    pub density: f64,
+    /// Coulomb friction coefficient μ. Default tan 40° ≈ 0.839 (the seed paper's).
+    pub friction: f64,
+}
+
+impl Default for Material {
+    fn default() -> Self {
+        Self { density: 600.0, friction: 40f64.to_radians().tan() }
+    }
+}
+
+/// Standard gravity (m/s², along −z).
+pub const STANDARD_GRAVITY: f64 = 9.81;
+
+/// A design: blocks, material, gravity and supports.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Scene {
+    pub name: String,
+    pub blocks: Vec<Block>,
+    pub material: Material,
+    /// m/s². Default (0, 0, −9.81).
+    pub gravity: Vector3,
+    /// The plane z = 0 supports faces lying on it. Default false.
+    pub ground: bool,
+}
+
+impl Scene {
+    pub fn new(name: impl Into<String>, blocks: Vec<Block>) -> Self {
+        Self {
+            name: name.into(),
+            blocks,
+            material: Material::default(),
+            gravity: Vector3::new(0.0, 0.0, -STANDARD_GRAVITY),
+            ground: false,
+        }
+    }
+
+    /// Marks as supports the blocks whose lowest point is within `rel_tol` × (model size) of
+    /// the lowest point of the whole scene. Returns how many were marked.
+    pub fn mark_lowest_as_supports(&mut self, rel_tol: f64) -> usize {
+        let aabbs: Vec<_> = self.blocks.iter().map(|b| b.mesh.aabb()).collect();
+        let mut all = crate::geometry::Aabb3::empty();
+        aabbs.iter().for_each(|a| all.merge(a));
+        if all.is_empty() {
+            return 0;
+        }
+        let tol = rel_tol * all.diagonal();
+        let mut count = 0;
+        for (b, a) in self.blocks.iter_mut().zip(&aabbs) {
+            if a.min.z <= all.min.z + tol {
+                b.support = true;
+                count += 1;
+            }
+        }
+        count
+    }
+
+    /// Index of the block called `name`.
+    pub fn find(&self, name: &str) -> Option<BlockId> {
+        self.blocks.iter().position(|b| b.name == name).map(BlockId)
+    }
+}
