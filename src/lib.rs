@@ -15,3 +15,4 @@ pub mod geometry;
 pub mod interfaces;
 pub mod io;
 pub mod model;
+pub mod statics;

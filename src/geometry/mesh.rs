@@ -114,6 +114,34 @@ impl Mesh {
         Self { vertices, faces }
     }
 
+    /// Hexahedron from 8 corners: 0..4 one quad, 4..8 the opposite quad with i + 4 joined to
+    /// i. Faces are oriented outward whatever the corner order (the volume decides).
+    pub fn hexahedron(v: [Point3; 8]) -> Self {
+        let mut mesh = Self::cuboid(Point3::origin(), Point3::new(1.0, 1.0, 1.0));
+        mesh.vertices = v.to_vec();
+        if super::MassProperties::of_mesh(&mesh).volume < 0.0 {
+            mesh.faces.iter_mut().for_each(|f| f.reverse());
+        }
+        mesh
+    }
+
+    /// Prism: a planar polygon (convex or not) swept by `dir`, oriented outward.
+    pub fn prism(base: &[Point3], dir: Vector3) -> Self {
+        let n = base.len();
+        let mut base = base.to_vec();
+        if super::polygon::area_vector(&base).dot(&dir) < 0.0 {
+            base.reverse();
+        }
+        let mut vertices = base.clone();
+        vertices.extend(base.iter().map(|p| p + dir));
+        let mut faces = vec![(0..n).rev().collect::<Vec<_>>(), (n..2 * n).collect()];
+        for i in 0..n {
+            let j = (i + 1) % n;
+            faces.push(vec![i, j, n + j, n + i]);
+        }
+        Self { vertices, faces }
+    }
+
     pub fn aabb(&self) -> Aabb3 {
         Aabb3::from_points(&self.vertices)
     }

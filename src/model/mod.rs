@@ -5,8 +5,10 @@
 //! get no equilibrium rows. The ground plane z = 0, when enabled, supports faces lying on it.
 
 mod assembly;
+pub mod builtin;
 
 pub use assembly::{Assembly, AssemblyBlock, ModelError, Warning};
+pub use builtin::{BuiltinError, builtin};
 
 use crate::geometry::{Mesh, Vector3};
 use serde::{Deserialize, Serialize};

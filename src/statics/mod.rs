@@ -1,0 +1,75 @@
+//! Rigid-block equilibrium (RBE): the penalty QP of Whiting (2009/2012) and Livesley, graded.
+//!
+//! ## Variables, per interface vertex
+//! Relaxed layout `[c_n⁺, c_n⁻, c_u, c_v, s]` in the interface frame (n, u, v) of
+//! [`crate::interfaces`]: net normal force `c_n⁺ − c_n⁻` (compression positive), friction
+//! `c_u, c_v`, and a friction slack `s ≥ 0` that relaxes the capacity to `μ c_n⁺ + s`. The strict
+//! layout `[c_n⁺, c_u, c_v]` has no tension and no slack. Friction columns (and `s`) are left out
+//! when μ = 0.
+//!
+//! ## Rows, in this order (clarabel: `A x + s = b`, cones in row order)
+//! 1. Zero cone, 6 per free block: Σ forces + weight = 0 (x, y, z) and Σ moments about the
+//!    block's volume centroid = 0 (x, y, z). A vertex force f acts on b as +f and on a as −f.
+//! 2. Non-negative cone, per vertex: the sign rows `c_n⁺ ≥ 0` (left out in the strict layout
+//!    with friction, where the friction rows imply it), `c_n⁻ ≥ 0`, `s ≥ 0`; then the budget rows
+//!    `Σ c_n⁻ ≤ T`, `Σ s ≤ F`; then for the pyramid models, per vertex, `±c_u − μc_n⁺ − s ≤ 0`,
+//!    `±c_v − μc_n⁺ − s ≤ 0` (box4 and pyramid8) and `±c_u ± c_v − √2(μc_n⁺ + s) ≤ 0`
+//!    (pyramid8 only).
+//! 3. Second-order cones (cone model), 3 rows per vertex: `‖(c_u, c_v)‖ ≤ μc_n⁺ + s`.
+//!
+//! ## Stages (the verdict does not depend on the penalty weights)
+//! 1. Strict QP: minimise w_c Σ(c_n⁺)² + w_f Σ(c_u² + c_v²) with no tension and friction
+//!    within μ. Solved ⇒ minimum tension and friction excess are exactly zero: it stands, and
+//!    this is the force distribution (one solve for the common case).
+//! 2. Otherwise, relaxed LP: T* = min Σ c_n⁻ (friction slack free, i.e. unlimited friction),
+//!    then LP F* = min Σ s with Σ c_n⁻ ≤ T*, then the QP w_c Σ(c_n⁺)² + w_t Σ(c_n⁻)²
+//!    + w_f Σ(c_u² + c_v²) + w_s Σ s² with the budgets Σ c_n⁻ ≤ T*, Σ s ≤ F*: the distribution.
+//!
+//! Units: the problem is solved non-dimensionally (lengths / model size, forces / the
+//! component's free weight) and scaled back to N and m. Each connected component of free
+//! blocks is solved on its own (components in parallel when there are several big ones).
+
+mod assemble;
+mod components;
+mod result;
+mod settings;
+mod solve;
+
+pub use components::{Component, components};
+pub use result::{InterfaceResult, SolverReport, SolverStatus, StaticsResult, Verdict, VertexForce};
+pub use settings::{FrictionModel, StaticsSettings};
+
+use crate::interfaces::Interface;
+use crate::model::Assembly;
+use std::time::Instant;
+use thiserror::Error;
+
+/// Invalid statics settings (solver trouble is not an error: it is a [`SolverStatus`]).
+#[derive(Debug, Error, Clone, PartialEq)]
+pub enum StaticsError {
+    #[error("friction coefficient {0} must be a finite number ≥ 0")]
+    BadFriction(f64),
+    #[error("objective weight {name} = {value} must be a finite number > 0")]
+    BadWeight { name: &'static str, value: f64 },
+    #[error("stand tolerance {0} must be a finite number > 0")]
+    BadTolerance(f64),
+}
+
+/// Solves the equilibrium of `assembly` over `interfaces` (as returned by
+/// [`crate::interfaces::detect`]). μ comes from the settings when given, else the material.
+pub fn analyze(
+    assembly: &Assembly,
+    interfaces: &[Interface],
+    settings: &StaticsSettings,
+) -> Result<StaticsResult, StaticsError> {
+    settings.validate()?;
+    let mu = settings.friction.unwrap_or(assembly.material.friction);
+    if !(mu >= 0.0 && mu.is_finite()) {
+        return Err(StaticsError::BadFriction(mu));
+    }
+    let t0 = Instant::now();
+    let comps = components(assembly, interfaces);
+    let outcomes = solve::solve_components(assembly, interfaces, &comps, mu, settings);
+    let solve_s = t0.elapsed().as_secs_f64();
+    Ok(result::collect(assembly, interfaces, &comps, outcomes, mu, settings, solve_s))
+}

@@ -1,0 +1,262 @@
+//! Results of the statics: per interface forces and the graded global answer.
+//! Forces in N, positions in m; compression positive; friction along the interface frame.
+
+use super::assemble::ForcePoint;
+use super::components::Component;
+use super::settings::{FrictionModel, StaticsSettings};
+use super::solve::ComponentOutcome;
+use crate::geometry::{Point3, Vector3};
+use crate::interfaces::Interface;
+use crate::model::Assembly;
+use serde::Serialize;
+
+/// How a solve ended. Data, not an error.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SolverStatus {
+    Solved,
+    /// Solved to clarabel's reduced accuracy.
+    AlmostSolved,
+    /// Stopped at the iteration limit.
+    MaxIterations,
+    InsufficientProgress,
+    NumericalError,
+    Unbounded,
+    /// No equilibrium exists at all (not even with tension).
+    Infeasible,
+    /// A block or group touches no support: nothing can hold it (no solve was run).
+    Unsupported,
+}
+
+/// The graded answer.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Verdict {
+    /// Compression and friction within the limits suffice.
+    Stands,
+    /// Needs tension somewhere (no compression-only equilibrium, even with unlimited friction).
+    NeedsTension,
+    /// Compression-only equilibrium exists, but only with more friction than μ allows.
+    NeedsFriction,
+    /// Both.
+    NeedsTensionAndFriction,
+    /// Some block cannot be held at all (it touches nothing, or its group has no support).
+    Unsupported,
+    /// The solver did not converge: no verdict.
+    Unresolved,
+}
+
+/// Force at one interface vertex (N), in the interface frame.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct VertexForce {
+    pub position: [f64; 3],
+    pub compression: f64,
+    pub tension: f64,
+    pub friction_u: f64,
+    pub friction_v: f64,
+    /// Friction beyond μ × compression at this vertex (the relaxed capacity used).
+    pub friction_excess: f64,
+}
+
+/// Forces at one interface.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct InterfaceResult {
+    /// Index in the interface list given to [`super::analyze`].
+    pub index: usize,
+    pub a: String,
+    pub b: String,
+    pub area: f64,
+    pub normal: [f64; 3],
+    pub u: [f64; 3],
+    pub v: [f64; 3],
+    pub vertices: Vec<VertexForce>,
+    /// Net normal force Σ(c_n⁺ − c_n⁻), compression positive, N.
+    pub normal_force: f64,
+    pub compression: f64,
+    pub tension: f64,
+    /// Magnitude of the resultant friction force, N.
+    pub friction: f64,
+    pub friction_excess: f64,
+    /// |friction resultant| / (μ × compression); > 1 means "exceeds". 0 with no friction,
+    /// infinite when friction acts without compression.
+    pub friction_utilization: f64,
+    /// Resultant force on b (on a it is the opposite), N, world axes.
+    pub resultant: [f64; 3],
+    /// Centre of the normal forces in the interface plane (None when they cancel).
+    pub resultant_point: Option<[f64; 3]>,
+}
+
+/// What the solver did, over all components.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct SolverReport {
+    /// The worst status of any component.
+    pub status: SolverStatus,
+    /// Interior-point iterations, summed over components and stages.
+    pub iterations: u32,
+    /// Largest equilibrium residual ‖Σ f + W‖_∞ of any block, N.
+    pub residual: f64,
+    /// Messages of components that did not solve, naming their blocks.
+    pub messages: Vec<String>,
+}
+
+/// The answer of [`super::analyze`].
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct StaticsResult {
+    pub verdict: Verdict,
+    pub stands: bool,
+    /// Minimum total tension / total free weight.
+    pub tension_ratio: f64,
+    /// Minimum total friction excess / total free weight.
+    pub friction_excess_ratio: f64,
+    pub max_friction_utilization: f64,
+    /// Total free weight W, N.
+    pub free_weight: f64,
+    pub friction_coefficient: f64,
+    pub friction_model: FrictionModel,
+    pub components: usize,
+    pub interfaces: Vec<InterfaceResult>,
+    pub solver: SolverReport,
+    pub solve_seconds: f64,
+}
+
+pub(super) fn collect(
+    assembly: &Assembly,
+    interfaces: &[Interface],
+    comps: &[Component],
+    outcomes: Vec<super::solve::ComponentOutcome>,
+    mu: f64,
+    settings: &StaticsSettings,
+    solve_seconds: f64,
+) -> StaticsResult {
+    let w_total = assembly.free_weight();
+    let mut results = Vec::new();
+    let (mut tension, mut excess, mut residual, mut iterations) = (0.0, 0.0, 0.0f64, 0);
+    let mut status = SolverStatus::Solved;
+    let mut messages = Vec::new();
+    for (comp, out) in comps.iter().zip(&outcomes) {
+        status = status.max(out.status);
+        iterations += out.iterations;
+        if let Some(m) = &out.message {
+            messages.push(m.clone());
+        }
+        if out.forces.is_empty() {
+            continue;
+        }
+        tension += out.min_tension;
+        excess += out.min_excess;
+        residual = residual.max(out.residual);
+        results.extend(interface_results(assembly, interfaces, comp, out, mu));
+    }
+    results.sort_by_key(|r| r.index);
+    let tension_ratio = tension / w_total;
+    let friction_excess_ratio = excess / w_total;
+    let tol = settings.stand_tolerance;
+    let verdict = match status {
+        SolverStatus::Solved | SolverStatus::AlmostSolved => {
+            match (tension_ratio > tol, friction_excess_ratio > tol) {
+                (false, false) => Verdict::Stands,
+                (true, false) => Verdict::NeedsTension,
+                (false, true) => Verdict::NeedsFriction,
+                (true, true) => Verdict::NeedsTensionAndFriction,
+            }
+        }
+        SolverStatus::Unsupported => Verdict::Unsupported,
+        _ => Verdict::Unresolved,
+    };
+    let max_friction_utilization = results.iter().map(|r| r.friction_utilization).fold(0.0, f64::max);
+    StaticsResult {
+        verdict,
+        stands: verdict == Verdict::Stands,
+        tension_ratio,
+        friction_excess_ratio,
+        max_friction_utilization,
+        free_weight: w_total,
+        friction_coefficient: mu,
+        friction_model: settings.friction_model,
+        components: comps.len(),
+        interfaces: results,
+        solver: SolverReport { status, iterations, residual, messages },
+        solve_seconds,
+    }
+}
+
+fn arr(v: &Vector3) -> [f64; 3] {
+    [v.x, v.y, v.z]
+}
+
+fn interface_results(
+    assembly: &Assembly,
+    interfaces: &[Interface],
+    comp: &Component,
+    out: &ComponentOutcome,
+    mu: f64,
+) -> Vec<InterfaceResult> {
+    // Force points are grouped by interface in the component's interface order.
+    let mut by_interface: Vec<(usize, Vec<(&ForcePoint, &[f64; 5])>)> = Vec::with_capacity(comp.interfaces.len());
+    for (fp, f) in out.points.iter().zip(&out.forces) {
+        match by_interface.last_mut() {
+            Some((k, list)) if *k == fp.interface => list.push((fp, f)),
+            _ => by_interface.push((fp.interface, vec![(fp, f)])),
+        }
+    }
+    let noise = 1e-12 * out.weight;
+    by_interface
+        .into_iter()
+        .map(|(k, pts)| {
+            let itf = &interfaces[k];
+            let fr = &itf.frame;
+            let mut resultant = Vector3::zeros();
+            let (mut comp_sum, mut tens_sum, mut excess) = (0.0, 0.0, 0.0);
+            let (mut fu, mut fv) = (0.0, 0.0);
+            let mut moment_point = Vector3::zeros();
+            let mut vertices = Vec::with_capacity(pts.len());
+            for (fp, f) in &pts {
+                let net = f[0] - f[1];
+                resultant += fr.n * net + fr.u * f[2] + fr.v * f[3];
+                comp_sum += f[0];
+                tens_sum += f[1];
+                fu += f[2];
+                fv += f[3];
+                excess += f[4];
+                moment_point += fp.position.coords * net;
+                vertices.push(VertexForce {
+                    position: arr(&fp.position.coords),
+                    compression: f[0],
+                    tension: f[1],
+                    friction_u: f[2],
+                    friction_v: f[3],
+                    friction_excess: f[4],
+                });
+            }
+            let normal_force = comp_sum - tens_sum;
+            let friction = (fu * fu + fv * fv).sqrt();
+            let friction_utilization = if friction <= noise {
+                0.0
+            } else if mu * comp_sum <= noise {
+                f64::INFINITY
+            } else {
+                friction / (mu * comp_sum)
+            };
+            let resultant_point =
+                (normal_force.abs() > noise).then(|| arr(&Point3::from(moment_point / normal_force).coords));
+            InterfaceResult {
+                index: k,
+                a: itf.a.name(assembly).to_string(),
+                b: itf.b.name(assembly).to_string(),
+                area: itf.area,
+                normal: arr(&fr.n),
+                u: arr(&fr.u),
+                v: arr(&fr.v),
+                vertices,
+                normal_force,
+                compression: comp_sum,
+                tension: tens_sum,
+                friction,
+                friction_excess: excess,
+                friction_utilization,
+                resultant: arr(&resultant),
+                resultant_point,
+            }
+        })
+        .collect()
+}

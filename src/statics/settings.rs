@@ -1,0 +1,113 @@
+//! Statics settings with documented defaults.
+
+use super::StaticsError;
+use serde::{Deserialize, Serialize};
+
+/// How the friction capacity |f_t| ≤ μ f_n⁺ is modelled at each interface vertex.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, Default)]
+#[serde(rename_all = "lowercase")]
+pub enum FrictionModel {
+    /// 8-sided outer pyramid (the seed paper's default): up to 8.2 % more friction than
+    /// Coulomb in diagonal directions.
+    #[default]
+    Pyramid8,
+    /// Exact Coulomb cone, as a second-order cone.
+    Cone,
+    /// 4-sided box |f_u|, |f_v| ≤ μ f_n⁺ (older tools): up to 41 % more than Coulomb.
+    Box4,
+}
+
+impl std::str::FromStr for FrictionModel {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s {
+            "pyramid8" | "pyramid" => Ok(Self::Pyramid8),
+            "cone" => Ok(Self::Cone),
+            "box4" | "box" => Ok(Self::Box4),
+            _ => Err(format!("unknown friction model '{s}' (pyramid8, cone or box4)")),
+        }
+    }
+}
+
+impl std::fmt::Display for FrictionModel {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Self::Pyramid8 => "pyramid8",
+            Self::Cone => "cone",
+            Self::Box4 => "box4",
+        })
+    }
+}
+
+/// Settings of [`super::analyze`].
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct StaticsSettings {
+    /// Default [`FrictionModel::Pyramid8`].
+    pub friction_model: FrictionModel,
+    /// Friction coefficient; `None` (default) takes the scene material's.
+    pub friction: Option<f64>,
+    /// Weight of Σ(c_n⁺)² in the distribution QP. Default 1.
+    pub w_compression: f64,
+    /// Weight of Σ(c_n⁻)². Default 1e6 (compas_cra's). Only shapes the distribution: the total
+    /// tension is fixed at its exact minimum first.
+    pub w_tension: f64,
+    /// Weight of Σ(c_u² + c_v²). Default 1.
+    pub w_friction: f64,
+    /// Weight of Σ s² (friction slack). Default 1e6.
+    pub w_slack: f64,
+    /// The assembly stands when the minimum total tension and the minimum friction excess are
+    /// both at most this fraction of the free weight. Default 1e-6.
+    pub stand_tolerance: f64,
+    /// Interior-point feasibility and gap tolerance (clarabel's tol_feas, tol_gap_abs/rel).
+    /// Default 1e-10.
+    pub solver_tolerance: f64,
+    /// Default 200.
+    pub max_iterations: u32,
+    /// Solve independent components on two threads when the problem is big enough. Default
+    /// true; results are identical either way.
+    pub parallel: bool,
+}
+
+impl Default for StaticsSettings {
+    fn default() -> Self {
+        Self {
+            friction_model: FrictionModel::Pyramid8,
+            friction: None,
+            w_compression: 1.0,
+            w_tension: 1e6,
+            w_friction: 1.0,
+            w_slack: 1e6,
+            stand_tolerance: 1e-6,
+            solver_tolerance: 1e-10,
+            max_iterations: 200,
+            parallel: true,
+        }
+    }
+}
+
+impl StaticsSettings {
+    pub fn validate(&self) -> Result<(), StaticsError> {
+        for (name, value) in [
+            ("w_compression", self.w_compression),
+            ("w_tension", self.w_tension),
+            ("w_friction", self.w_friction),
+            ("w_slack", self.w_slack),
+        ] {
+            if !(value > 0.0 && value.is_finite()) {
+                return Err(StaticsError::BadWeight { name, value });
+            }
+        }
+        if let Some(mu) = self.friction {
+            if !(mu >= 0.0 && mu.is_finite()) {
+                return Err(StaticsError::BadFriction(mu));
+            }
+        }
+        for t in [self.stand_tolerance, self.solver_tolerance] {
+            if !(t > 0.0 && t.is_finite()) {
+                return Err(StaticsError::BadTolerance(t));
+            }
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,270 @@
+//! The only clarabel touchpoint: a plain-data [`Problem`] in, a plain-data [`QpOutcome`] out.
+//! Also runs the stages of each component (module docs of [`crate::statics`]).
+
+use super::assemble::{Cone, Problem, Stage, System, Var, problem};
+use super::components::Component;
+use super::result::SolverStatus;
+use super::settings::StaticsSettings;
+use crate::interfaces::Interface;
+use crate::model::Assembly;
+use clarabel::algebra::CscMatrix;
+use clarabel::solver::{DefaultSettings, DefaultSolver, IPSolver, SolverStatus as ClStatus, SupportedConeT};
+
+/// Result of one conic solve.
+#[derive(Clone, Debug)]
+pub struct QpOutcome {
+    pub status: SolverStatus,
+    pub x: Vec<f64>,
+    pub objective: f64,
+    pub iterations: u32,
+}
+
+fn csc_from_triplets(m: usize, n: usize, triplets: &[(usize, usize, f64)]) -> CscMatrix<f64> {
+    // Counting sort by column (O(nnz)), then each short column sorted by row, duplicates summed.
+    let mut colptr = vec![0usize; n + 1];
+    for &(_, j, _) in triplets {
+        colptr[j + 1] += 1;
+    }
+    for j in 0..n {
+        colptr[j + 1] += colptr[j];
+    }
+    let mut next = colptr.clone();
+    let mut entries = vec![(0usize, 0.0f64); triplets.len()];
+    for &(i, j, v) in triplets {
+        entries[next[j]] = (i, v);
+        next[j] += 1;
+    }
+    let mut rowval = Vec::with_capacity(triplets.len());
+    let mut nzval = Vec::with_capacity(triplets.len());
+    let mut out_colptr = vec![0usize; n + 1];
+    for j in 0..n {
+        let col = &mut entries[colptr[j]..colptr[j + 1]];
+        col.sort_unstable_by_key(|e| e.0);
+        let start = rowval.len();
+        for &(i, v) in col.iter() {
+            if rowval.len() > start && rowval.last() == Some(&i) {
+                *nzval.last_mut().expect("the column has an entry") += v;
+            } else {
+                rowval.push(i);
+                nzval.push(v);
+            }
+        }
+        out_colptr[j + 1] = rowval.len();
+    }
+    CscMatrix::new(m, n, out_colptr, rowval, nzval)
+}
+
+/// Solves one problem with clarabel (verbose off, presolve on).
+pub fn run(p: &Problem, settings: &StaticsSettings) -> QpOutcome {
+    let diag: Vec<(usize, usize, f64)> =
+        p.p_diag.iter().enumerate().filter(|(_, v)| **v != 0.0).map(|(i, &v)| (i, i, v)).collect();
+    let pm = csc_from_triplets(p.n, p.n, &diag);
+    let am = csc_from_triplets(p.m(), p.n, &p.a);
+    let cones: Vec<SupportedConeT<f64>> = p
+        .cones
+        .iter()
+        .filter_map(|c| match *c {
+            Cone::Zero(0) | Cone::Nonnegative(0) => None,
+            Cone::Zero(k) => Some(SupportedConeT::ZeroConeT(k)),
+            Cone::Nonnegative(k) => Some(SupportedConeT::NonnegativeConeT(k)),
+            Cone::SecondOrder(k) => Some(SupportedConeT::SecondOrderConeT(k)),
+        })
+        .collect();
+    let tol = settings.solver_tolerance;
+    let cl = DefaultSettings {
+        verbose: false,
+        max_iter: settings.max_iterations,
+        tol_feas: tol,
+        tol_gap_abs: tol,
+        tol_gap_rel: tol,
+        ..DefaultSettings::default()
+    };
+    let mut solver = match DefaultSolver::new(&pm, &p.q, &am, &p.b, &cones, cl) {
+        Ok(s) => s,
+        Err(_) => {
+            return QpOutcome { status: SolverStatus::NumericalError, x: vec![0.0; p.n], objective: f64::NAN, iterations: 0 };
+        }
+    };
+    solver.solve();
+    let s = &solver.solution;
+    let status = match s.status {
+        ClStatus::Solved => SolverStatus::Solved,
+        ClStatus::AlmostSolved => SolverStatus::AlmostSolved,
+        ClStatus::PrimalInfeasible | ClStatus::AlmostPrimalInfeasible => SolverStatus::Infeasible,
+        ClStatus::DualInfeasible | ClStatus::AlmostDualInfeasible => SolverStatus::Unbounded,
+        ClStatus::MaxIterations | ClStatus::MaxTime => SolverStatus::MaxIterations,
+        ClStatus::InsufficientProgress => SolverStatus::InsufficientProgress,
+        _ => SolverStatus::NumericalError,
+    };
+    QpOutcome { status, x: s.x.clone(), objective: s.obj_val, iterations: s.iterations }
+}
+
+/// Outcome of one component, in physical units.
+#[derive(Clone, Debug)]
+pub struct ComponentOutcome {
+    pub status: SolverStatus,
+    pub message: Option<String>,
+    /// Per force point `[c_n⁺, c_n⁻, c_u, c_v, s]` in N (zeros where a model has no such
+    /// variable); empty when not solved.
+    pub forces: Vec<[f64; 5]>,
+    pub points: Vec<super::assemble::ForcePoint>,
+    /// Minimum total tension and friction excess, N.
+    pub min_tension: f64,
+    pub min_excess: f64,
+    /// ‖equilibrium residual‖_∞, N.
+    pub residual: f64,
+    pub iterations: u32,
+    pub weight: f64,
+}
+
+fn failed(status: SolverStatus, message: String, weight: f64, iterations: u32) -> ComponentOutcome {
+    ComponentOutcome {
+        status,
+        message: Some(message),
+        forces: Vec::new(),
+        points: Vec::new(),
+        min_tension: f64::NAN,
+        min_excess: f64::NAN,
+        residual: f64::NAN,
+        iterations,
+        weight,
+    }
+}
+
+/// Solves one component through the stages A, (B1, B2,) C.
+pub fn solve_component(
+    assembly: &Assembly,
+    interfaces: &[Interface],
+    comp: &Component,
+    mu: f64,
+    settings: &StaticsSettings,
+) -> ComponentOutcome {
+    let names = |limit: usize| -> String {
+        let mut s: Vec<&str> = comp.blocks.iter().take(limit).map(|&b| assembly.block(b).name.as_str()).collect();
+        if comp.blocks.len() > limit {
+            s.push("…");
+        }
+        s.join("', '")
+    };
+    let weight: f64 = comp.blocks.iter().map(|&b| assembly.block(b).mass() * assembly.gravity.norm()).sum();
+    if comp.interfaces.is_empty() {
+        return failed(
+            SolverStatus::Unsupported,
+            format!("block '{}' touches nothing: no interface holds it (check its position or the tolerances)", names(5)),
+            weight,
+            0,
+        );
+    }
+    if !comp.is_supported(assembly, interfaces) {
+        return failed(
+            SolverStatus::Unsupported,
+            format!("blocks '{}' touch no support or ground: the group has nothing to stand on", names(5)),
+            weight,
+            0,
+        );
+    }
+    let ok = |s: SolverStatus| matches!(s, SolverStatus::Solved | SolverStatus::AlmostSolved);
+    let mut iterations = 0;
+    let mut stage = |sys: &System, st: Stage| {
+        let out = run(&problem(sys, st, settings), settings);
+        iterations += out.iterations;
+        out
+    };
+    // Most designs being checked stand: try the strict problem (compression only, friction
+    // within μ) first. Solved ⇒ minimum tension and excess are exactly 0, and this is the
+    // distribution. Otherwise (infeasible, or trouble) take the relaxed stages.
+    let strict = System::new(assembly, interfaces, comp, mu, settings.friction_model, false);
+    let first = stage(&strict, Stage::Strict);
+    let (sys, c, tension, excess) = if ok(first.status) {
+        (strict, first, 0.0, 0.0)
+    } else {
+        let sys = System::new(assembly, interfaces, comp, mu, settings.friction_model, true);
+        let b1 = stage(&sys, Stage::Tension);
+        if !ok(b1.status) {
+            let msg = format!("the minimum-tension LP ended with status {:?}", b1.status);
+            return failed(b1.status, msg, weight, iterations);
+        }
+        let tension = b1.objective.max(0.0);
+        let mut excess = 0.0;
+        if sys.layout.friction {
+            let b2 = stage(&sys, Stage::FrictionExcess { tension });
+            if !ok(b2.status) {
+                let msg = format!("the friction-excess LP ended with status {:?}", b2.status);
+                return failed(b2.status, msg, weight, iterations);
+            }
+            excess = b2.objective.max(0.0);
+        }
+        let c = stage(&sys, Stage::Distribution { tension, excess });
+        (sys, c, tension, excess)
+    };
+    let residual = sys.residual(&c.x) * sys.force_scale;
+    let status = c.status;
+    let fs = sys.force_scale;
+    let forces = (0..sys.points.len())
+        .map(|i| [Var::CnPos, Var::CnNeg, Var::Cu, Var::Cv, Var::Slack].map(|v| sys.value(&c.x, i, v) * fs))
+        .collect();
+    ComponentOutcome {
+        status,
+        message: (!ok(status)).then(|| format!("the force-distribution QP ended with status {status:?}")),
+        forces,
+        points: sys.points,
+        min_tension: tension * fs,
+        min_excess: excess * fs,
+        residual,
+        iterations,
+        weight,
+    }
+}
+
+/// Solves every component; on two threads when there are several and the work is large.
+pub fn solve_components(
+    assembly: &Assembly,
+    interfaces: &[Interface],
+    comps: &[Component],
+    mu: f64,
+    settings: &StaticsSettings,
+) -> Vec<ComponentOutcome> {
+    let work = |c: &Component| c.interfaces.iter().map(|&k| interfaces[k].polygon.len()).sum::<usize>();
+    let total: usize = comps.iter().map(work).sum();
+    let solve = |c: &Component| solve_component(assembly, interfaces, c, mu, settings);
+    // Below ~500 force points a solve takes a few ms: a thread would cost more than it saves.
+    if !settings.parallel || comps.len() < 2 || total < 500 {
+        return comps.iter().map(solve).collect();
+    }
+    // Greedy split of the components into two halves of about equal work; each component's
+    // solve is independent of the thread it runs on, so the result is deterministic.
+    let mut order: Vec<usize> = (0..comps.len()).collect();
+    order.sort_by_key(|&i| std::cmp::Reverse(work(&comps[i])));
+    let (mut left, mut right, mut lw, mut rw) = (Vec::new(), Vec::new(), 0, 0);
+    for i in order {
+        if lw <= rw {
+            lw += work(&comps[i]);
+            left.push(i);
+        } else {
+            rw += work(&comps[i]);
+            right.push(i);
+        }
+    }
+    let mut out: Vec<Option<ComponentOutcome>> = vec![None; comps.len()];
+    let right_results = std::thread::scope(|s| {
+        let handle = s.spawn(|| right.iter().map(|&i| (i, solve(&comps[i]))).collect::<Vec<_>>());
+        for &i in &left {
+            out[i] = Some(solve(&comps[i]));
+        }
+        handle.join()
+    });
+    match right_results {
+        Ok(results) => {
+            for (i, r) in results {
+                out[i] = Some(r);
+            }
+        }
+        Err(_) => {
+            // A panic inside the solver thread: solve those components again here, serially.
+            for &i in &right {
+                out[i] = Some(solve(&comps[i]));
+            }
+        }
+    }
+    out.into_iter().map(|o| o.expect("every component was solved")).collect()
+}
