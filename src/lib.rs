@@ -11,6 +11,8 @@
 //! Conventions: SI units, z up, gravity (0, 0, −9.81); moments about each block's volume
 //! centroid; an interface a→b has its normal pointing from a into b and b receives +f.
 
+pub mod analysis;
+pub mod cli;
 pub mod geometry;
 pub mod interfaces;
 pub mod io;

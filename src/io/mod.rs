@@ -6,6 +6,7 @@
 
 pub mod compas;
 mod obj;
+pub mod report;
 pub mod scene_json;
 mod stl;
 

@@ -45,7 +45,7 @@ impl Params {
                 (k.trim().to_string(), v.trim().to_string())
             })
             .collect();
-        Self { scene: scene.trim().to_string(), values, known: vec!["density", "mu"] }
+        Self { scene: scene.trim().to_string(), values, known: vec!["mu"] }
     }
 
     fn bad(&self, param: &str, value: &str, why: &'static str) -> BuiltinError {

@@ -1,0 +1,218 @@
+//! Command line: `voussoir [analyze] [SCENE] [options]`. Exit codes: 0 the assembly stands,
+//! 1 it does not (or the solver could not tell), 2 bad input.
+
+use crate::analysis::{Analysis, AnalysisSettings, analyze};
+use crate::io;
+use crate::model::{Scene, builtin};
+use crate::statics::{FrictionModel, Verdict};
+use clap::{Args, Parser, Subcommand};
+use std::path::{Path, PathBuf};
+
+/// The default scene of `voussoir` without arguments (embedded, so it runs from anywhere).
+pub const DEFAULT_SCENE: &str = include_str!("../assets/default.json");
+
+#[derive(Parser, Debug)]
+#[command(name = "voussoir", version, about = "Do these blocks stand by compression and friction alone?")]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Option<Command>,
+}
+
+#[derive(Subcommand, Debug)]
+pub enum Command {
+    /// Detect interfaces, solve the equilibrium, print the verdict (and write a JSON report).
+    Analyze(AnalyzeArgs),
+}
+
+#[derive(Args, Debug, Default)]
+pub struct AnalyzeArgs {
+    /// Scene file (.json voussoir or compas Assembly, .obj, .stl) or `builtin:NAME?k=v&...`
+    /// (stack, harmonic, arch, wall, slope, dome). Default: the embedded default scene.
+    pub scene: Option<String>,
+    /// Write the JSON report here (atomically).
+    #[arg(long)]
+    pub json: Option<PathBuf>,
+    /// Friction model: pyramid8 (default), cone or box4.
+    #[arg(long, default_value = "pyramid8")]
+    pub friction_model: FrictionModel,
+    /// Friction coefficient μ (default: the scene's).
+    #[arg(long)]
+    pub mu: Option<f64>,
+    /// Density for every block, kg/m³ (default: the scene's).
+    #[arg(long)]
+    pub density: Option<f64>,
+    /// Supports: `lowest` (blocks at the lowest level) or a comma-separated list of block
+    /// names; replaces the supports given in the scene.
+    #[arg(long)]
+    pub supports: Option<String>,
+    /// The ground plane z = 0 supports faces lying on it.
+    #[arg(long)]
+    pub ground: bool,
+    /// Coplanarity tolerance relative to the model size (default 3e-3).
+    #[arg(long)]
+    pub coplanar: Option<f64>,
+    /// Angle tolerance between opposite faces, degrees (default 6).
+    #[arg(long)]
+    pub angle: Option<f64>,
+    /// How many of the worst interfaces to list (default 5).
+    #[arg(long, default_value_t = 5)]
+    pub worst: usize,
+}
+
+/// A failure that is the input's fault: exit code 2.
+#[derive(Debug)]
+pub struct BadInput(pub String);
+
+/// Runs the CLI; returns the process exit code.
+pub fn run(cli: Cli) -> i32 {
+    let result = match cli.command {
+        None => run_analyze(&AnalyzeArgs { friction_model: FrictionModel::Pyramid8, worst: 5, ..Default::default() }),
+        Some(Command::Analyze(args)) => run_analyze(&args),
+    };
+    match result {
+        Ok(code) => code,
+        Err(BadInput(msg)) => {
+            eprintln!("error: {msg}");
+            2
+        }
+    }
+}
+
+/// Loads the scene named on the command line.
+pub fn load(spec: Option<&str>) -> Result<Scene, BadInput> {
+    match spec {
+        None => io::scene_json::scene_from_str(Path::new("assets/default.json"), DEFAULT_SCENE)
+            .map_err(|e| BadInput(e.to_string())),
+        Some(s) if s.starts_with("builtin:") => builtin(&s["builtin:".len()..]).map_err(|e| BadInput(e.to_string())),
+        Some(path) => io::load_scene(Path::new(path)).map_err(|e| BadInput(e.to_string())),
+    }
+}
+
+fn apply_options(scene: &mut Scene, args: &AnalyzeArgs) -> Result<(), BadInput> {
+    if let Some(d) = args.density {
+        scene.material.density = d;
+        scene.blocks.iter_mut().for_each(|b| b.density = None);
+    }
+    if args.ground {
+        scene.ground = true;
+    }
+    match args.supports.as_deref() {
+        None => {}
+        Some("lowest") => {
+            scene.blocks.iter_mut().for_each(|b| b.support = false);
+            scene.mark_lowest_as_supports(1e-3);
+        }
+        Some(list) => {
+            let names: Vec<&str> = list.split(',').map(str::trim).filter(|s| !s.is_empty()).collect();
+            if let Some(missing) = names.iter().find(|n| scene.find(n).is_none()) {
+                return Err(BadInput(format!("--supports: the scene has no block named '{missing}'")));
+            }
+            for b in &mut scene.blocks {
+                b.support = names.contains(&b.name.as_str());
+            }
+        }
+    }
+    Ok(())
+}
+
+fn run_analyze(args: &AnalyzeArgs) -> Result<i32, BadInput> {
+    let mut scene = load(args.scene.as_deref())?;
+    apply_options(&mut scene, args)?;
+    let mut settings = AnalysisSettings::default();
+    settings.statics.friction_model = args.friction_model;
+    settings.statics.friction = args.mu;
+    if let Some(c) = args.coplanar {
+        settings.tolerances.coplanar = c;
+    }
+    if let Some(a) = args.angle {
+        settings.tolerances.angle_deg = a;
+    }
+    let analysis = analyze(&scene, &settings).map_err(|e| BadInput(format!("{}: {e}", source_name(args))))?;
+    print!("{}", summary(&analysis, args.worst));
+    if let Some(out) = &args.json {
+        if args.scene.as_deref().is_some_and(|s| Path::new(s) == out.as_path()) {
+            return Err(BadInput(format!("--json {} would overwrite the input scene", out.display())));
+        }
+        io::write_atomic(out, io::report::to_json(&analysis).as_bytes()).map_err(|e| BadInput(e.to_string()))?;
+        println!("report written to {}", out.display());
+    }
+    Ok(if analysis.statics.stands { 0 } else { 1 })
+}
+
+fn source_name(args: &AnalyzeArgs) -> String {
+    args.scene.clone().unwrap_or_else(|| "default scene".into())
+}
+
+/// Human-readable summary: verdict first, then the graded numbers, then the worst interfaces.
+pub fn summary(analysis: &Analysis, worst: usize) -> String {
+    use std::fmt::Write;
+    let a = &analysis.assembly;
+    let s = &analysis.statics;
+    let mut o = String::new();
+    let verdict = match s.verdict {
+        Verdict::Stands => "STANDS: compression and friction suffice".to_string(),
+        Verdict::NeedsTension => "DOES NOT STAND: needs tension".to_string(),
+        Verdict::NeedsFriction => "DOES NOT STAND: needs more friction".to_string(),
+        Verdict::NeedsTensionAndFriction => "DOES NOT STAND: needs tension and more friction".to_string(),
+        Verdict::Unsupported => "DOES NOT STAND: something touches no support".to_string(),
+        Verdict::Unresolved => "UNRESOLVED: the solver did not converge".to_string(),
+    };
+    let supports = a.blocks.iter().filter(|b| b.support).count();
+    let _ = writeln!(o, "{verdict}");
+    let _ = writeln!(
+        o,
+        "  scene '{}': {} blocks ({} supports{}), {} interfaces, {} component(s)",
+        a.name,
+        a.blocks.len(),
+        supports,
+        if a.ground { ", ground plane" } else { "" },
+        analysis.interfaces.len(),
+        s.components
+    );
+    let _ = writeln!(o, "  free weight W = {:.6e} N, μ = {:.4} ({})", s.free_weight, s.friction_coefficient, s.friction_model);
+    let _ = writeln!(o, "  minimum tension         {:.3e} W", s.tension_ratio);
+    let _ = writeln!(o, "  minimum friction excess {:.3e} W", s.friction_excess_ratio);
+    let _ = writeln!(o, "  max friction use        {:.1} % of μ·compression", 100.0 * s.max_friction_utilization);
+    let _ = writeln!(
+        o,
+        "  solver: {:?}, {} iterations, residual {:.2e} W",
+        s.solver.status,
+        s.solver.iterations,
+        s.solver.residual / s.free_weight
+    );
+    for m in &s.solver.messages {
+        let _ = writeln!(o, "  ! {m}");
+    }
+    let t = &analysis.timings;
+    let _ = writeln!(
+        o,
+        "  time: validate {:.1} ms, detect {:.1} ms, solve {:.1} ms",
+        1e3 * t.validate,
+        1e3 * t.detect,
+        1e3 * t.solve
+    );
+    if !a.warnings.is_empty() {
+        let _ = writeln!(o, "  {} repair warning(s), first: {}", a.warnings.len(), a.warnings[0]);
+    }
+    let mut ranked: Vec<_> = s.interfaces.iter().collect();
+    ranked.sort_by(|x, y| {
+        (y.tension, y.friction_excess, y.friction_utilization)
+            .partial_cmp(&(x.tension, x.friction_excess, x.friction_utilization))
+            .unwrap_or(std::cmp::Ordering::Equal)
+    });
+    if worst > 0 && !ranked.is_empty() {
+        let _ = writeln!(o, "  worst interfaces (a → b: net normal, tension, friction use):");
+        for r in ranked.iter().take(worst) {
+            let _ = writeln!(
+                o,
+                "    {} → {}: {:.4e} N, tension {:.3e} N, friction {:.1} %",
+                r.a,
+                r.b,
+                r.normal_force,
+                r.tension,
+                100.0 * r.friction_utilization
+            );
+        }
+    }
+    o
+}

@@ -1,0 +1,76 @@
+//! The JSON report of an analysis (schema documented in the README, "Report JSON").
+
+use crate::analysis::{Analysis, Timings};
+use crate::statics::{InterfaceResult, SolverReport, Verdict};
+use serde::Serialize;
+
+/// Report schema version.
+pub const REPORT_VERSION: u32 = 1;
+
+#[derive(Serialize)]
+struct BlockReport<'a> {
+    name: &'a str,
+    support: bool,
+    volume: f64,
+    mass: f64,
+    centroid: [f64; 3],
+}
+
+#[derive(Serialize)]
+struct Report<'a> {
+    schema: u32,
+    scene: &'a str,
+    stands: bool,
+    verdict: Verdict,
+    tension_ratio: f64,
+    friction_excess_ratio: f64,
+    max_friction_utilization: f64,
+    free_weight: f64,
+    friction_coefficient: f64,
+    friction_model: String,
+    components: usize,
+    blocks: Vec<BlockReport<'a>>,
+    supports: Vec<&'a str>,
+    ground: bool,
+    interfaces: &'a [InterfaceResult],
+    solver: &'a SolverReport,
+    timings: Timings,
+    warnings: Vec<String>,
+}
+
+/// The report as pretty JSON. Non-finite numbers (an infinite utilisation) become `null`.
+pub fn to_json(analysis: &Analysis) -> String {
+    let a = &analysis.assembly;
+    let s = &analysis.statics;
+    let report = Report {
+        schema: REPORT_VERSION,
+        scene: &a.name,
+        stands: s.stands,
+        verdict: s.verdict,
+        tension_ratio: s.tension_ratio,
+        friction_excess_ratio: s.friction_excess_ratio,
+        max_friction_utilization: s.max_friction_utilization,
+        free_weight: s.free_weight,
+        friction_coefficient: s.friction_coefficient,
+        friction_model: s.friction_model.to_string(),
+        components: s.components,
+        blocks: a
+            .blocks
+            .iter()
+            .map(|b| BlockReport {
+                name: &b.name,
+                support: b.support,
+                volume: b.mass.volume,
+                mass: b.mass(),
+                centroid: [b.mass.centroid.x, b.mass.centroid.y, b.mass.centroid.z],
+            })
+            .collect(),
+        supports: a.blocks.iter().filter(|b| b.support).map(|b| b.name.as_str()).collect(),
+        ground: a.ground,
+        interfaces: &s.interfaces,
+        solver: &s.solver,
+        timings: analysis.timings,
+        warnings: a.warnings.iter().map(|w| w.to_string()).collect(),
+    };
+    serde_json::to_string_pretty(&report).unwrap_or_else(|e| format!("{{\"error\": \"{e}\"}}"))
+}
