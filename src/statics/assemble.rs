@@ -117,7 +117,10 @@ impl System {
         model: FrictionModel,
         relaxed: bool,
     ) -> Self {
-        let layout = Layout::new(relaxed, mu > 0.0);
+        // μ = 0: the strict problem has no friction columns at all; the relaxed one keeps them
+        // (capacity 0 + slack) so that a sliding failure is measured as friction excess
+        // rather than reported as "no equilibrium".
+        let layout = Layout::new(relaxed, mu > 0.0 || relaxed);
         let g = assembly.gravity;
         let force_scale: f64 = comp.blocks.iter().map(|&b| assembly.block(b).mass() * g.norm()).sum::<f64>().max(f64::MIN_POSITIVE);
         let length_scale = assembly.scale;

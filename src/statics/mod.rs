@@ -4,8 +4,8 @@
 //! Relaxed layout `[c_n⁺, c_n⁻, c_u, c_v, s]` in the interface frame (n, u, v) of
 //! [`crate::interfaces`]: net normal force `c_n⁺ − c_n⁻` (compression positive), friction
 //! `c_u, c_v`, and a friction slack `s ≥ 0` that relaxes the capacity to `μ c_n⁺ + s`. The strict
-//! layout `[c_n⁺, c_u, c_v]` has no tension and no slack. Friction columns (and `s`) are left out
-//! when μ = 0.
+//! layout `[c_n⁺, c_u, c_v]` has no tension and no slack. When μ = 0 the strict layout has no
+//! friction columns (`[c_n⁺]` only); the relaxed one keeps them with capacity `0 + s`.
 //!
 //! ## Rows, in this order (clarabel: `A x + s = b`, cones in row order)
 //! 1. Zero cone, 6 per free block: Σ forces + weight = 0 (x, y, z) and Σ moments about the

@@ -148,8 +148,10 @@ pub(super) fn collect(
         results.extend(interface_results(assembly, interfaces, comp, out, mu));
     }
     results.sort_by_key(|r| r.index);
-    let tension_ratio = tension / w_total;
-    let friction_excess_ratio = excess / w_total;
+    // A scene without free blocks has nothing to hold up: ratios 0, not 0/0.
+    let ratio = |x: f64| if w_total > 0.0 { x / w_total } else { 0.0 };
+    let tension_ratio = ratio(tension);
+    let friction_excess_ratio = ratio(excess);
     let tol = settings.stand_tolerance;
     let verdict = match status {
         SolverStatus::Solved | SolverStatus::AlmostSolved => {

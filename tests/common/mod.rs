@@ -1,0 +1,32 @@
+//! Helpers shared by the integration tests.
+#![allow(dead_code)]
+
+use std::path::PathBuf;
+use voussoir::analysis::{Analysis, AnalysisSettings, analyze};
+use voussoir::geometry::{Mesh, Point3};
+use voussoir::model::{Assembly, Block, Scene};
+
+/// `../shared/data/compas/<rel>` beside the checkout.
+pub fn shared(rel: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/data/compas").join(rel)
+}
+
+pub fn cube(name: &str, min: [f64; 3], size: f64) -> Block {
+    Block::new(name, Mesh::cuboid(Point3::from(min), Point3::new(min[0] + size, min[1] + size, min[2] + size)))
+}
+
+pub fn cuboid(name: &str, min: [f64; 3], max: [f64; 3]) -> Block {
+    Block::new(name, Mesh::cuboid(Point3::from(min), Point3::from(max)))
+}
+
+pub fn assembly(scene: &Scene) -> Assembly {
+    Assembly::new(scene, &Default::default()).expect("valid scene")
+}
+
+pub fn run(scene: &Scene, settings: &AnalysisSettings) -> Analysis {
+    analyze(scene, settings).expect("analysis runs")
+}
+
+pub fn assert_close(actual: f64, expected: f64, tol: f64, what: &str) {
+    assert!((actual - expected).abs() <= tol, "{what}: {actual} vs {expected} (tolerance {tol})");
+}
