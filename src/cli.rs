@@ -88,7 +88,7 @@ pub fn load(spec: Option<&str>) -> Result<Scene, BadInput> {
     }
 }
 
-fn apply_options(scene: &mut Scene, args: &AnalyzeArgs) -> Result<(), BadInput> {
+fn apply_options(scene: &mut Scene, args: &AnalyzeArgs, settings: &AnalysisSettings) -> Result<(), BadInput> {
     if let Some(d) = args.density {
         scene.material.density = d;
         scene.blocks.iter_mut().for_each(|b| b.density = None);
@@ -100,7 +100,9 @@ fn apply_options(scene: &mut Scene, args: &AnalyzeArgs) -> Result<(), BadInput> 
         None => {}
         Some("lowest") => {
             scene.blocks.iter_mut().for_each(|b| b.support = false);
-            scene.mark_lowest_as_supports(1e-3);
+            // "The lowest level" within the coplanarity tolerance: the Armadillo's 33 supports
+            // sit within 2.5 cm (1.2e-3 of its size) of each other.
+            scene.mark_lowest_as_supports(settings.tolerances.coplanar);
         }
         Some(list) => {
             let names: Vec<&str> = list.split(',').map(str::trim).filter(|s| !s.is_empty()).collect();
@@ -117,7 +119,6 @@ fn apply_options(scene: &mut Scene, args: &AnalyzeArgs) -> Result<(), BadInput> 
 
 fn run_analyze(args: &AnalyzeArgs) -> Result<i32, BadInput> {
     let mut scene = load(args.scene.as_deref())?;
-    apply_options(&mut scene, args)?;
     let mut settings = AnalysisSettings::default();
     settings.statics.friction_model = args.friction_model;
     settings.statics.friction = args.mu;
@@ -127,6 +128,7 @@ fn run_analyze(args: &AnalyzeArgs) -> Result<i32, BadInput> {
     if let Some(a) = args.angle {
         settings.tolerances.angle_deg = a;
     }
+    apply_options(&mut scene, args, &settings)?;
     let analysis = analyze(&scene, &settings).map_err(|e| BadInput(format!("{}: {e}", source_name(args))))?;
     print!("{}", summary(&analysis, args.worst));
     if let Some(out) = &args.json {
@@ -169,7 +171,11 @@ pub fn summary(analysis: &Analysis, worst: usize) -> String {
         analysis.interfaces.len(),
         s.components
     );
-    let _ = writeln!(o, "  free weight W = {:.6e} N, μ = {:.4} ({})", s.free_weight, s.friction_coefficient, s.friction_model);
+    let _ = writeln!(
+        o,
+        "  free weight W = {:.6e} N, μ = {:.4} ({})",
+        s.free_weight, s.friction_coefficient, s.friction_model
+    );
     let _ = writeln!(o, "  minimum tension         {:.3e} W", s.tension_ratio);
     let _ = writeln!(o, "  minimum friction excess {:.3e} W", s.friction_excess_ratio);
     let _ = writeln!(o, "  max friction use        {:.1} % of μ·compression", 100.0 * s.max_friction_utilization);

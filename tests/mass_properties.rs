@@ -74,7 +74,9 @@ fn non_convex_l_prism() {
     let (cx, cy) = (5.0 / 6.0, 5.0 / 6.0);
     let izz: f64 = parts
         .iter()
-        .map(|&(area, w, d, x, y)| h * (area * (w * w + d * d) / 12.0 + area * ((x - cx) * (x - cx) + (y - cy) * (y - cy))))
+        .map(|&(area, w, d, x, y)| {
+            h * (area * (w * w + d * d) / 12.0 + area * ((x - cx) * (x - cx) + (y - cy) * (y - cy)))
+        })
         .sum();
     close(mp.inertia[(2, 2)], izz, "I_zz");
 }

@@ -77,7 +77,10 @@ fn stl_ascii_and_binary_give_the_same_unit_cube() {
                 let v = m.vertices[f[i]];
                 stl_io::Vertex::new([v.x as f32, v.y as f32, v.z as f32])
             };
-            tris.push(stl_io::Triangle { normal: stl_io::Normal::new([0.0, 0.0, 0.0]), vertices: [p(0), p(k), p(k + 1)] });
+            tris.push(stl_io::Triangle {
+                normal: stl_io::Normal::new([0.0, 0.0, 0.0]),
+                vertices: [p(0), p(k), p(k + 1)],
+            });
         }
     }
     let mut bin = Vec::new();

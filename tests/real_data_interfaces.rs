@@ -99,7 +99,8 @@ fn stored_normals_agree_with_detected_ones() {
 
 #[test]
 fn curved_interfaces_cover_the_stored_pairs() {
-    for rel in ["compas_cra/cube-curve-short.json", "compas_cra/cube-curve-tall.json", "compas_cra/curve-3-blocks.json"] {
+    for rel in ["compas_cra/cube-curve-short.json", "compas_cra/cube-curve-tall.json", "compas_cra/curve-3-blocks.json"]
+    {
         let (found, stored, _) = compare(rel);
         assert_eq!(found, stored, "{rel}");
     }

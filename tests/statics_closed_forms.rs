@@ -25,7 +25,10 @@ fn check_residual(r: &voussoir::statics::StaticsResult) {
 #[test]
 fn cube_on_cube_carries_a_quarter_at_each_corner() {
     for model in [FrictionModel::Pyramid8, FrictionModel::Cone, FrictionModel::Box4] {
-        let s = unit_scene("cubes", vec![cube("base", [0.0, 0.0, -1.0], 1.0).support(true), cube("top", [0.0, 0.0, 0.0], 1.0)]);
+        let s = unit_scene(
+            "cubes",
+            vec![cube("base", [0.0, 0.0, -1.0], 1.0).support(true), cube("top", [0.0, 0.0, 0.0], 1.0)],
+        );
         let mut set = AnalysisSettings::default();
         set.statics.friction_model = model;
         let r = run(&s, &set).statics;
@@ -49,7 +52,10 @@ fn cube_on_cube_carries_a_quarter_at_each_corner() {
 #[test]
 fn cube_shifted_by_three_quarters_needs_tension_w() {
     // Overlap x ∈ [0.75, 1], centroid at 1.25: C − T = W and C·0.25 = T·0.5 ⇒ T = W, C = 2W.
-    let s = unit_scene("offset", vec![cube("base", [0.0, 0.0, -1.0], 1.0).support(true), cube("top", [0.75, 0.0, 0.0], 1.0)]);
+    let s = unit_scene(
+        "offset",
+        vec![cube("base", [0.0, 0.0, -1.0], 1.0).support(true), cube("top", [0.75, 0.0, 0.0], 1.0)],
+    );
     let r = run(&s, &AnalysisSettings::default()).statics;
     check_residual(&r);
     assert_eq!(r.verdict, Verdict::NeedsTension);
@@ -98,21 +104,40 @@ fn beam_on_two_supports_follows_the_lever_rule() {
 fn unsupported_block_is_named_and_never_stands() {
     let s = unit_scene(
         "floating",
-        vec![cube("base", [0.0, 0.0, -1.0], 1.0).support(true), cube("ok", [0.0, 0.0, 0.0], 1.0), cube("ghost", [5.0, 5.0, 5.0], 1.0)],
+        vec![
+            cube("base", [0.0, 0.0, -1.0], 1.0).support(true),
+            cube("ok", [0.0, 0.0, 0.0], 1.0),
+            cube("ghost", [5.0, 5.0, 5.0], 1.0),
+        ],
     );
     let r = run(&s, &AnalysisSettings::default()).statics;
     assert_eq!(r.verdict, Verdict::Unsupported);
     assert!(!r.stands);
     assert_eq!(r.solver.status, SolverStatus::Unsupported);
-    assert!(r.solver.messages.iter().any(|m| m.contains("'ghost'") && m.contains("touches nothing")), "{:?}", r.solver.messages);
+    assert!(
+        r.solver.messages.iter().any(|m| m.contains("'ghost'") && m.contains("touches nothing")),
+        "{:?}",
+        r.solver.messages
+    );
     // The supported part is still solved.
     assert_eq!(r.interfaces.len(), 1);
     assert_close(r.interfaces[0].normal_force, 1.0, 1e-9, "the supported cube");
     // A group resting on nothing.
-    let s = unit_scene("group", vec![cube("base", [0.0, 0.0, -1.0], 1.0).support(true), cube("x", [5.0, 0.0, 0.0], 1.0), cube("y", [5.0, 0.0, 1.0], 1.0)]);
+    let s = unit_scene(
+        "group",
+        vec![
+            cube("base", [0.0, 0.0, -1.0], 1.0).support(true),
+            cube("x", [5.0, 0.0, 0.0], 1.0),
+            cube("y", [5.0, 0.0, 1.0], 1.0),
+        ],
+    );
     let r = run(&s, &AnalysisSettings::default()).statics;
     assert_eq!(r.verdict, Verdict::Unsupported);
-    assert!(r.solver.messages.iter().any(|m| m.contains("'x', 'y'") && m.contains("no support")), "{:?}", r.solver.messages);
+    assert!(
+        r.solver.messages.iter().any(|m| m.contains("'x', 'y'") && m.contains("no support")),
+        "{:?}",
+        r.solver.messages
+    );
 }
 
 #[test]

@@ -45,8 +45,8 @@ impl MassProperties {
         }
         let volume = vol6 / 6.0;
         if volume == 0.0 {
-            let mean: Vector3 = mesh.vertices.iter().map(|p| p.coords).sum::<Vector3>()
-                / mesh.vertices.len().max(1) as f64;
+            let mean: Vector3 =
+                mesh.vertices.iter().map(|p| p.coords).sum::<Vector3>() / mesh.vertices.len().max(1) as f64;
             return Self { volume, centroid: Point3::from(mean), inertia: Matrix3::zeros() };
         }
         let c_rel = first24 / 24.0 / volume;

@@ -72,11 +72,7 @@ impl Mesh {
     /// Axis-aligned box `[min, max]` as a closed mesh (6 quads, outward CCW).
     pub fn cuboid(min: Point3, max: Point3) -> Self {
         let v = |x: bool, y: bool, z: bool| {
-            Point3::new(
-                if x { max.x } else { min.x },
-                if y { max.y } else { min.y },
-                if z { max.z } else { min.z },
-            )
+            Point3::new(if x { max.x } else { min.x }, if y { max.y } else { min.y }, if z { max.z } else { min.z })
         };
         let vertices = vec![
             v(false, false, false),
@@ -103,8 +99,7 @@ impl Mesh {
     /// The polygon may be non-convex; side faces are quads, caps are single polygon faces.
     pub fn extrude_z(polygon: &[[f64; 2]], z0: f64, z1: f64) -> Self {
         let n = polygon.len();
-        let mut vertices: Vec<Point3> =
-            polygon.iter().map(|p| Point3::new(p[0], p[1], z0)).collect();
+        let mut vertices: Vec<Point3> = polygon.iter().map(|p| Point3::new(p[0], p[1], z0)).collect();
         vertices.extend(polygon.iter().map(|p| Point3::new(p[0], p[1], z1)));
         let mut faces = vec![(0..n).rev().collect::<Vec<_>>(), (n..2 * n).collect()];
         for i in 0..n {

@@ -34,14 +34,7 @@ pub struct Tolerances {
 
 impl Default for Tolerances {
     fn default() -> Self {
-        Self {
-            weld: 1e-7,
-            planarity: 1e-2,
-            coplanar: 3e-3,
-            angle_deg: 6.0,
-            min_area: 1e-3,
-            min_volume: 1e-9,
-        }
+        Self { weld: 1e-7, planarity: 1e-2, coplanar: 3e-3, angle_deg: 6.0, min_area: 1e-3, min_volume: 1e-9 }
     }
 }
 

@@ -21,15 +21,11 @@ pub enum MeshError {
     BadIndex { face: usize, index: usize, count: usize },
     #[error("face {face} has {count} vertices; a face needs at least 3")]
     TooFewVertices { face: usize, count: usize },
-    #[error(
-        "the mesh is not closed: edge ({a}, {b}) of face {face} has no neighbouring face (a hole in the surface)"
-    )]
+    #[error("the mesh is not closed: edge ({a}, {b}) of face {face} has no neighbouring face (a hole in the surface)")]
     Open { face: usize, a: usize, b: usize },
     #[error("the mesh is not manifold: edge ({a}, {b}) is shared by {count} faces (first: face {face})")]
     NonManifold { face: usize, a: usize, b: usize, count: usize },
-    #[error(
-        "faces {face} and {other} cannot be oriented consistently (a one-sided surface, e.g. a Möbius strip)"
-    )]
+    #[error("faces {face} and {other} cannot be oriented consistently (a one-sided surface, e.g. a Möbius strip)")]
     NonOrientable { face: usize, other: usize },
     #[error("the enclosed volume {volume:e} is zero or too small for the block's size (flat or degenerate mesh)")]
     ZeroVolume { volume: f64 },
@@ -126,7 +122,8 @@ pub fn repair(mesh: &Mesh, tol: &AbsTolerances) -> Result<Repaired, MeshError> {
         mass = MassProperties::of_mesh(&out);
     }
     let diag = out.aabb().diagonal();
-    if !(mass.volume > tol.min_volume_rel * diag.powi(3)) {
+    // Written so that a NaN volume is rejected too.
+    if mass.volume.partial_cmp(&(tol.min_volume_rel * diag.powi(3))) != Some(std::cmp::Ordering::Greater) {
         return Err(MeshError::ZeroVolume { volume: mass.volume });
     }
     triangulate_non_planar(&mut out, &origin, tol.planarity, &mut warnings);
@@ -149,11 +146,11 @@ fn weld(points: &[Point3], tol: f64) -> (Vec<Point3>, Vec<usize>, usize) {
         'search: for dx in -1..=1 {
             for dy in -1..=1 {
                 for dz in -1..=1 {
-                    if let Some(list) = grid.get(&[k[0] + dx, k[1] + dy, k[2] + dz]) {
-                        if let Some(&j) = list.iter().find(|&&j| (kept[j] - p).norm() <= tol) {
-                            found = Some(j);
-                            break 'search;
-                        }
+                    if let Some(list) = grid.get(&[k[0] + dx, k[1] + dy, k[2] + dz])
+                        && let Some(&j) = list.iter().find(|&&j| (kept[j] - p).norm() <= tol)
+                    {
+                        found = Some(j);
+                        break 'search;
                     }
                 }
             }

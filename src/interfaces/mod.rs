@@ -153,7 +153,8 @@ pub fn detect_ground(assembly: &Assembly, ib: BlockId, out: &mut Vec<Interface>)
             continue;
         }
         let frame = Frame::from_normal(Point3::origin(), Vector3::z());
-        let ring: Vec<[f64; 2]> = block.mesh.face_points(f).collect::<Vec<_>>().iter().rev().map(|p| frame.to_2d(p)).collect();
+        let ring: Vec<[f64; 2]> =
+            block.mesh.face_points(f).collect::<Vec<_>>().iter().rev().map(|p| frame.to_2d(p)).collect();
         let min_area = (tol.min_area_rel * face.area).max(tol.min_area_abs);
         // Intersecting with itself normalises the ring (orientation, collinear points).
         for piece in overlap::intersect(&ring, &ring) {

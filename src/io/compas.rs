@@ -34,9 +34,7 @@ pub struct StoredInterface {
 }
 
 fn graph<'a>(path: &Path, value: &'a Value) -> Result<&'a Value, IoError> {
-    value
-        .pointer("/data/graph/data")
-        .ok_or_else(|| IoError::format(path, "not a compas Assembly: no data.graph.data"))
+    value.pointer("/data/graph/data").ok_or_else(|| IoError::format(path, "not a compas Assembly: no data.graph.data"))
 }
 
 /// Node keys in a deterministic order: numeric keys by value, then the others by text.
@@ -80,9 +78,7 @@ fn mesh_from_value(path: &Path, key: &str, m: &Value) -> Result<Mesh, IoError> {
     for vk in sorted_keys(verts) {
         let v = &verts[vk];
         let c = |axis: &str| -> Result<f64, IoError> {
-            v.get(axis)
-                .and_then(Value::as_f64)
-                .ok_or_else(|| bad(format!("vertex '{vk}' has no numeric '{axis}'")))
+            v.get(axis).and_then(Value::as_f64).ok_or_else(|| bad(format!("vertex '{vk}' has no numeric '{axis}'")))
         };
         index.insert(vk.as_str(), vertices.len());
         vertices.push(Point3::new(c("x")?, c("y")?, c("z")?));

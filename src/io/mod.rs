@@ -53,8 +53,8 @@ pub fn load_scene(path: &Path) -> Result<Scene, IoError> {
     match ext.as_deref() {
         Some("json") => {
             let text = read_text(path)?;
-            let value: serde_json::Value = serde_json::from_str(&text)
-                .map_err(|source| IoError::Json { path: path.to_path_buf(), source })?;
+            let value: serde_json::Value =
+                serde_json::from_str(&text).map_err(|source| IoError::Json { path: path.to_path_buf(), source })?;
             if compas::is_compas(&value) {
                 compas::scene_from_value(path, &value)
             } else {

@@ -7,7 +7,8 @@ use crate::model::{Block, Scene};
 use std::path::Path;
 
 pub fn read(path: &Path) -> Result<Scene, IoError> {
-    let options = tobj::LoadOptions { single_index: false, triangulate: false, ignore_points: true, ignore_lines: true };
+    let options =
+        tobj::LoadOptions { single_index: false, triangulate: false, ignore_points: true, ignore_lines: true };
     let (models, _materials) = tobj::load_obj(path, &options).map_err(|e| match e {
         tobj::LoadError::OpenFileFailed | tobj::LoadError::ReadError => {
             IoError::Read { path: path.to_path_buf(), source: std::io::Error::other(e.to_string()) }
@@ -20,11 +21,8 @@ pub fn read(path: &Path) -> Result<Scene, IoError> {
     let mut blocks = Vec::with_capacity(models.len());
     for (k, model) in models.iter().enumerate() {
         let m = &model.mesh;
-        let vertices: Vec<Point3> = m
-            .positions
-            .chunks_exact(3)
-            .map(|p| Point3::new(p[0] as f64, p[1] as f64, p[2] as f64))
-            .collect();
+        let vertices: Vec<Point3> =
+            m.positions.chunks_exact(3).map(|p| Point3::new(p[0] as f64, p[1] as f64, p[2] as f64)).collect();
         let mut faces = Vec::new();
         let mut start = 0usize;
         let arities: Vec<usize> = if m.face_arities.is_empty() {

@@ -62,8 +62,8 @@ pub fn scene_from_str(path: &Path, text: &str) -> Result<Scene, IoError> {
 }
 
 pub(crate) fn scene_from_value(path: &Path, value: serde_json::Value) -> Result<Scene, IoError> {
-    let file: SceneFile = serde_json::from_value(value)
-        .map_err(|e| IoError::format(path, format!("not a voussoir scene: {e}")))?;
+    let file: SceneFile =
+        serde_json::from_value(value).map_err(|e| IoError::format(path, format!("not a voussoir scene: {e}")))?;
     if file.schema == 0 || file.schema > SCHEMA_VERSION {
         return Err(IoError::format(
             path,

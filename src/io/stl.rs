@@ -6,8 +6,7 @@ use crate::model::{Block, Scene};
 use std::path::Path;
 
 pub fn read(path: &Path) -> Result<Scene, IoError> {
-    let mut file =
-        std::fs::File::open(path).map_err(|source| IoError::Read { path: path.to_path_buf(), source })?;
+    let mut file = std::fs::File::open(path).map_err(|source| IoError::Read { path: path.to_path_buf(), source })?;
     let stl = stl_io::read_stl(&mut file).map_err(|e| IoError::format(path, format!("not a valid STL file: {e}")))?;
     if stl.faces.is_empty() {
         return Err(IoError::format(path, "the STL file has no triangles"));

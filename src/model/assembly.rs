@@ -2,8 +2,8 @@
 
 use super::{BlockId, Material, Scene};
 use crate::geometry::polygon::{area_vector, centroid};
-use crate::geometry::{Aabb3, MassProperties, Mesh, MeshError, MeshWarning, Point3, Tolerances, Vector3, repair};
 use crate::geometry::tolerances::AbsTolerances;
+use crate::geometry::{Aabb3, MassProperties, Mesh, MeshError, MeshWarning, Point3, Tolerances, Vector3, repair};
 use std::collections::HashSet;
 use thiserror::Error;
 
@@ -126,8 +126,7 @@ impl Assembly {
             if !(density > 0.0 && density.is_finite()) {
                 return Err(ModelError::BadDensity { block: b.name.clone(), density });
             }
-            let r = repair(&b.mesh, &tol)
-                .map_err(|source| ModelError::Mesh { block: b.name.clone(), source })?;
+            let r = repair(&b.mesh, &tol).map_err(|source| ModelError::Mesh { block: b.name.clone(), source })?;
             warnings.extend(r.warnings.into_iter().map(|w| Warning { block: b.name.clone(), warning: w }));
             let faces = face_data(&r.mesh);
             blocks.push(AssemblyBlock {

@@ -69,7 +69,9 @@ impl Params {
         self.known.push(key);
         match self.values.get(key) {
             None => Ok(default),
-            Some(v) => v.parse::<f64>().ok().filter(|x| x.is_finite()).ok_or_else(|| self.bad(key, v, "expected a number")),
+            Some(v) => {
+                v.parse::<f64>().ok().filter(|x| x.is_finite()).ok_or_else(|| self.bad(key, v, "expected a number"))
+            }
         }
     }
 
@@ -142,8 +144,11 @@ pub fn builtin(spec: &str) -> Result<Scene, BuiltinError> {
     scene.material = Material { density: p.num("density", defaults.density)?, friction: defaults.friction };
     if p.values.contains_key("mu") {
         let v = p.values["mu"].clone();
-        scene.material.friction =
-            v.parse::<f64>().ok().filter(|x| x.is_finite() && *x >= 0.0).ok_or_else(|| p.bad("mu", &v, "expected μ ≥ 0"))?;
+        scene.material.friction = v
+            .parse::<f64>()
+            .ok()
+            .filter(|x| x.is_finite() && *x >= 0.0)
+            .ok_or_else(|| p.bad("mu", &v, "expected μ ≥ 0"))?;
     }
     p.finish()?;
     scene.name = spec.to_string();
@@ -239,7 +244,9 @@ pub fn slope(angle_deg: f64, b: f64, h: f64) -> Scene {
 pub fn dome(courses: usize, blocks: usize, r: f64, t: f64, oculus_deg: f64) -> Scene {
     let (ri, ro) = (r - t / 2.0, r + t / 2.0);
     let top = PI / 2.0 - oculus_deg.to_radians();
-    let sph = |rad: f64, phi: f64, th: f64| Point3::new(rad * phi.cos() * th.cos(), rad * phi.cos() * th.sin(), rad * phi.sin());
+    let sph = |rad: f64, phi: f64, th: f64| {
+        Point3::new(rad * phi.cos() * th.cos(), rad * phi.cos() * th.sin(), rad * phi.sin())
+    };
     let mut out = Vec::with_capacity(courses * blocks);
     for c in 0..courses {
         let (p0, p1) = (top * c as f64 / courses as f64, top * (c + 1) as f64 / courses as f64);

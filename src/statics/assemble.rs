@@ -122,7 +122,8 @@ impl System {
         // rather than reported as "no equilibrium".
         let layout = Layout::new(relaxed, mu > 0.0 || relaxed);
         let g = assembly.gravity;
-        let force_scale: f64 = comp.blocks.iter().map(|&b| assembly.block(b).mass() * g.norm()).sum::<f64>().max(f64::MIN_POSITIVE);
+        let force_scale: f64 =
+            comp.blocks.iter().map(|&b| assembly.block(b).mass() * g.norm()).sum::<f64>().max(f64::MIN_POSITIVE);
         let length_scale = assembly.scale;
         let local: HashMap<BlockId, usize> = comp.blocks.iter().enumerate().map(|(i, &b)| (b, i)).collect();
         let mut points = Vec::new();
@@ -167,13 +168,73 @@ impl System {
         Self { points, layout, mu, model, eq, eq_rhs, force_scale }
     }
 
-    /// ‖A_eq x − b_eq‖_∞ (non-dimensional).
-    pub fn residual(&self, x: &[f64]) -> f64 {
+    fn residual_vector(&self, x: &[f64]) -> Vec<f64> {
         let mut r: Vec<f64> = self.eq_rhs.iter().map(|b| -b).collect();
         for &(i, j, v) in &self.eq {
             r[i] += v * x[j];
         }
-        r.iter().fold(0.0, |m, v| m.max(v.abs()))
+        r
+    }
+
+    /// ‖A_eq x − b_eq‖_∞ (non-dimensional).
+    pub fn residual(&self, x: &[f64]) -> f64 {
+        self.residual_vector(x).iter().fold(0.0, |m, v| m.max(v.abs()))
+    }
+
+    /// Removes the equilibrium residual an interior-point solution keeps (≈ its tolerance) by
+    /// the minimum-norm correction x ← x − Aᵀy with A Aᵀ y = r, solved by conjugate gradients
+    /// (CGNE). The correction is of the size of the residual, so the cone constraints move by
+    /// as little. Stops when the residual no longer shrinks.
+    pub fn polish(&self, x: &mut [f64]) {
+        let m = self.eq_rhs.len();
+        let apply_at = |y: &[f64], out: &mut Vec<f64>| {
+            out.iter_mut().for_each(|v| *v = 0.0);
+            for &(i, j, v) in &self.eq {
+                out[j] += v * y[i];
+            }
+        };
+        let apply_a = |z: &[f64], out: &mut Vec<f64>| {
+            out.iter_mut().for_each(|v| *v = 0.0);
+            for &(i, j, v) in &self.eq {
+                out[i] += v * z[j];
+            }
+        };
+        let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
+        let r0 = self.residual_vector(x);
+        let start = self.residual(x);
+        if start == 0.0 {
+            return;
+        }
+        // CG on (A Aᵀ) y = r0.
+        let mut y = vec![0.0; m];
+        let mut r = r0.clone();
+        let mut p = r.clone();
+        let mut rr = dot(&r, &r);
+        let (mut atp, mut q) = (vec![0.0; x.len()], vec![0.0; m]);
+        for _ in 0..200 {
+            apply_at(&p, &mut atp);
+            apply_a(&atp, &mut q);
+            let pq = dot(&p, &q);
+            if pq <= 0.0 {
+                break;
+            }
+            let alpha = rr / pq;
+            y.iter_mut().zip(&p).for_each(|(yi, pi)| *yi += alpha * pi);
+            r.iter_mut().zip(&q).for_each(|(ri, qi)| *ri -= alpha * qi);
+            let rr_new = dot(&r, &r);
+            if rr_new.sqrt() <= 1e-6 * start {
+                break;
+            }
+            let beta = rr_new / rr;
+            rr = rr_new;
+            p.iter_mut().zip(&r).for_each(|(pi, ri)| *pi = ri + beta * *pi);
+        }
+        let mut correction = vec![0.0; x.len()];
+        apply_at(&y, &mut correction);
+        let candidate: Vec<f64> = x.iter().zip(&correction).map(|(a, c)| a - c).collect();
+        if self.residual(&candidate) < start {
+            x.copy_from_slice(&candidate);
+        }
     }
 }
 
@@ -242,8 +303,10 @@ pub fn problem(sys: &System, stage: Stage, settings: &StaticsSettings) -> Proble
             push_row(&mut a, &mut b, &[(sys.col(i, Var::Slack), -1.0)], 0.0);
         }
     }
-    // Budgets, loosened by a hair so that the optimum of the previous stage stays feasible.
-    let budget = |value: f64| value * (1.0 + 1e-9) + 1e-12;
+    // Budgets, loosened by 1e-6 (relative) and 1e-9 W (absolute): the optimum of the previous
+    // stage stays strictly feasible, and the interior-point method keeps room to move (a
+    // budget at exactly the minimum leaves a degenerate feasible set).
+    let budget = |value: f64| value * (1.0 + 1e-6) + 1e-9;
     let tension_budget = match stage {
         Stage::FrictionExcess { tension } | Stage::Distribution { tension, .. } => Some(budget(tension)),
         _ => None,

@@ -154,14 +154,12 @@ pub(super) fn collect(
     let friction_excess_ratio = ratio(excess);
     let tol = settings.stand_tolerance;
     let verdict = match status {
-        SolverStatus::Solved | SolverStatus::AlmostSolved => {
-            match (tension_ratio > tol, friction_excess_ratio > tol) {
-                (false, false) => Verdict::Stands,
-                (true, false) => Verdict::NeedsTension,
-                (false, true) => Verdict::NeedsFriction,
-                (true, true) => Verdict::NeedsTensionAndFriction,
-            }
-        }
+        SolverStatus::Solved | SolverStatus::AlmostSolved => match (tension_ratio > tol, friction_excess_ratio > tol) {
+            (false, false) => Verdict::Stands,
+            (true, false) => Verdict::NeedsTension,
+            (false, true) => Verdict::NeedsFriction,
+            (true, true) => Verdict::NeedsTensionAndFriction,
+        },
         SolverStatus::Unsupported => Verdict::Unsupported,
         _ => Verdict::Unresolved,
     };
@@ -194,7 +192,8 @@ fn interface_results(
     mu: f64,
 ) -> Vec<InterfaceResult> {
     // Force points are grouped by interface in the component's interface order.
-    let mut by_interface: Vec<(usize, Vec<(&ForcePoint, &[f64; 5])>)> = Vec::with_capacity(comp.interfaces.len());
+    type PointsOf<'a> = Vec<(&'a ForcePoint, &'a [f64; 5])>;
+    let mut by_interface: Vec<(usize, PointsOf)> = Vec::with_capacity(comp.interfaces.len());
     for (fp, f) in out.points.iter().zip(&out.forces) {
         match by_interface.last_mut() {
             Some((k, list)) if *k == fp.interface => list.push((fp, f)),

@@ -98,10 +98,10 @@ impl StaticsSettings {
                 return Err(StaticsError::BadWeight { name, value });
             }
         }
-        if let Some(mu) = self.friction {
-            if !(mu >= 0.0 && mu.is_finite()) {
-                return Err(StaticsError::BadFriction(mu));
-            }
+        if let Some(mu) = self.friction
+            && !(mu >= 0.0 && mu.is_finite())
+        {
+            return Err(StaticsError::BadFriction(mu));
         }
         for t in [self.stand_tolerance, self.solver_tolerance] {
             if !(t > 0.0 && t.is_finite()) {

@@ -82,7 +82,12 @@ pub fn run(p: &Problem, settings: &StaticsSettings) -> QpOutcome {
     let mut solver = match DefaultSolver::new(&pm, &p.q, &am, &p.b, &cones, cl) {
         Ok(s) => s,
         Err(_) => {
-            return QpOutcome { status: SolverStatus::NumericalError, x: vec![0.0; p.n], objective: f64::NAN, iterations: 0 };
+            return QpOutcome {
+                status: SolverStatus::NumericalError,
+                x: vec![0.0; p.n],
+                objective: f64::NAN,
+                iterations: 0,
+            };
         }
     };
     solver.solve();
@@ -150,7 +155,10 @@ pub fn solve_component(
     if comp.interfaces.is_empty() {
         return failed(
             SolverStatus::Unsupported,
-            format!("block '{}' touches nothing: no interface holds it (check its position or the tolerances)", names(5)),
+            format!(
+                "block '{}' touches nothing: no interface holds it (check its position or the tolerances)",
+                names(5)
+            ),
             weight,
             0,
         );
@@ -186,6 +194,7 @@ pub fn solve_component(
         }
         let tension = b1.objective.max(0.0);
         let mut excess = 0.0;
+        let mut best = b1;
         if sys.layout.friction {
             let b2 = stage(&sys, Stage::FrictionExcess { tension });
             if !ok(b2.status) {
@@ -193,10 +202,16 @@ pub fn solve_component(
                 return failed(b2.status, msg, weight, iterations);
             }
             excess = b2.objective.max(0.0);
+            best = b2;
         }
         let c = stage(&sys, Stage::Distribution { tension, excess });
+        // The distribution QP only refines the forces: if it fails, the last LP's solution is
+        // an equilibrium with the same minimum tension and excess.
+        let c = if ok(c.status) { c } else { best };
         (sys, c, tension, excess)
     };
+    let mut c = c;
+    sys.polish(&mut c.x);
     let residual = sys.residual(&c.x) * sys.force_scale;
     let status = c.status;
     let fs = sys.force_scale;

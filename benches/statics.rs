@@ -1,0 +1,79 @@
+//! The equilibrium solve: the Armadillo full pipeline (load + validate + detect + solve), the
+//! dome, running-bond walls of 100 … 4000 bricks and semicircular arches of 10 … 1000
+//! voussoirs, for each friction model. Sizes can be narrowed with criterion's filter
+//! (`cargo bench --bench statics -- wall`).
+
+use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
+use std::hint::black_box;
+use std::path::PathBuf;
+use std::time::Duration;
+use voussoir::analysis::{AnalysisSettings, analyze};
+use voussoir::interfaces::detect;
+use voussoir::io::load_scene;
+use voussoir::model::{Assembly, builtin};
+use voussoir::statics::{self, FrictionModel, StaticsSettings};
+
+const MODELS: [FrictionModel; 3] = [FrictionModel::Pyramid8, FrictionModel::Cone, FrictionModel::Box4];
+
+fn shared(rel: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/data/compas").join(rel)
+}
+
+fn settings(model: FrictionModel) -> StaticsSettings {
+    StaticsSettings { friction_model: model, ..Default::default() }
+}
+
+fn real_data(c: &mut Criterion) {
+    let mut g = c.benchmark_group("statics/real");
+    g.sample_size(10).measurement_time(Duration::from_secs(8));
+    for model in MODELS {
+        g.bench_function(BenchmarkId::new("armadillo_pipeline", model), |b| {
+            b.iter(|| {
+                let scene = load_scene(&shared("compas_cra/armadillo_cra.json")).unwrap();
+                let mut s = AnalysisSettings { statics: settings(model), ..Default::default() };
+                s.statics.friction = Some(0.84);
+                black_box(analyze(&scene, &s).unwrap())
+            })
+        });
+        let scene = load_scene(&shared("compas_assembly/dome_assembly.json")).unwrap();
+        let asm = Assembly::new(&scene, &Default::default()).unwrap();
+        let ifs = detect(&asm);
+        g.bench_function(BenchmarkId::new("dome_solve", model), |b| {
+            b.iter(|| black_box(statics::analyze(&asm, &ifs, &settings(model)).unwrap()))
+        });
+    }
+    g.finish();
+}
+
+fn parametric(c: &mut Criterion, group: &str, specs: &[(usize, String)]) {
+    let mut g = c.benchmark_group(group);
+    g.sample_size(10).measurement_time(Duration::from_secs(5));
+    for model in MODELS {
+        for (size, spec) in specs {
+            let asm = Assembly::new(&builtin(spec).unwrap(), &Default::default()).unwrap();
+            let ifs = detect(&asm);
+            g.bench_with_input(BenchmarkId::new(model.to_string(), size), &(asm, ifs), |b, (asm, ifs)| {
+                b.iter(|| black_box(statics::analyze(asm, ifs, &settings(model)).unwrap()))
+            });
+        }
+    }
+    g.finish();
+}
+
+fn walls(c: &mut Criterion) {
+    // courses × bricks ≈ 100, 400, 1000, 4000 (odd courses have one piece more).
+    let specs: Vec<(usize, String)> = [(10, 10), (20, 20), (32, 31), (63, 63)]
+        .iter()
+        .map(|&(c, b)| (c * b, format!("wall?courses={c}&bricks={b}")))
+        .collect();
+    parametric(c, "statics/wall", &specs);
+}
+
+fn arches(c: &mut Criterion) {
+    let specs: Vec<(usize, String)> =
+        [10, 30, 100, 300, 1000].iter().map(|&n| (n, format!("arch?n={n}&t=0.15"))).collect();
+    parametric(c, "statics/arch", &specs);
+}
+
+criterion_group!(benches, real_data, walls, arches);
+criterion_main!(benches);
