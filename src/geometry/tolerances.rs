@@ -21,6 +21,10 @@ pub struct Tolerances {
     /// other's plane. Default 3e-3 (3 mm on a 1 m model): the BRG dome and Armadillo data have
     /// joints up to 2.9 cm open on 10–20 m models. Tighten it for exact CAD geometry.
     pub coplanar: f64,
+    /// ... and within `coplanar_thickness` times the thinner block's thickness (volume / largest
+    /// face area), so that thin blocks (a 1000-voussoir arch has 3 mm voussoirs) do not reach
+    /// past their neighbour. Default 0.3 (the Armadillo's widest joint is 0.23 of its block).
+    pub coplanar_thickness: f64,
     /// Two faces are opposite when the angle between one's normal and the reverse of the
     /// other's is below this, in degrees. Default 6 (the dome and Armadillo data have joints
     /// up to 5.6° open); for large faces the coplanarity test is the stricter one.
@@ -34,7 +38,15 @@ pub struct Tolerances {
 
 impl Default for Tolerances {
     fn default() -> Self {
-        Self { weld: 1e-7, planarity: 1e-2, coplanar: 3e-3, angle_deg: 6.0, min_area: 1e-3, min_volume: 1e-9 }
+        Self {
+            weld: 1e-7,
+            planarity: 1e-2,
+            coplanar: 3e-3,
+            coplanar_thickness: 0.3,
+            angle_deg: 6.0,
+            min_area: 1e-3,
+            min_volume: 1e-9,
+        }
     }
 }
 
@@ -45,6 +57,7 @@ pub struct AbsTolerances {
     pub weld: f64,
     pub planarity: f64,
     pub coplanar: f64,
+    pub coplanar_thickness: f64,
     /// cos of the angle tolerance: faces are opposite when `n_a · n_b <= -cos_angle`.
     pub cos_angle: f64,
     pub min_area_rel: f64,
@@ -60,6 +73,7 @@ impl Tolerances {
             weld: self.weld * scale,
             planarity: self.planarity * scale,
             coplanar: self.coplanar * scale,
+            coplanar_thickness: self.coplanar_thickness,
             cos_angle: self.angle_deg.to_radians().cos(),
             min_area_rel: self.min_area,
             min_area_abs: self.min_area * 1e-4 * scale * scale,

@@ -1,8 +1,9 @@
 //! Contact interfaces between blocks, and between blocks and supports or the ground plane.
 //!
 //! Two faces form an interface when their outward normals are opposite (within the angle
-//! tolerance), each lies in the other's plane (within the coplanarity tolerance, relative to the
-//! model size) and their overlap has a non-negligible area. The overlap is computed in 2D with a
+//! tolerance), each lies in the other's plane (within the coplanarity tolerance: relative to the
+//! model size, and at most a fraction of the thinner block's thickness) and their overlap has a
+//! non-negligible area. The overlap is computed in 2D with a
 //! polygon-clipping crate, so non-convex faces, holes and several disjoint overlap pieces are
 //! handled; each piece is one [`Interface`].
 //!
@@ -103,11 +104,12 @@ pub fn detect_pair(assembly: &Assembly, ia: BlockId, ib: BlockId, out: &mut Vec<
     if ba.support && bb.support {
         return;
     }
+    let coplanar = tol.coplanar.min(tol.coplanar_thickness * ba.thickness.min(bb.thickness));
     for (fa, face_a) in ba.faces.iter().enumerate() {
         if face_a.area == 0.0 {
             continue;
         }
-        let box_a = face_a.aabb.loosened(tol.coplanar);
+        let box_a = face_a.aabb.loosened(coplanar);
         for (fb, face_b) in bb.faces.iter().enumerate() {
             if face_a.normal.dot(&face_b.normal) > -tol.cos_angle
                 || face_b.area == 0.0
@@ -119,7 +121,7 @@ pub fn detect_pair(assembly: &Assembly, ia: BlockId, ib: BlockId, out: &mut Vec<
             let pb: Vec<Point3> = bb.mesh.face_points(fb).collect();
             let plane_a = Plane::from_point_normal(&face_a.centroid, &face_a.normal);
             let plane_b = Plane::from_point_normal(&face_b.centroid, &face_b.normal);
-            let within = |plane: &Plane, pts: &[Point3]| pts.iter().all(|p| plane.distance(p).abs() <= tol.coplanar);
+            let within = |plane: &Plane, pts: &[Point3]| pts.iter().all(|p| plane.distance(p).abs() <= coplanar);
             if !within(&plane_a, &pb) || !within(&plane_b, &pa) {
                 continue;
             }
@@ -142,14 +144,15 @@ pub fn detect_pair(assembly: &Assembly, ia: BlockId, ib: BlockId, out: &mut Vec<
 pub fn detect_ground(assembly: &Assembly, ib: BlockId, out: &mut Vec<Interface>) {
     let tol = &assembly.tolerances;
     let block = assembly.block(ib);
-    if block.support || block.aabb.min.z > tol.coplanar {
+    let coplanar = tol.coplanar.min(tol.coplanar_thickness * block.thickness);
+    if block.support || block.aabb.min.z > coplanar {
         return;
     }
     for (f, face) in block.faces.iter().enumerate() {
-        if face.area == 0.0 || face.normal.z > -tol.cos_angle || face.aabb.max.z.abs() > tol.coplanar {
+        if face.area == 0.0 || face.normal.z > -tol.cos_angle || face.aabb.max.z.abs() > coplanar {
             continue;
         }
-        if block.mesh.face_points(f).any(|p| p.z.abs() > tol.coplanar) {
+        if block.mesh.face_points(f).any(|p| p.z.abs() > coplanar) {
             continue;
         }
         let frame = Frame::from_normal(Point3::origin(), Vector3::z());

@@ -65,6 +65,8 @@ pub struct AssemblyBlock {
     pub mass: MassProperties,
     pub faces: Vec<Face>,
     pub aabb: Aabb3,
+    /// Volume / largest face area: a plate's thickness, a cube's edge (m).
+    pub thickness: f64,
 }
 
 impl AssemblyBlock {
@@ -129,12 +131,14 @@ impl Assembly {
             let r = repair(&b.mesh, &tol).map_err(|source| ModelError::Mesh { block: b.name.clone(), source })?;
             warnings.extend(r.warnings.into_iter().map(|w| Warning { block: b.name.clone(), warning: w }));
             let faces = face_data(&r.mesh);
+            let largest = faces.iter().map(|f| f.area).fold(0.0, f64::max);
             blocks.push(AssemblyBlock {
                 name: b.name.clone(),
                 aabb: r.mesh.aabb(),
                 mesh: r.mesh,
                 support: b.support,
                 density,
+                thickness: r.mass.volume / largest,
                 mass: r.mass,
                 faces,
             });

@@ -202,7 +202,8 @@ impl System {
         let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
         let r0 = self.residual_vector(x);
         let start = self.residual(x);
-        if start == 0.0 {
+        // Already at round-off (the usual case for the strict QP): nothing to gain.
+        if start <= 1e-13 {
             return;
         }
         // CG on (A Aᵀ) y = r0.
