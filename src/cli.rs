@@ -192,10 +192,12 @@ pub fn summary(analysis: &Analysis, worst: usize) -> String {
     let t = &analysis.timings;
     let _ = writeln!(
         o,
-        "  time: validate {:.1} ms, detect {:.1} ms, solve {:.1} ms",
+        "  time: validate {:.1} ms, detect {:.1} ms, assemble {:.1} ms, solve {:.1} ms (total {:.1} ms)",
         1e3 * t.validate,
         1e3 * t.detect,
-        1e3 * t.solve
+        1e3 * t.assemble,
+        1e3 * t.solve,
+        1e3 * t.total
     );
     if !a.warnings.is_empty() {
         let _ = writeln!(o, "  {} repair warning(s), first: {}", a.warnings.len(), a.warnings[0]);

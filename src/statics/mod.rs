@@ -41,7 +41,6 @@ pub use settings::{FrictionModel, StaticsSettings};
 
 use crate::interfaces::Interface;
 use crate::model::Assembly;
-use std::time::Instant;
 use thiserror::Error;
 
 /// Invalid statics settings (solver trouble is not an error: it is a [`SolverStatus`]).
@@ -67,9 +66,7 @@ pub fn analyze(
     if !(mu >= 0.0 && mu.is_finite()) {
         return Err(StaticsError::BadFriction(mu));
     }
-    let t0 = Instant::now();
     let comps = components(assembly, interfaces);
     let outcomes = solve::solve_components(assembly, interfaces, &comps, mu, settings);
-    let solve_s = t0.elapsed().as_secs_f64();
-    Ok(result::collect(assembly, interfaces, &comps, outcomes, mu, settings, solve_s))
+    Ok(result::collect(assembly, interfaces, &comps, outcomes, mu, settings))
 }

@@ -60,7 +60,7 @@ pub struct StaticsSettings {
     /// both at most this fraction of the free weight. Default 1e-6.
     pub stand_tolerance: f64,
     /// Interior-point feasibility and gap tolerance (clarabel's tol_feas, tol_gap_abs/rel).
-    /// Default 1e-10.
+    /// Default 1e-8 (clarabel's); the equilibrium residual is then polished to round-off.
     pub solver_tolerance: f64,
     /// Default 200.
     pub max_iterations: u32,
@@ -79,7 +79,7 @@ impl Default for StaticsSettings {
             w_friction: 1.0,
             w_slack: 1e6,
             stand_tolerance: 1e-6,
-            solver_tolerance: 1e-10,
+            solver_tolerance: 1e-8,
             max_iterations: 200,
             parallel: true,
         }

@@ -9,6 +9,7 @@ use crate::interfaces::Interface;
 use crate::model::Assembly;
 use clarabel::algebra::CscMatrix;
 use clarabel::solver::{DefaultSettings, DefaultSolver, IPSolver, SolverStatus as ClStatus, SupportedConeT};
+use std::time::Instant;
 
 /// Result of one conic solve.
 #[derive(Clone, Debug)]
@@ -17,6 +18,9 @@ pub struct QpOutcome {
     pub x: Vec<f64>,
     pub objective: f64,
     pub iterations: u32,
+    /// Seconds converting to clarabel's matrices, and in clarabel (set-up and solve).
+    pub convert_seconds: f64,
+    pub solver_seconds: f64,
 }
 
 fn csc_from_triplets(m: usize, n: usize, triplets: &[(usize, usize, f64)]) -> CscMatrix<f64> {
@@ -56,6 +60,7 @@ fn csc_from_triplets(m: usize, n: usize, triplets: &[(usize, usize, f64)]) -> Cs
 
 /// Solves one problem with clarabel (verbose off, presolve on).
 pub fn run(p: &Problem, settings: &StaticsSettings) -> QpOutcome {
+    let t0 = Instant::now();
     let diag: Vec<(usize, usize, f64)> =
         p.p_diag.iter().enumerate().filter(|(_, v)| **v != 0.0).map(|(i, &v)| (i, i, v)).collect();
     let pm = csc_from_triplets(p.n, p.n, &diag);
@@ -70,6 +75,8 @@ pub fn run(p: &Problem, settings: &StaticsSettings) -> QpOutcome {
             Cone::SecondOrder(k) => Some(SupportedConeT::SecondOrderConeT(k)),
         })
         .collect();
+    let convert_seconds = t0.elapsed().as_secs_f64();
+    let t1 = Instant::now();
     let tol = settings.solver_tolerance;
     let cl = DefaultSettings {
         verbose: false,
@@ -87,6 +94,8 @@ pub fn run(p: &Problem, settings: &StaticsSettings) -> QpOutcome {
                 x: vec![0.0; p.n],
                 objective: f64::NAN,
                 iterations: 0,
+                convert_seconds,
+                solver_seconds: t1.elapsed().as_secs_f64(),
             };
         }
     };
@@ -101,7 +110,14 @@ pub fn run(p: &Problem, settings: &StaticsSettings) -> QpOutcome {
         ClStatus::InsufficientProgress => SolverStatus::InsufficientProgress,
         _ => SolverStatus::NumericalError,
     };
-    QpOutcome { status, x: s.x.clone(), objective: s.obj_val, iterations: s.iterations }
+    QpOutcome {
+        status,
+        x: s.x.clone(),
+        objective: s.obj_val,
+        iterations: s.iterations,
+        convert_seconds,
+        solver_seconds: t1.elapsed().as_secs_f64(),
+    }
 }
 
 /// Outcome of one component, in physical units.
@@ -120,9 +136,12 @@ pub struct ComponentOutcome {
     pub residual: f64,
     pub iterations: u32,
     pub weight: f64,
+    /// Seconds building the problems (layout, rows, matrices) and inside clarabel.
+    pub assemble_seconds: f64,
+    pub solver_seconds: f64,
 }
 
-fn failed(status: SolverStatus, message: String, weight: f64, iterations: u32) -> ComponentOutcome {
+fn failed(status: SolverStatus, message: String, weight: f64, iterations: u32, times: (f64, f64)) -> ComponentOutcome {
     ComponentOutcome {
         status,
         message: Some(message),
@@ -133,6 +152,8 @@ fn failed(status: SolverStatus, message: String, weight: f64, iterations: u32) -
         residual: f64::NAN,
         iterations,
         weight,
+        assemble_seconds: times.0,
+        solver_seconds: times.1,
     }
 }
 
@@ -161,6 +182,7 @@ pub fn solve_component(
             ),
             weight,
             0,
+            (0.0, 0.0),
         );
     }
     if !comp.is_supported(assembly, interfaces) {
@@ -169,42 +191,55 @@ pub fn solve_component(
             format!("blocks '{}' touch no support or ground: the group has nothing to stand on", names(5)),
             weight,
             0,
+            (0.0, 0.0),
         );
     }
     let ok = |s: SolverStatus| matches!(s, SolverStatus::Solved | SolverStatus::AlmostSolved);
-    let mut iterations = 0;
-    let mut stage = |sys: &System, st: Stage| {
-        let out = run(&problem(sys, st, settings), settings);
-        iterations += out.iterations;
+    // Iterations, assembly seconds and solver seconds over all stages.
+    let mut tally = (0u32, 0.0f64, 0.0f64);
+    let stage = |sys: &System, st: Stage, tally: &mut (u32, f64, f64)| {
+        let t = Instant::now();
+        let p = problem(sys, st, settings);
+        let built = t.elapsed().as_secs_f64();
+        let out = run(&p, settings);
+        tally.0 += out.iterations;
+        tally.1 += built + out.convert_seconds;
+        tally.2 += out.solver_seconds;
         out
+    };
+    let system = |relaxed: bool, tally: &mut (u32, f64, f64)| {
+        let t = Instant::now();
+        let sys = System::new(assembly, interfaces, comp, mu, settings.friction_model, relaxed);
+        tally.1 += t.elapsed().as_secs_f64();
+        sys
     };
     // Most designs being checked stand: try the strict problem (compression only, friction
     // within μ) first. Solved ⇒ minimum tension and excess are exactly 0, and this is the
     // distribution. Otherwise (infeasible, or trouble) take the relaxed stages.
-    let strict = System::new(assembly, interfaces, comp, mu, settings.friction_model, false);
-    let first = stage(&strict, Stage::Strict);
+    let strict = system(false, &mut tally);
+    let first = stage(&strict, Stage::Strict, &mut tally);
     let (sys, c, tension, excess) = if ok(first.status) {
         (strict, first, 0.0, 0.0)
     } else {
-        let sys = System::new(assembly, interfaces, comp, mu, settings.friction_model, true);
-        let b1 = stage(&sys, Stage::Tension);
+        let sys = system(true, &mut tally);
+        let b1 = stage(&sys, Stage::Tension, &mut tally);
         if !ok(b1.status) {
             let msg = format!("the minimum-tension LP ended with status {:?}", b1.status);
-            return failed(b1.status, msg, weight, iterations);
+            return failed(b1.status, msg, weight, tally.0, (tally.1, tally.2));
         }
         let tension = b1.objective.max(0.0);
         let mut excess = 0.0;
         let mut best = b1;
         if sys.layout.friction {
-            let b2 = stage(&sys, Stage::FrictionExcess { tension });
+            let b2 = stage(&sys, Stage::FrictionExcess { tension }, &mut tally);
             if !ok(b2.status) {
                 let msg = format!("the friction-excess LP ended with status {:?}", b2.status);
-                return failed(b2.status, msg, weight, iterations);
+                return failed(b2.status, msg, weight, tally.0, (tally.1, tally.2));
             }
             excess = b2.objective.max(0.0);
             best = b2;
         }
-        let c = stage(&sys, Stage::Distribution { tension, excess });
+        let c = stage(&sys, Stage::Distribution { tension, excess }, &mut tally);
         // The distribution QP only refines the forces: if it fails, the last LP's solution is
         // an equilibrium with the same minimum tension and excess.
         let c = if ok(c.status) { c } else { best };
@@ -226,8 +261,10 @@ pub fn solve_component(
         min_tension: tension * fs,
         min_excess: excess * fs,
         residual,
-        iterations,
+        iterations: tally.0,
         weight,
+        assemble_seconds: tally.1,
+        solver_seconds: tally.2,
     }
 }
 
