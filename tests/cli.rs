@@ -1,0 +1,134 @@
+//! Invariant: the CLI's exit code is 0 when the assembly stands, 1 when it does not, 2 for bad
+//! input (with one message naming the file); the JSON report has the documented keys and is
+//! written atomically, never over the input.
+
+use std::path::PathBuf;
+use std::process::{Command, Output};
+
+fn voussoir(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_voussoir")).args(args).output().expect("the binary runs")
+}
+
+fn tmp(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("voussoir-cli-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir.join(name)
+}
+
+fn shared(rel: &str) -> String {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/data/compas").join(rel).display().to_string()
+}
+
+#[test]
+fn default_scene_stands_with_exit_code_0() {
+    let out = voussoir(&[]);
+    assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stderr));
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.starts_with("STANDS"), "verdict first: {text}");
+}
+
+#[test]
+fn failing_scene_exits_1_and_reports_json() {
+    let json = tmp("arch.json");
+    let out = voussoir(&[
+        "analyze",
+        "builtin:arch?n=40&t=0.10",
+        "--friction-model",
+        "cone",
+        "--json",
+        json.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&out.stdout).starts_with("DOES NOT STAND: needs tension"));
+    let v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    for key in [
+        "stands",
+        "tension_ratio",
+        "friction_excess_ratio",
+        "max_friction_utilization",
+        "blocks",
+        "supports",
+        "interfaces",
+        "solver",
+        "timings",
+    ] {
+        assert!(v.get(key).is_some(), "report has '{key}'");
+    }
+    assert_eq!(v["stands"], false);
+    assert_eq!(v["friction_model"], "cone");
+    assert!(v["tension_ratio"].as_f64().unwrap() > 1e-4);
+    let i = &v["interfaces"][0];
+    for key in
+        ["a", "b", "area", "normal_force", "tension", "friction", "friction_utilization", "resultant_point", "vertices"]
+    {
+        assert!(i.get(key).is_some(), "interface has '{key}'");
+    }
+    for key in ["status", "iterations", "residual"] {
+        assert!(v["solver"].get(key).is_some(), "solver has '{key}'");
+    }
+    // No temporary file left behind.
+    let leftovers: Vec<_> = std::fs::read_dir(json.parent().unwrap())
+        .unwrap()
+        .filter_map(|e| e.ok())
+        .filter(|e| e.file_name().to_string_lossy().contains(".tmp-"))
+        .collect();
+    assert!(leftovers.is_empty());
+}
+
+#[test]
+fn options_mu_density_supports() {
+    // μ below tan 30°: the block slides (exit 1); above: stands (exit 0).
+    assert_eq!(voussoir(&["analyze", "builtin:slope?angle=30", "--mu", "0.5"]).status.code(), Some(1));
+    assert_eq!(voussoir(&["analyze", "builtin:slope?angle=30", "--mu", "0.7"]).status.code(), Some(0));
+    // Density changes W, not the verdict.
+    let json = tmp("dense.json");
+    let out = voussoir(&["analyze", "builtin:stack?n=2", "--density", "2400", "--json", json.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(0));
+    let v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    assert!((v["free_weight"].as_f64().unwrap() - 2.0 * 2400.0 * 9.81).abs() < 1e-6);
+    // compas_cra file without stored supports: lowest blocks.
+    let out = voussoir(&["analyze", &shared("compas_cra/cubes.json"), "--supports", "lowest"]);
+    assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stdout));
+}
+
+#[test]
+fn bad_input_exits_2_naming_the_file() {
+    let bad = tmp("bad.json");
+    std::fs::write(&bad, "{\"blocks\": [{\"name\": \"a\"}]}").unwrap();
+    let out = voussoir(&["analyze", bad.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("bad.json") && err.lines().count() == 1, "{err}");
+    for args in [
+        vec!["analyze", "/nonexistent.json"],
+        vec!["analyze", "builtin:nothing"],
+        vec!["analyze", "builtin:stack", "--supports", "nosuchblock"],
+        vec!["analyze", "builtin:stack", "--mu", "-1"],
+    ] {
+        let out = voussoir(&args);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {}", String::from_utf8_lossy(&out.stderr));
+        assert!(String::from_utf8_lossy(&out.stderr).starts_with("error: "));
+    }
+    // An open mesh: the message names file, block and face.
+    let open = tmp("open.json");
+    std::fs::write(
+        &open,
+        r#"{"blocks": [{"name": "lidless", "vertices": [[0,0,0],[1,0,0],[1,1,0],[0,1,0],[0,0,1],[1,0,1],[1,1,1],[0,1,1]],
+            "faces": [[0,3,2,1],[0,1,5,4],[1,2,6,5],[2,3,7,6],[3,0,4,7]]}]}"#,
+    )
+    .unwrap();
+    let out = voussoir(&["analyze", open.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("open.json") && err.contains("block 'lidless'") && err.contains("face"), "{err}");
+}
+
+#[test]
+fn the_report_never_overwrites_the_input() {
+    let scene = tmp("scene.json");
+    std::fs::copy(PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("assets/default.json"), &scene).unwrap();
+    let before = std::fs::read(&scene).unwrap();
+    let out = voussoir(&["analyze", scene.to_str().unwrap(), "--json", scene.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(2));
+    assert_eq!(std::fs::read(&scene).unwrap(), before);
+}
