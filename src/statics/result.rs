@@ -122,6 +122,10 @@ pub struct StaticsResult {
     pub solver_seconds: f64,
 }
 
+/// Below this fraction of a component's weight a minimum tension or excess is not resolved
+/// by the LPs (solved to 1e-10): it counts as zero.
+pub const STAND_FLOOR: f64 = 1e-8;
+
 pub(super) fn collect(
     assembly: &Assembly,
     interfaces: &[Interface],
@@ -135,8 +139,13 @@ pub(super) fn collect(
     let (mut tension, mut excess, mut residual, mut iterations) = (0.0, 0.0, 0.0f64, 0);
     let mut status = SolverStatus::Solved;
     let mut messages = Vec::new();
+    // Per component: does it need tension / more friction? (See `stand_tolerance`.)
+    let (mut needs_tension, mut needs_friction) = (false, false);
     for (comp, out) in comps.iter().zip(outcomes.iter()) {
         status = status.max(out.status);
+        let threshold = (settings.stand_tolerance * out.lightest).max(STAND_FLOOR * out.weight);
+        needs_tension |= out.min_tension > threshold;
+        needs_friction |= out.min_excess > threshold;
         iterations += out.iterations;
         if let Some(m) = &out.message {
             messages.push(m.clone());
@@ -154,9 +163,8 @@ pub(super) fn collect(
     let ratio = |x: f64| if w_total > 0.0 { x / w_total } else { 0.0 };
     let tension_ratio = ratio(tension);
     let friction_excess_ratio = ratio(excess);
-    let tol = settings.stand_tolerance;
     let verdict = match status {
-        SolverStatus::Solved | SolverStatus::AlmostSolved => match (tension_ratio > tol, friction_excess_ratio > tol) {
+        SolverStatus::Solved | SolverStatus::AlmostSolved => match (needs_tension, needs_friction) {
             (false, false) => Verdict::Stands,
             (true, false) => Verdict::NeedsTension,
             (false, true) => Verdict::NeedsFriction,

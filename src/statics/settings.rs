@@ -56,8 +56,10 @@ pub struct StaticsSettings {
     pub w_friction: f64,
     /// Weight of Σ s² (friction slack). Default 1e6.
     pub w_slack: f64,
-    /// The assembly stands when the minimum total tension and the minimum friction excess are
-    /// both at most this fraction of the free weight. Default 1e-6.
+    /// The assembly stands when, in every connected component, the minimum total tension and
+    /// the minimum friction excess are both at most this fraction of the weight of the
+    /// component's lightest block (so a light block that would fall off is not hidden by heavy
+    /// ones), or below 1e-8 of the component's weight (what the LPs resolve). Default 1e-6.
     pub stand_tolerance: f64,
     /// Interior-point feasibility and gap tolerance (clarabel's tol_feas, tol_gap_abs/rel).
     /// Default 1e-8 (clarabel's); the equilibrium residual is then polished to round-off.

@@ -11,6 +11,9 @@ use clarabel::algebra::CscMatrix;
 use clarabel::solver::{DefaultSettings, DefaultSolver, IPSolver, SolverStatus as ClStatus, SupportedConeT};
 use std::time::Instant;
 
+/// Interior-point tolerance of the minimum-tension and minimum-excess LPs.
+pub const LP_TOLERANCE: f64 = 1e-10;
+
 /// Result of one conic solve.
 #[derive(Clone, Debug)]
 pub struct QpOutcome {
@@ -59,7 +62,7 @@ fn csc_from_triplets(m: usize, n: usize, triplets: &[(usize, usize, f64)]) -> Cs
 }
 
 /// Solves one problem with clarabel (verbose off, presolve on).
-pub fn run(p: &Problem, settings: &StaticsSettings) -> QpOutcome {
+pub fn run(p: &Problem, settings: &StaticsSettings, tol: f64) -> QpOutcome {
     let t0 = Instant::now();
     let diag: Vec<(usize, usize, f64)> =
         p.p_diag.iter().enumerate().filter(|(_, v)| **v != 0.0).map(|(i, &v)| (i, i, v)).collect();
@@ -77,7 +80,6 @@ pub fn run(p: &Problem, settings: &StaticsSettings) -> QpOutcome {
         .collect();
     let convert_seconds = t0.elapsed().as_secs_f64();
     let t1 = Instant::now();
-    let tol = settings.solver_tolerance;
     let cl = DefaultSettings {
         verbose: false,
         max_iter: settings.max_iterations,
@@ -135,13 +137,21 @@ pub struct ComponentOutcome {
     /// ‖equilibrium residual‖_∞, N.
     pub residual: f64,
     pub iterations: u32,
+    /// Free weight of the component and of its lightest block, N.
     pub weight: f64,
+    pub lightest: f64,
     /// Seconds building the problems (layout, rows, matrices) and inside clarabel.
     pub assemble_seconds: f64,
     pub solver_seconds: f64,
 }
 
-fn failed(status: SolverStatus, message: String, weight: f64, iterations: u32, times: (f64, f64)) -> ComponentOutcome {
+fn failed(
+    status: SolverStatus,
+    message: String,
+    (weight, lightest): (f64, f64),
+    iterations: u32,
+    times: (f64, f64),
+) -> ComponentOutcome {
     ComponentOutcome {
         status,
         message: Some(message),
@@ -152,6 +162,7 @@ fn failed(status: SolverStatus, message: String, weight: f64, iterations: u32, t
         residual: f64::NAN,
         iterations,
         weight,
+        lightest,
         assemble_seconds: times.0,
         solver_seconds: times.1,
     }
@@ -172,7 +183,10 @@ pub fn solve_component(
         }
         s.join("', '")
     };
-    let weight: f64 = comp.blocks.iter().map(|&b| assembly.block(b).mass() * assembly.gravity.norm()).sum();
+    let block_weight = |b: &crate::model::BlockId| assembly.block(*b).mass() * assembly.gravity.norm();
+    let weight: f64 = comp.blocks.iter().map(block_weight).sum();
+    let lightest = comp.blocks.iter().map(block_weight).fold(f64::INFINITY, f64::min);
+    let weights = (weight, lightest);
     if comp.interfaces.is_empty() {
         return failed(
             SolverStatus::Unsupported,
@@ -180,7 +194,7 @@ pub fn solve_component(
                 "block '{}' touches nothing: no interface holds it (check its position or the tolerances)",
                 names(5)
             ),
-            weight,
+            weights,
             0,
             (0.0, 0.0),
         );
@@ -189,7 +203,7 @@ pub fn solve_component(
         return failed(
             SolverStatus::Unsupported,
             format!("blocks '{}' touch no support or ground: the group has nothing to stand on", names(5)),
-            weight,
+            weights,
             0,
             (0.0, 0.0),
         );
@@ -201,7 +215,13 @@ pub fn solve_component(
         let t = Instant::now();
         let p = problem(sys, st, settings);
         let built = t.elapsed().as_secs_f64();
-        let out = run(&p, settings);
+        // The LPs decide the verdict: solve them to 1e-10 so that their optimum resolves a
+        // tension or friction excess of 1e-8 W (see `StaticsSettings::stand_tolerance`).
+        let tol = match st {
+            Stage::Tension | Stage::FrictionExcess { .. } => settings.solver_tolerance.min(LP_TOLERANCE),
+            _ => settings.solver_tolerance,
+        };
+        let out = run(&p, settings, tol);
         tally.0 += out.iterations;
         tally.1 += built + out.convert_seconds;
         tally.2 += out.solver_seconds;
@@ -225,7 +245,7 @@ pub fn solve_component(
         let b1 = stage(&sys, Stage::Tension, &mut tally);
         if !ok(b1.status) {
             let msg = format!("the minimum-tension LP ended with status {:?}", b1.status);
-            return failed(b1.status, msg, weight, tally.0, (tally.1, tally.2));
+            return failed(b1.status, msg, weights, tally.0, (tally.1, tally.2));
         }
         let tension = b1.objective.max(0.0);
         let mut excess = 0.0;
@@ -234,7 +254,7 @@ pub fn solve_component(
             let b2 = stage(&sys, Stage::FrictionExcess { tension }, &mut tally);
             if !ok(b2.status) {
                 let msg = format!("the friction-excess LP ended with status {:?}", b2.status);
-                return failed(b2.status, msg, weight, tally.0, (tally.1, tally.2));
+                return failed(b2.status, msg, weights, tally.0, (tally.1, tally.2));
             }
             excess = b2.objective.max(0.0);
             best = b2;
@@ -263,6 +283,7 @@ pub fn solve_component(
         residual,
         iterations: tally.0,
         weight,
+        lightest,
         assemble_seconds: tally.1,
         solver_seconds: tally.2,
     }
