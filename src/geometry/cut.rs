@@ -1,0 +1,384 @@
+//! Plane split of a closed polygon mesh (convex or not) into closed pieces with cap faces.
+//!
+//! Method: every face is triangulated in its plane (ear clipping), each triangle is cut by the
+//! plane with the edge intersection points shared between neighbouring triangles (so the
+//! pieces stay watertight), the sub-triangles of each original face on each side are merged
+//! back into polygon faces (their boundary loops), and the cut plane's boundary loops become
+//! the caps (outer loops as polygon faces; a cap with holes is triangulated with its holes).
+//! Each side is split into its connected pieces. Vertices within `eps` of the plane are
+//! snapped onto it and belong to both sides.
+//!
+//! Sign convention: the plane `n · x = d`; the *negative* side is `n · x < d`. The negative
+//! pieces' caps face +n, the positive pieces' caps face −n.
+
+use super::polygon::{Frame, Plane, area_vector, signed_area_2d};
+use super::{Mesh, Point3};
+use std::collections::{BTreeMap, HashMap};
+
+/// Outcome of [`split`], in the style of parry's `SplitResult`.
+#[derive(Clone, Debug, PartialEq)]
+pub enum SplitResult {
+    /// The plane crosses the solid: pieces on the negative and positive sides (each side may
+    /// have several disconnected pieces, e.g. a U cut across both legs).
+    Pair { negative: Vec<Mesh>, positive: Vec<Mesh> },
+    /// Everything is on the negative side (or on the plane).
+    Negative,
+    /// Everything is on the positive side (or on the plane).
+    Positive,
+}
+
+/// A triangle of the input with the index of the face it came from.
+#[derive(Clone, Copy)]
+struct Tri {
+    v: [usize; 3],
+    face: usize,
+}
+
+/// Splits `mesh` (closed, outward-oriented, planar faces) by `plane`; `eps` is the absolute
+/// distance under which a vertex counts as on the plane.
+pub fn split(mesh: &Mesh, plane: &Plane, eps: f64) -> SplitResult {
+    let side: Vec<i8> = mesh
+        .vertices
+        .iter()
+        .map(|p| {
+            let d = plane.distance(p);
+            if d > eps {
+                1
+            } else if d < -eps {
+                -1
+            } else {
+                0
+            }
+        })
+        .collect();
+    if side.iter().all(|&s| s >= 0) {
+        return SplitResult::Positive;
+    }
+    if side.iter().all(|&s| s <= 0) {
+        return SplitResult::Negative;
+    }
+    // Working vertex list: the input's (those on the plane projected onto it) + intersections.
+    let mut verts: Vec<Point3> = mesh
+        .vertices
+        .iter()
+        .zip(&side)
+        .map(|(p, &s)| if s == 0 { p - plane.normal * plane.distance(p) } else { *p })
+        .collect();
+    let mut vside: Vec<i8> = side.clone();
+    let mut cut_point: HashMap<(usize, usize), usize> = HashMap::new();
+    // Edges of the input faces: a cut point on any other edge lies on a triangulation diagonal,
+    // inside a straight cut segment, and is dropped from the output loops.
+    let mut original_edges = std::collections::HashSet::new();
+    for face in &mesh.faces {
+        for k in 0..face.len() {
+            let (a, b) = (face[k], face[(k + 1) % face.len()]);
+            original_edges.insert((a.min(b), a.max(b)));
+        }
+    }
+    let mut on_diagonal: Vec<bool> = vec![false; verts.len()];
+    let mut intersect = |a: usize, b: usize, verts: &mut Vec<Point3>, vside: &mut Vec<i8>| -> usize {
+        let key = (a.min(b), a.max(b));
+        *cut_point.entry(key).or_insert_with(|| {
+            on_diagonal.push(!original_edges.contains(&key));
+            let (p, q) = (verts[key.0], verts[key.1]);
+            let (dp, dq) = (plane.distance(&p), plane.distance(&q));
+            let t = dp / (dp - dq);
+            let x = p + (q - p) * t;
+            verts.push(x - plane.normal * plane.distance(&x));
+            vside.push(0);
+            verts.len() - 1
+        })
+    };
+    let tris = triangulate(mesh);
+    // Sub-triangles per side.
+    let mut out: [Vec<Tri>; 2] = [Vec::new(), Vec::new()];
+    for t in &tris {
+        let s = t.v.map(|i| vside[i]);
+        let (neg, pos) = (s.iter().any(|&x| x < 0), s.iter().any(|&x| x > 0));
+        match (neg, pos) {
+            (false, false) => {
+                // On the plane: a boundary face of the side the solid lies on.
+                let n = area_vector(&t.v.map(|i| verts[i]));
+                out[if n.dot(&plane.normal) > 0.0 { 0 } else { 1 }].push(*t);
+            }
+            (true, false) => out[0].push(*t),
+            (false, true) => out[1].push(*t),
+            (true, true) => {
+                // Walk the triangle; emit the polygon on each side, then fan it.
+                let mut polys: [Vec<usize>; 2] = [Vec::new(), Vec::new()];
+                for k in 0..3 {
+                    let (a, b) = (t.v[k], t.v[(k + 1) % 3]);
+                    let (sa, sb) = (vside[a], vside[b]);
+                    if sa <= 0 {
+                        polys[0].push(a);
+                    }
+                    if sa >= 0 {
+                        polys[1].push(a);
+                    }
+                    if sa * sb < 0 {
+                        let x = intersect(a, b, &mut verts, &mut vside);
+                        polys[0].push(x);
+                        polys[1].push(x);
+                    }
+                }
+                for (k, poly) in polys.iter().enumerate() {
+                    for i in 1..poly.len().saturating_sub(1) {
+                        out[k].push(Tri { v: [poly[0], poly[i], poly[i + 1]], face: t.face });
+                    }
+                }
+            }
+        }
+    }
+    let build = |tris: &[Tri], cap_normal: nalgebra::Vector3<f64>| -> Vec<Mesh> {
+        pieces(mesh, &verts, &on_diagonal, tris, plane, cap_normal)
+    };
+    SplitResult::Pair { negative: build(&out[0], plane.normal), positive: build(&out[1], -plane.normal) }
+}
+
+/// Ear-clipped triangles of every face (faces are planar and simple).
+fn triangulate(mesh: &Mesh) -> Vec<Tri> {
+    let mut out = Vec::new();
+    let mut earcut = earcut::Earcut::new();
+    let mut idx: Vec<usize> = Vec::new();
+    for (f, face) in mesh.faces.iter().enumerate() {
+        if face.len() == 3 {
+            out.push(Tri { v: [face[0], face[1], face[2]], face: f });
+            continue;
+        }
+        let pts: Vec<Point3> = face.iter().map(|&i| mesh.vertices[i]).collect();
+        let frame = Frame::from_normal(pts[0], area_vector(&pts));
+        let p2: Vec<[f64; 2]> = pts.iter().map(|p| frame.to_2d(p)).collect();
+        earcut.earcut(p2.iter().copied(), &[] as &[usize], &mut idx);
+        for t in idx.chunks(3) {
+            let ccw = signed_area_2d(&[p2[t[0]], p2[t[1]], p2[t[2]]]) >= 0.0;
+            let (b, c) = if ccw { (t[1], t[2]) } else { (t[2], t[1]) };
+            out.push(Tri { v: [face[t[0]], face[b], face[c]], face: f });
+        }
+    }
+    out
+}
+
+/// Directed boundary edges (used once, not cancelled by a reverse edge) of a triangle set.
+fn boundary_edges(tris: &[Tri]) -> Vec<(usize, usize)> {
+    let mut count: BTreeMap<(usize, usize), i32> = BTreeMap::new();
+    for t in tris {
+        for k in 0..3 {
+            let (a, b) = (t.v[k], t.v[(k + 1) % 3]);
+            if a == b {
+                continue;
+            }
+            *count.entry((a, b)).or_default() += 1;
+        }
+    }
+    count.iter().filter(|&(&(a, b), &c)| c > 0 && !count.contains_key(&(b, a))).map(|(&e, _)| e).collect()
+}
+
+/// Chains directed edges into closed loops (deterministic: starts from the smallest edge).
+fn loops(edges: &[(usize, usize)]) -> Vec<Vec<usize>> {
+    let mut next: BTreeMap<usize, Vec<usize>> = BTreeMap::new();
+    for &(a, b) in edges {
+        next.entry(a).or_default().push(b);
+    }
+    let mut out = Vec::new();
+    while let Some((&start, _)) = next.iter().find(|(_, v)| !v.is_empty()) {
+        let mut lp = vec![start];
+        let mut cur = start;
+        while let Some(list) = next.get_mut(&cur) {
+            let Some(n) = list.pop() else { break };
+            if n == start {
+                break;
+            }
+            lp.push(n);
+            cur = n;
+            if lp.len() > edges.len() {
+                break;
+            }
+        }
+        if lp.len() >= 3 {
+            out.push(lp);
+        }
+    }
+    out
+}
+
+/// Faces of one side: merged polygons per original face, plus caps; split into pieces.
+fn pieces(
+    mesh: &Mesh,
+    verts: &[Point3],
+    on_diagonal: &[bool],
+    tris: &[Tri],
+    plane: &Plane,
+    cap_normal: nalgebra::Vector3<f64>,
+) -> Vec<Mesh> {
+    let mut faces: Vec<Vec<usize>> = Vec::new();
+    let mut by_face: BTreeMap<usize, Vec<Tri>> = BTreeMap::new();
+    for t in tris {
+        by_face.entry(t.face).or_default().push(*t);
+    }
+    for (&f, group) in &by_face {
+        for lp in loops(&boundary_edges(group)) {
+            // Ear clipping skips collinear vertices of the input face: put them back, or the
+            // neighbouring face (which has them) would meet this one at a T-junction.
+            let lp = expand(&lp, &mesh.faces[f], verts);
+            let lp: Vec<usize> = lp.into_iter().filter(|&v| !on_diagonal[v]).collect();
+            if lp.len() >= 3 {
+                faces.push(lp);
+            }
+        }
+    }
+    // The side's open boundary lies on the plane: close it with caps.
+    let mut side_faces_tris: Vec<Tri> = Vec::new();
+    for f in &faces {
+        for i in 1..f.len() - 1 {
+            side_faces_tris.push(Tri { v: [f[0], f[i], f[i + 1]], face: 0 });
+        }
+    }
+    // Boundary of the side, reversed, is the caps' boundary (caps face `cap_normal`).
+    let open: Vec<(usize, usize)> = boundary_edges(&side_faces_tris).into_iter().map(|(a, b)| (b, a)).collect();
+    faces.extend(caps(verts, &loops(&open), plane, cap_normal));
+    split_connected(verts, faces)
+}
+
+/// Cap faces from loops on the plane: loops CCW about `cap_normal` are outer boundaries, the
+/// others holes; an outer loop with holes is triangulated together with them.
+fn caps(verts: &[Point3], loops: &[Vec<usize>], plane: &Plane, cap_normal: nalgebra::Vector3<f64>) -> Vec<Vec<usize>> {
+    let origin = Point3::from(plane.normal * plane.offset);
+    let frame = Frame::from_normal(origin, cap_normal);
+    let rings: Vec<Vec<[f64; 2]>> = loops.iter().map(|l| l.iter().map(|&i| frame.to_2d(&verts[i])).collect()).collect();
+    let (outer, holes): (Vec<usize>, Vec<usize>) = (0..loops.len()).partition(|&k| signed_area_2d(&rings[k]) > 0.0);
+    let mut owner: Vec<Vec<usize>> = vec![Vec::new(); loops.len()];
+    for &h in &holes {
+        // The smallest outer loop containing the hole's first vertex.
+        let p = rings[h][0];
+        let best = outer
+            .iter()
+            .filter(|&&o| contains(&rings[o], p))
+            .min_by(|&&a, &&b| signed_area_2d(&rings[a]).total_cmp(&signed_area_2d(&rings[b])));
+        if let Some(&o) = best {
+            owner[o].push(h);
+        }
+    }
+    let mut out = Vec::new();
+    let mut earcut = earcut::Earcut::new();
+    let mut tri: Vec<usize> = Vec::new();
+    for &o in &outer {
+        if owner[o].is_empty() {
+            out.push(loops[o].clone());
+            continue;
+        }
+        let mut ids: Vec<usize> = loops[o].clone();
+        let mut pts: Vec<[f64; 2]> = rings[o].clone();
+        let mut starts = Vec::new();
+        for &h in &owner[o] {
+            starts.push(ids.len());
+            ids.extend(&loops[h]);
+            pts.extend(&rings[h]);
+        }
+        earcut.earcut(pts.iter().copied(), &starts, &mut tri);
+        for t in tri.chunks(3) {
+            let ccw = signed_area_2d(&[pts[t[0]], pts[t[1]], pts[t[2]]]) >= 0.0;
+            let (b, c) = if ccw { (t[1], t[2]) } else { (t[2], t[1]) };
+            // Ear clipping skipped collinear boundary vertices: put them back so the cap
+            // meets the side faces vertex to vertex.
+            let mut face = vec![ids[t[0]], ids[b], ids[c]];
+            for &l in std::iter::once(&o).chain(&owner[o]) {
+                face = expand(&face, &loops[l], verts);
+            }
+            out.push(face);
+        }
+    }
+    out
+}
+
+/// Inserts into `lp` the vertices of `reference` (a loop in the same orientation) that lie
+/// strictly between two consecutive vertices of `lp` along `reference` and on the straight
+/// segment joining them (the collinear vertices an ear clipper drops).
+fn expand(lp: &[usize], reference: &[usize], verts: &[Point3]) -> Vec<usize> {
+    let pos: HashMap<usize, usize> = reference.iter().enumerate().map(|(i, &v)| (v, i)).collect();
+    let n = reference.len();
+    let mut out = Vec::with_capacity(lp.len());
+    for k in 0..lp.len() {
+        let (a, b) = (lp[k], lp[(k + 1) % lp.len()]);
+        out.push(a);
+        let (Some(&ia), Some(&ib)) = (pos.get(&a), pos.get(&b)) else { continue };
+        let gap = (ib + n - ia) % n;
+        if gap < 2 || gap >= n - 1 {
+            continue;
+        }
+        let (pa, pb) = (verts[a], verts[b]);
+        let len = (pb - pa).norm();
+        let between: Vec<usize> = (1..gap).map(|j| reference[(ia + j) % n]).collect();
+        let collinear = between.iter().all(|&v| {
+            let p = verts[v];
+            let t = (p - pa).dot(&(pb - pa)) / (len * len);
+            t > 0.0 && t < 1.0 && ((p - pa) - (pb - pa) * t).norm() <= 1e-9 * len
+        });
+        if collinear {
+            out.extend(between);
+        }
+    }
+    out
+}
+
+fn contains(ring: &[[f64; 2]], p: [f64; 2]) -> bool {
+    let mut inside = false;
+    let n = ring.len();
+    for i in 0..n {
+        let (a, b) = (ring[i], ring[(i + 1) % n]);
+        if (a[1] > p[1]) != (b[1] > p[1]) && p[0] < a[0] + (p[1] - a[1]) * (b[0] - a[0]) / (b[1] - a[1]) {
+            inside = !inside;
+        }
+    }
+    inside
+}
+
+/// Groups faces into edge-connected pieces and re-indexes each piece's vertices compactly.
+fn split_connected(verts: &[Point3], faces: Vec<Vec<usize>>) -> Vec<Mesh> {
+    let n = faces.len();
+    let mut parent: Vec<usize> = (0..n).collect();
+    fn find(p: &mut [usize], mut x: usize) -> usize {
+        while p[x] != x {
+            p[x] = p[p[x]];
+            x = p[x];
+        }
+        x
+    }
+    let mut edge_owner: HashMap<(usize, usize), usize> = HashMap::new();
+    for (f, face) in faces.iter().enumerate() {
+        for k in 0..face.len() {
+            let (a, b) = (face[k], face[(k + 1) % face.len()]);
+            if let Some(&g) = edge_owner.get(&(a.min(b), a.max(b))) {
+                let (ra, rb) = (find(&mut parent, f), find(&mut parent, g));
+                parent[ra.max(rb)] = ra.min(rb);
+            } else {
+                edge_owner.insert((a.min(b), a.max(b)), f);
+            }
+        }
+    }
+    let mut groups: BTreeMap<usize, Vec<usize>> = BTreeMap::new();
+    for f in 0..n {
+        groups.entry(find(&mut parent, f)).or_default().push(f);
+    }
+    groups
+        .values()
+        .map(|fs| {
+            let mut map: BTreeMap<usize, usize> = BTreeMap::new();
+            let mut vertices = Vec::new();
+            let faces = fs
+                .iter()
+                .map(|&f| {
+                    faces[f]
+                        .iter()
+                        .map(|&v| {
+                            *map.entry(v).or_insert_with(|| {
+                                vertices.push(verts[v]);
+                                vertices.len() - 1
+                            })
+                        })
+                        .collect()
+                })
+                .collect();
+            Mesh { vertices, faces }
+        })
+        .collect()
+}
