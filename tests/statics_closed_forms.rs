@@ -119,6 +119,8 @@ fn unsupported_block_is_named_and_never_stands() {
         "{:?}",
         r.solver.messages
     );
+    // Nothing balances the ghost: the residual is its weight (W = 2: density 1, g = 1, two cubes).
+    assert_close(r.solver.residual, 1.0, 1e-12, "unbalanced weight");
     // The supported part is still solved.
     assert_eq!(r.interfaces.len(), 1);
     assert_close(r.interfaces[0].normal_force, 1.0, 1e-9, "the supported cube");

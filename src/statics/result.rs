@@ -93,7 +93,8 @@ pub struct SolverReport {
     pub status: SolverStatus,
     /// Interior-point iterations, summed over components and stages.
     pub iterations: u32,
-    /// Largest equilibrium residual ‖Σ f + W‖_∞ of any block, N.
+    /// Largest equilibrium residual ‖Σ f + W‖_∞ of any block, N (for a group that touches no
+    /// support: its whole weight, since nothing balances it).
     pub residual: f64,
     /// Messages of components that did not solve, naming their blocks.
     pub messages: Vec<String>,
@@ -150,12 +151,12 @@ pub(super) fn collect(
         if let Some(m) = &out.message {
             messages.push(m.clone());
         }
+        residual = residual.max(out.residual);
         if out.forces.is_empty() {
             continue;
         }
         tension += out.min_tension;
         excess += out.min_excess;
-        residual = residual.max(out.residual);
         results.extend(interface_results(assembly, interfaces, comp, out, mu));
     }
     results.sort_by_key(|r| r.index);

@@ -145,10 +145,13 @@ pub struct ComponentOutcome {
     pub solver_seconds: f64,
 }
 
+/// A component without a solution. `residual` (N) is the equilibrium residual of the last
+/// iterate, or the unbalanced weight when nothing could hold the blocks.
 fn failed(
     status: SolverStatus,
     message: String,
     (weight, lightest): (f64, f64),
+    residual: f64,
     iterations: u32,
     times: (f64, f64),
 ) -> ComponentOutcome {
@@ -159,7 +162,7 @@ fn failed(
         points: Vec::new(),
         min_tension: f64::NAN,
         min_excess: f64::NAN,
-        residual: f64::NAN,
+        residual,
         iterations,
         weight,
         lightest,
@@ -168,7 +171,7 @@ fn failed(
     }
 }
 
-/// Solves one component through the stages A, (B1, B2,) C.
+/// Solves one component: the strict QP, and if it has no solution the relaxed stages.
 pub fn solve_component(
     assembly: &Assembly,
     interfaces: &[Interface],
@@ -195,6 +198,7 @@ pub fn solve_component(
                 names(5)
             ),
             weights,
+            weight,
             0,
             (0.0, 0.0),
         );
@@ -204,6 +208,7 @@ pub fn solve_component(
             SolverStatus::Unsupported,
             format!("blocks '{}' touch no support or ground: the group has nothing to stand on", names(5)),
             weights,
+            weight,
             0,
             (0.0, 0.0),
         );
@@ -245,7 +250,8 @@ pub fn solve_component(
         let b1 = stage(&sys, Stage::Tension, &mut tally);
         if !ok(b1.status) {
             let msg = format!("the minimum-tension LP ended with status {:?}", b1.status);
-            return failed(b1.status, msg, weights, tally.0, (tally.1, tally.2));
+            let residual = sys.residual(&b1.x) * sys.force_scale;
+            return failed(b1.status, msg, weights, residual, tally.0, (tally.1, tally.2));
         }
         let tension = b1.objective.max(0.0);
         let mut excess = 0.0;
@@ -254,7 +260,8 @@ pub fn solve_component(
             let b2 = stage(&sys, Stage::FrictionExcess { tension }, &mut tally);
             if !ok(b2.status) {
                 let msg = format!("the friction-excess LP ended with status {:?}", b2.status);
-                return failed(b2.status, msg, weights, tally.0, (tally.1, tally.2));
+                let residual = sys.residual(&b2.x) * sys.force_scale;
+                return failed(b2.status, msg, weights, residual, tally.0, (tally.1, tally.2));
             }
             excess = b2.objective.max(0.0);
             best = b2;
