@@ -22,6 +22,24 @@ pub struct Cli {
 pub enum Command {
     /// Detect interfaces, solve the equilibrium, print the verdict (and write a JSON report).
     Analyze(AnalyzeArgs),
+    /// Add a plane cut to the scene's cut history and write the design (never over the input).
+    Cut(CutArgs),
+}
+
+#[derive(Args, Debug)]
+pub struct CutArgs {
+    /// Scene file or `builtin:…` (its blocks become the source shapes when it has no history).
+    pub scene: String,
+    /// The plane: a point and a normal, `px,py,pz,nx,ny,nz`; the `-` pieces are on the side
+    /// the normal points away from.
+    #[arg(long, allow_hyphen_values = true)]
+    pub plane: String,
+    /// Cut only this piece (supports are cut only when named here).
+    #[arg(long)]
+    pub target: Option<String>,
+    /// Output scene JSON (written atomically).
+    #[arg(short, long)]
+    pub output: PathBuf,
 }
 
 #[derive(Args, Debug, Default)]
@@ -68,6 +86,7 @@ pub fn run(cli: Cli) -> i32 {
     let result = match cli.command {
         None => run_analyze(&AnalyzeArgs { friction_model: FrictionModel::Pyramid8, worst: 5, ..Default::default() }),
         Some(Command::Analyze(args)) => run_analyze(&args),
+        Some(Command::Cut(args)) => run_cut(&args),
     };
     match result {
         Ok(code) => code,
@@ -139,6 +158,45 @@ fn run_analyze(args: &AnalyzeArgs) -> Result<i32, BadInput> {
         println!("report written to {}", out.display());
     }
     Ok(if analysis.statics.stands { 0 } else { 1 })
+}
+
+fn run_cut(args: &CutArgs) -> Result<i32, BadInput> {
+    let mut scene = load(Some(&args.scene))?;
+    let numbers: Vec<f64> = args
+        .plane
+        .split(',')
+        .map(|x| x.trim().parse::<f64>())
+        .collect::<Result<_, _>>()
+        .map_err(|_| BadInput(format!("--plane '{}': expected six numbers px,py,pz,nx,ny,nz", args.plane)))?;
+    let [px, py, pz, nx, ny, nz] = numbers[..] else {
+        return Err(BadInput(format!("--plane '{}': expected six numbers, got {}", args.plane, numbers.len())));
+    };
+    let before = crate::decompose::resolve(&scene, 1e-7, &mut Default::default())
+        .map_err(|e| BadInput(format!("{}: {e}", args.scene)))?
+        .0;
+    scene.cuts.push(crate::model::Cut { point: [px, py, pz], normal: [nx, ny, nz], target: args.target.clone() });
+    let (after, _) = crate::decompose::resolve(&scene, 1e-7, &mut Default::default())
+        .map_err(|e| BadInput(format!("{}: {e}", args.scene)))?;
+    let old: std::collections::HashSet<&str> = before.blocks.iter().map(|b| b.name.as_str()).collect();
+    let new: Vec<&str> = after.blocks.iter().map(|b| b.name.as_str()).filter(|n| !old.contains(n)).collect();
+    if new.is_empty() {
+        println!("the plane misses every piece it may cut: the design is unchanged (the cut is recorded)");
+    } else {
+        println!("cut {}: {} new pieces: {}", scene.cuts.len() - 1, new.len(), new.join(", "));
+    }
+    let same_file = std::fs::canonicalize(&args.scene).ok().zip(std::fs::canonicalize(&args.output).ok());
+    if same_file.is_some_and(|(a, b)| a == b) {
+        return Err(BadInput(format!("-o {} would overwrite the input; write elsewhere", args.output.display())));
+    }
+    io::write_atomic(&args.output, io::scene_json::scene_to_string(&scene).as_bytes())
+        .map_err(|e| BadInput(e.to_string()))?;
+    println!(
+        "design written to {} ({} blocks after {} cuts)",
+        args.output.display(),
+        after.blocks.len(),
+        scene.cuts.len()
+    );
+    Ok(0)
 }
 
 fn source_name(args: &AnalyzeArgs) -> String {

@@ -13,6 +13,7 @@
 
 pub mod analysis;
 pub mod cli;
+pub mod decompose;
 pub mod geometry;
 pub mod interfaces;
 pub mod io;

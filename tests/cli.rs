@@ -132,3 +132,53 @@ fn the_report_never_overwrites_the_input() {
     assert_eq!(out.status.code(), Some(2));
     assert_eq!(std::fs::read(&scene).unwrap(), before);
 }
+
+#[test]
+fn cut_appends_to_the_history_and_never_overwrites_the_input() {
+    let first = tmp("cut1.json");
+    let out = voussoir(&["cut", "builtin:stack?n=1", "--plane", "0,0,0.5,0,0,1", "-o", first.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(String::from_utf8_lossy(&out.stdout).contains("box0.0-, box0.0+"));
+    let second = tmp("cut2.json");
+    let out = voussoir(&[
+        "cut",
+        first.to_str().unwrap(),
+        "--plane",
+        "0,0,0,1,0,0",
+        "--target",
+        "box0.0+",
+        "-o",
+        second.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stderr));
+    let v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&second).unwrap()).unwrap();
+    assert_eq!(v["cuts"].as_array().unwrap().len(), 2);
+    // The result analyses: 4 blocks after replaying the history.
+    let json = tmp("cut2-report.json");
+    let out = voussoir(&["analyze", second.to_str().unwrap(), "--json", json.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(0));
+    let r: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    assert_eq!(r["blocks"].as_array().unwrap().len(), 4);
+    // Writing over the input is refused, and the input is unchanged.
+    let before = std::fs::read(&first).unwrap();
+    let out = voussoir(&["cut", first.to_str().unwrap(), "--plane", "0,0,0.2,0,0,1", "-o", first.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(2));
+    assert_eq!(std::fs::read(&first).unwrap(), before);
+    // Bad planes and targets are input errors.
+    for plane in ["1,2,3", "0,0,0,0,0,0", "a,b,c,d,e,f"] {
+        let out = voussoir(&["cut", "builtin:stack", "--plane", plane, "-o", tmp("x.json").to_str().unwrap()]);
+        assert_eq!(out.status.code(), Some(2), "{plane}");
+    }
+    let out = voussoir(&[
+        "cut",
+        "builtin:stack",
+        "--plane",
+        "0,0,0.5,0,0,1",
+        "--target",
+        "nope",
+        "-o",
+        tmp("y.json").to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("'nope'"));
+}

@@ -7,13 +7,15 @@
 //!  "density": 600, "friction": 0.839, "gravity": [0, 0, -9.81], "ground": false}
 //! ```
 //! `schema` (default 1), `name`, `density` (600 kg/m³), `friction` (tan 40°), `gravity`
-//! (0, 0, −9.81), `ground` (false), and per block `support` (false) and `density` are optional,
-//! so the neutral shape without `schema` and `ground` loads as is. Unknown keys are errors (a
+//! (0, 0, −9.81), `ground` (false), `cuts` (a cut history: `[{"point": [x,y,z], "normal":
+//! [nx,ny,nz], "target": "name"?}, …]`, default none: then `blocks` are the source shapes), and
+//! per block `support` (false) and `density` are optional, so the neutral shape without
+//! `schema` and `ground` loads as is. Unknown keys are errors (a
 //! typo must not be ignored silently).
 
 use super::IoError;
 use crate::geometry::{Mesh, Point3, Vector3};
-use crate::model::{Block, Material, Scene};
+use crate::model::{Block, Cut, Material, Scene};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
@@ -36,6 +38,8 @@ struct SceneFile {
     gravity: Option<[f64; 3]>,
     #[serde(default)]
     ground: bool,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    cuts: Vec<Cut>,
 }
 
 #[derive(Debug, Serialize, Deserialize)]
@@ -80,6 +84,7 @@ pub(crate) fn scene_from_value(path: &Path, value: serde_json::Value) -> Result<
         scene.gravity = Vector3::new(g[0], g[1], g[2]);
     }
     scene.ground = file.ground;
+    scene.cuts = file.cuts;
     scene.blocks = file
         .blocks
         .into_iter()
@@ -113,6 +118,7 @@ pub fn scene_to_string(scene: &Scene) -> String {
         friction: Some(scene.material.friction),
         gravity: Some([scene.gravity.x, scene.gravity.y, scene.gravity.z]),
         ground: scene.ground,
+        cuts: scene.cuts.clone(),
     };
     serde_json::to_string_pretty(&file).expect("a scene always serialises")
 }

@@ -1,14 +1,16 @@
-//! The scene model: named blocks (closed polygon meshes), supports, material, gravity and the
-//! optional ground plane; and [`Assembly`], the validated form every analysis works on.
+//! The scene model: named blocks (closed polygon meshes), supports, material, gravity, the
+//! optional ground plane and the cut history; and [`Assembly`], the validated form every analysis works on.
 //!
 //! Units SI (m, kg, N), z up, gravity (0, 0, −9.81) by default. Supports are fixed bodies: they
 //! get no equilibrium rows. The ground plane z = 0, when enabled, supports faces lying on it.
 
 mod assembly;
 pub mod builtin;
+mod cut;
 
 pub use assembly::{Assembly, AssemblyBlock, ModelError, Warning};
 pub use builtin::{BuiltinError, builtin};
+pub use cut::Cut;
 
 use crate::geometry::{Mesh, Vector3};
 use serde::{Deserialize, Serialize};
@@ -68,6 +70,9 @@ pub struct Scene {
     pub gravity: Vector3,
     /// The plane z = 0 supports faces lying on it. Default false.
     pub ground: bool,
+    /// Cut history: when not empty, `blocks` are the source shapes and the blocks to analyse
+    /// are the pieces of replaying these cuts ([`crate::decompose::resolve`]).
+    pub cuts: Vec<Cut>,
 }
 
 impl Scene {
@@ -78,6 +83,7 @@ impl Scene {
             material: Material::default(),
             gravity: Vector3::new(0.0, 0.0, -STANDARD_GRAVITY),
             ground: false,
+            cuts: Vec::new(),
         }
     }
 
