@@ -105,7 +105,8 @@ pub fn replay(
         let mut next = Vec::with_capacity(pieces.len() + 2);
         for piece in pieces {
             let targeted = cut.target.as_ref().is_some_and(|t| *t == piece.name);
-            if (cut.target.is_some() && !targeted) || (piece.support && !targeted) {
+            // Untargeted cuts skip supports; targeted cuts skip everything else.
+            if !targeted && (cut.target.is_some() || piece.support) {
                 next.push(piece);
                 continue;
             }
