@@ -49,21 +49,46 @@ impl IoError {
 
 /// Reads a scene from any supported file type, chosen by extension (and for JSON by content).
 pub fn load_scene(path: &Path) -> Result<Scene, IoError> {
-    let ext = path.extension().and_then(|e| e.to_str()).map(|e| e.to_ascii_lowercase());
-    match ext.as_deref() {
-        Some("json") => {
-            let text = read_text(path)?;
+    let kind = kind_of(path)?;
+    let bytes = std::fs::read(path).map_err(|source| IoError::Read { path: path.to_path_buf(), source })?;
+    parse(kind, path, &bytes)
+}
+
+/// Parses a scene from bytes, the format chosen by `path`'s extension (which also names the
+/// source in errors). Never panics, whatever the bytes.
+pub fn scene_from_bytes(path: &Path, bytes: &[u8]) -> Result<Scene, IoError> {
+    parse(kind_of(path)?, path, bytes)
+}
+
+#[derive(Clone, Copy)]
+enum Kind {
+    Json,
+    Obj,
+    Stl,
+}
+
+fn kind_of(path: &Path) -> Result<Kind, IoError> {
+    match path.extension().and_then(|e| e.to_str()).map(|e| e.to_ascii_lowercase()).as_deref() {
+        Some("json") => Ok(Kind::Json),
+        Some("obj") => Ok(Kind::Obj),
+        Some("stl") => Ok(Kind::Stl),
+        _ => Err(IoError::UnknownType { path: path.to_path_buf() }),
+    }
+}
+
+fn parse(kind: Kind, path: &Path, bytes: &[u8]) -> Result<Scene, IoError> {
+    match kind {
+        Kind::Json => {
             let value: serde_json::Value =
-                serde_json::from_str(&text).map_err(|source| IoError::Json { path: path.to_path_buf(), source })?;
+                serde_json::from_slice(bytes).map_err(|source| IoError::Json { path: path.to_path_buf(), source })?;
             if compas::is_compas(&value) {
                 compas::scene_from_value(path, &value)
             } else {
                 scene_json::scene_from_value(path, value)
             }
         }
-        Some("obj") => obj::read(path),
-        Some("stl") => stl::read(path),
-        _ => Err(IoError::UnknownType { path: path.to_path_buf() }),
+        Kind::Obj => obj::from_bytes(path, bytes),
+        Kind::Stl => stl::from_bytes(path, bytes),
     }
 }
 

@@ -5,9 +5,10 @@ use crate::geometry::{Mesh, Point3};
 use crate::model::{Block, Scene};
 use std::path::Path;
 
-pub fn read(path: &Path) -> Result<Scene, IoError> {
-    let mut file = std::fs::File::open(path).map_err(|source| IoError::Read { path: path.to_path_buf(), source })?;
-    let stl = stl_io::read_stl(&mut file).map_err(|e| IoError::format(path, format!("not a valid STL file: {e}")))?;
+/// Parses STL bytes; `path` only names the source in errors, the scene and the block.
+pub fn from_bytes(path: &Path, bytes: &[u8]) -> Result<Scene, IoError> {
+    let mut cursor = std::io::Cursor::new(bytes);
+    let stl = stl_io::read_stl(&mut cursor).map_err(|e| IoError::format(path, format!("not a valid STL file: {e}")))?;
     if stl.faces.is_empty() {
         return Err(IoError::format(path, "the STL file has no triangles"));
     }
