@@ -75,5 +75,28 @@ fn arches(c: &mut Criterion) {
     parametric(c, "statics/arch", &specs);
 }
 
-criterion_group!(benches, real_data, walls, arches);
+/// What solving independent components separately saves: 40 stacks of 5 cubes (and the same
+/// stacks with one leaning block so that the relaxed stages run), split vs one merged problem.
+fn skip(c: &mut Criterion) {
+    let mut g = c.benchmark_group("statics/skip");
+    g.sample_size(10).measurement_time(Duration::from_secs(5));
+    let mut leaning = builtin("stacks?k=40&n=5").unwrap();
+    // Shift the top block of the first stack sideways past its support's edge: it needs tension.
+    let top = leaning.blocks.iter_mut().find(|b| b.name == "s0b4").unwrap();
+    top.mesh = top.mesh.scaled_translated(1.0, voussoir::geometry::Vector3::new(0.0, 0.6, 0.0));
+    for (name, scene) in [("stacks_standing", builtin("stacks?k=40&n=5").unwrap()), ("stacks_one_failing", leaning)] {
+        let asm = Assembly::new(&scene, &Default::default()).unwrap();
+        let ifs = detect(&asm);
+        for split in [true, false] {
+            let s = StaticsSettings { split_components: split, ..Default::default() };
+            let id = if split { "split" } else { "merged" };
+            g.bench_function(BenchmarkId::new(name, id), |b| {
+                b.iter(|| black_box(statics::analyze(&asm, &ifs, &s).unwrap()))
+            });
+        }
+    }
+    g.finish();
+}
+
+criterion_group!(benches, real_data, walls, arches, skip);
 criterion_main!(benches);

@@ -173,3 +173,23 @@ fn support_reactions_equal_the_free_weight() {
     }
     assert!((total - Vector3::new(0.0, 0.0, r.free_weight)).norm() <= 1e-9 * r.free_weight, "{total}");
 }
+
+#[test]
+fn split_and_merged_components_give_the_same_answer() {
+    // 6 stacks; in one the top cube overhangs sideways (y) by 0.6 and needs tension.
+    let mut s = voussoir::model::builtin("stacks?k=6&n=3").unwrap();
+    let top = s.blocks.iter_mut().find(|b| b.name == "s2b2").unwrap();
+    top.mesh = top.mesh.scaled_translated(1.0, Vector3::new(0.0, 0.6, 0.0));
+    let mut merged = AnalysisSettings::default();
+    merged.statics.split_components = false;
+    let a = run(&s, &AnalysisSettings::default()).statics;
+    let b = run(&s, &merged).statics;
+    assert_eq!(a.components, 6);
+    assert_eq!(b.components, 1);
+    assert_eq!(a.verdict, Verdict::NeedsTension);
+    assert_eq!(a.verdict, b.verdict);
+    assert_close(a.tension_ratio, b.tension_ratio, 1e-7, "the same minimum tension");
+    for (x, y) in a.interfaces.iter().zip(&b.interfaces) {
+        assert_close(x.normal_force, y.normal_force, 1e-6 * a.free_weight, "normal force");
+    }
+}

@@ -5,6 +5,7 @@
 //! | scene | parameters (defaults) |
 //! |---|---|
 //! | `stack` | `n` cubes (5) of edge `a` (1) on a support slab |
+//! | `stacks` | `k` independent stacks (10) of `n` cubes (5) side by side on one slab |
 //! | `harmonic` | `n` blocks (10) 1 × 1 × `h` (0.25), overhang scale `s` (1: the limit H_n/2) |
 //! | `arch` | `n` voussoirs (21), centre-line radius `r` (1), thickness `t` (0.15), depth `d` (0.5) |
 //! | `wall` | `courses` (10) × `bricks` (10), brick `l` × `d` × `h` (0.4 × 0.2 × 0.1), running bond |
@@ -20,7 +21,7 @@ use thiserror::Error;
 /// Why a built-in scene name cannot be built.
 #[derive(Debug, Error, Clone, PartialEq)]
 pub enum BuiltinError {
-    #[error("unknown built-in scene '{0}' (stack, harmonic, arch, wall, slope, dome)")]
+    #[error("unknown built-in scene '{0}' (stack, stacks, harmonic, arch, wall, slope, dome)")]
     Unknown(String),
     #[error("built-in '{scene}': unknown parameter '{param}' (known: {known})")]
     UnknownParam { scene: String, param: String, known: String },
@@ -106,6 +107,10 @@ pub fn builtin(spec: &str) -> Result<Scene, BuiltinError> {
             let (n, a) = (p.count("n", 5, 1)?, p.num("a", 1.0)?);
             box_stack(n, a)
         }
+        "stacks" => {
+            let (k, n) = (p.count("k", 10, 1)?, p.count("n", 5, 1)?);
+            stacks(k, n)
+        }
         "harmonic" => {
             let (n, s, h) = (p.count("n", 10, 1)?, p.num("s", 1.0)?, p.num("h", 0.25)?);
             harmonic_stack(n, s, h)
@@ -167,6 +172,20 @@ pub fn box_stack(n: usize, a: f64) -> Scene {
         blocks.push(Block::new(format!("box{k}"), cuboid(-a / 2.0, -a / 2.0, z, a / 2.0, a / 2.0, z + a)));
     }
     Scene::new("stack", blocks)
+}
+
+/// `k` stacks of `n` unit cubes, 0.5 apart, on one support slab: `k` independent components.
+pub fn stacks(k: usize, n: usize) -> Scene {
+    let len = 1.5 * k as f64;
+    let mut blocks = vec![Block::new("base", cuboid(-0.5, -0.5, -1.0, len, 1.5, 0.0)).support(true)];
+    for s in 0..k {
+        let x = 1.5 * s as f64;
+        for j in 0..n {
+            let z = j as f64;
+            blocks.push(Block::new(format!("s{s}b{j}"), cuboid(x, 0.0, z, x + 1.0, 1.0, z + 1.0)));
+        }
+    }
+    Scene::new("stacks", blocks)
 }
 
 /// Harmonic stack of `n` blocks 1 × 1 × h over a table edge at x = 0; block k from the top

@@ -63,3 +63,12 @@ pub fn components(assembly: &Assembly, interfaces: &[Interface]) -> Vec<Componen
     }
     comps
 }
+
+/// All components as one (for measuring what splitting saves).
+pub fn merged(comps: Vec<Component>) -> Component {
+    let mut blocks: Vec<BlockId> = comps.iter().flat_map(|c| c.blocks.iter().copied()).collect();
+    let mut interfaces: Vec<usize> = comps.iter().flat_map(|c| c.interfaces.iter().copied()).collect();
+    blocks.sort_unstable();
+    interfaces.sort_unstable();
+    Component { blocks, interfaces }
+}

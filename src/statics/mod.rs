@@ -66,7 +66,10 @@ pub fn analyze(
     if !(mu >= 0.0 && mu.is_finite()) {
         return Err(StaticsError::BadFriction(mu));
     }
-    let comps = components(assembly, interfaces);
+    let mut comps = components(assembly, interfaces);
+    if !settings.split_components && comps.len() > 1 {
+        comps = vec![components::merged(comps)];
+    }
     let outcomes = solve::solve_components(assembly, interfaces, &comps, mu, settings);
     Ok(result::collect(assembly, interfaces, &comps, outcomes, mu, settings))
 }

@@ -69,6 +69,9 @@ pub struct StaticsSettings {
     /// Solve independent components on two threads when the problem is big enough. Default
     /// true; results are identical either way.
     pub parallel: bool,
+    /// Solve each connected component of free blocks on its own (default true). Off puts every
+    /// free block in one problem: the same answer, only slower (kept to measure the saving).
+    pub split_components: bool,
 }
 
 impl Default for StaticsSettings {
@@ -84,6 +87,7 @@ impl Default for StaticsSettings {
             solver_tolerance: 1e-8,
             max_iterations: 200,
             parallel: true,
+            split_components: true,
         }
     }
 }
