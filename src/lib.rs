@@ -3,10 +3,12 @@
 //! Rigid-block (discrete-element) assemblies: does a set of blocks stand by compression and
 //! friction alone, and if not, where and by how much does it fail?
 //!
-//! The pipeline: a [`model::Scene`] (named blocks, supports, material) is validated into an
-//! [`model::Assembly`] (repaired meshes, mass properties), whose contact
+//! The pipeline ([`analysis::analyze`]): a [`model::Scene`] (named source shapes, supports,
+//! material, cut history) is decomposed into blocks by replaying its cuts ([`decompose`]),
+//! validated into an [`model::Assembly`] (repaired meshes, mass properties), whose contact
 //! [`interfaces`] are detected automatically; the [`statics`] module solves the rigid-block
-//! equilibrium problem over them.
+//! equilibrium problem over them and gives a graded verdict. [`io`] reads and writes scenes
+//! and reports, [`cli`] is the command line.
 //!
 //! Conventions: SI units, z up, gravity (0, 0, −9.81); moments about each block's volume
 //! centroid; an interface a→b has its normal pointing from a into b and b receives +f.

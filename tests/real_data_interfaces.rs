@@ -108,13 +108,7 @@ fn curved_interfaces_cover_the_stored_pairs() {
 
 #[test]
 fn every_reference_file_loads_and_has_interfaces() {
-    let mut files = Vec::new();
-    for dir in ["compas_assembly", "compas_cra"] {
-        for e in std::fs::read_dir(shared(dir)).unwrap() {
-            files.push(format!("{dir}/{}", e.unwrap().file_name().to_string_lossy()));
-        }
-    }
-    files.sort();
+    let files = assembly_files();
     assert!(files.len() >= 27, "{files:?}");
     for rel in files {
         let (_, ifs) = detected(&rel);

@@ -27,13 +27,7 @@ fn scene(rel: &str) -> voussoir::model::Scene {
 
 #[test]
 fn every_assembly_file_solves() {
-    let mut files = Vec::new();
-    for dir in ["compas_assembly", "compas_cra"] {
-        for e in std::fs::read_dir(shared(dir)).unwrap() {
-            files.push(format!("{dir}/{}", e.unwrap().file_name().to_string_lossy()));
-        }
-    }
-    files.sort();
+    let files = assembly_files();
     for rel in files {
         let r = run(&scene(&rel), &AnalysisSettings::default()).statics;
         eprintln!(

@@ -11,6 +11,19 @@ pub fn shared(rel: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/data/compas").join(rel)
 }
 
+/// Every compas Assembly file of the reference data (compas_assembly and compas_cra), sorted,
+/// as paths relative to `../shared/data/compas`.
+pub fn assembly_files() -> Vec<String> {
+    let mut files = Vec::new();
+    for dir in ["compas_assembly", "compas_cra"] {
+        for e in std::fs::read_dir(shared(dir)).expect("../shared/data beside the checkout") {
+            files.push(format!("{dir}/{}", e.expect("a directory entry").file_name().to_string_lossy()));
+        }
+    }
+    files.sort();
+    files
+}
+
 pub fn cube(name: &str, min: [f64; 3], size: f64) -> Block {
     Block::new(name, Mesh::cuboid(Point3::from(min), Point3::new(min[0] + size, min[1] + size, min[2] + size)))
 }
