@@ -34,6 +34,7 @@ mod components;
 mod result;
 mod settings;
 mod solve;
+mod stages;
 
 pub use components::{Component, components};
 pub use result::{InterfaceResult, SolverReport, SolverStatus, StaticsResult, Verdict, VertexForce};
@@ -70,6 +71,6 @@ pub fn analyze(
     if !settings.split_components && comps.len() > 1 {
         comps = vec![components::merged(comps)];
     }
-    let outcomes = solve::solve_components(assembly, interfaces, &comps, mu, settings);
+    let outcomes = stages::solve_components(assembly, interfaces, &comps, mu, settings);
     Ok(result::collect(assembly, interfaces, &comps, outcomes, mu, settings))
 }

@@ -4,7 +4,7 @@
 use super::assemble::ForcePoint;
 use super::components::Component;
 use super::settings::{FrictionModel, StaticsSettings};
-use super::solve::ComponentOutcome;
+use super::stages::ComponentOutcome;
 use crate::geometry::{Point3, Vector3};
 use crate::interfaces::Interface;
 use crate::model::Assembly;
@@ -131,7 +131,7 @@ pub(super) fn collect(
     assembly: &Assembly,
     interfaces: &[Interface],
     comps: &[Component],
-    outcomes: Vec<super::solve::ComponentOutcome>,
+    outcomes: Vec<ComponentOutcome>,
     mu: f64,
     settings: &StaticsSettings,
 ) -> StaticsResult {
