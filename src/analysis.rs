@@ -56,7 +56,7 @@ pub struct Analysis {
 /// their equilibrium.
 pub fn analyze(scene: &Scene, settings: &AnalysisSettings) -> Result<Analysis, AnalysisError> {
     let tc = Instant::now();
-    let (resolved, _) = decompose::resolve(scene, settings.tolerances.weld, &mut decompose::CutCache::new())?;
+    let (resolved, _) = decompose::resolve(scene, &settings.tolerances, &mut decompose::CutCache::new())?;
     let t0 = Instant::now();
     let assembly = Assembly::new(&resolved, &settings.tolerances)?;
     let t1 = Instant::now();

@@ -171,11 +171,11 @@ fn run_cut(args: &CutArgs) -> Result<i32, BadInput> {
     let [px, py, pz, nx, ny, nz] = numbers[..] else {
         return Err(BadInput(format!("--plane '{}': expected six numbers, got {}", args.plane, numbers.len())));
     };
-    let before = crate::decompose::resolve(&scene, 1e-7, &mut Default::default())
+    let before = crate::decompose::resolve(&scene, &Default::default(), &mut Default::default())
         .map_err(|e| BadInput(format!("{}: {e}", args.scene)))?
         .0;
     scene.cuts.push(crate::model::Cut { point: [px, py, pz], normal: [nx, ny, nz], target: args.target.clone() });
-    let (after, _) = crate::decompose::resolve(&scene, 1e-7, &mut Default::default())
+    let (after, _) = crate::decompose::resolve(&scene, &Default::default(), &mut Default::default())
         .map_err(|e| BadInput(format!("{}: {e}", args.scene)))?;
     let old: std::collections::HashSet<&str> = before.blocks.iter().map(|b| b.name.as_str()).collect();
     let new: Vec<&str> = after.blocks.iter().map(|b| b.name.as_str()).filter(|n| !old.contains(n)).collect();

@@ -27,6 +27,12 @@ pub enum CutError {
     BadPoint { index: usize, point: [f64; 3] },
     #[error("cut {index} targets '{target}', which is not a piece at that step of the history")]
     UnknownTarget { index: usize, target: String },
+    #[error("source shape '{block}' cannot be cut: {source}")]
+    Source {
+        block: String,
+        #[source]
+        source: crate::geometry::MeshError,
+    },
     #[error(
         "cut {index} cuts a sliver of {fraction:e} of the volume of '{piece}': move the plane \
          (slivers make unstable blocks and ill-conditioned statics)"
@@ -150,15 +156,25 @@ pub fn replay(
     Ok((pieces, stats))
 }
 
-/// The scene's blocks after its cut history (the scene itself when it has no cuts).
-pub fn resolve(scene: &Scene, eps_rel: f64, cache: &mut CutCache) -> Result<(Scene, ReplayStats), CutError> {
+/// The scene's blocks after its cut history (the scene itself when it has no cuts). The source
+/// shapes are validated and repaired first (the cutter needs closed, outward, planar meshes);
+/// a vertex within `tolerances.weld` (relative to the model size) of a plane is on it.
+pub fn resolve(
+    scene: &Scene,
+    tolerances: &crate::geometry::Tolerances,
+    cache: &mut CutCache,
+) -> Result<(Scene, ReplayStats), CutError> {
     if scene.cuts.is_empty() {
         return Ok((scene.clone(), ReplayStats::default()));
     }
-    let mut all = crate::geometry::Aabb3::empty();
-    scene.blocks.iter().for_each(|b| all.merge(&b.mesh.aabb()));
-    let eps = eps_rel * all.diagonal().max(f64::MIN_POSITIVE);
-    let (blocks, stats) = replay(&scene.blocks, &scene.cuts, eps, cache)?;
+    let tol = tolerances.resolve(scene.scale());
+    let mut sources = scene.blocks.clone();
+    for b in &mut sources {
+        b.mesh = crate::geometry::repair(&b.mesh, &tol)
+            .map_err(|source| CutError::Source { block: b.name.clone(), source })?
+            .mesh;
+    }
+    let (blocks, stats) = replay(&sources, &scene.cuts, tol.weld, cache)?;
     let mut out = scene.clone();
     out.blocks = blocks;
     out.cuts.clear();

@@ -112,14 +112,7 @@ impl Assembly {
                 return Err(ModelError::DuplicateName(b.name.clone()));
             }
         }
-        let mut all = Aabb3::empty();
-        for b in &scene.blocks {
-            // Only finite points count for the size; non-finite ones are reported per block.
-            for p in b.mesh.vertices.iter().filter(|p| p.iter().all(|c| c.is_finite())) {
-                all.extend(p);
-            }
-        }
-        let scale = if all.diagonal() > 0.0 { all.diagonal() } else { 1.0 };
+        let scale = scene.scale();
         let tol = tolerances.resolve(scale);
         let mut blocks = Vec::with_capacity(scene.blocks.len());
         let mut warnings = Vec::new();

@@ -107,6 +107,18 @@ impl Scene {
         count
     }
 
+    /// The model size every tolerance is relative to: the bounding-box diagonal of all finite
+    /// vertices (1 when there are none; non-finite vertices are reported by validation).
+    pub fn scale(&self) -> f64 {
+        let mut all = crate::geometry::Aabb3::empty();
+        for b in &self.blocks {
+            for p in b.mesh.vertices.iter().filter(|p| p.iter().all(|c| c.is_finite())) {
+                all.extend(p);
+            }
+        }
+        if all.diagonal() > 0.0 { all.diagonal() } else { 1.0 }
+    }
+
     /// Index of the block called `name`.
     pub fn find(&self, name: &str) -> Option<BlockId> {
         self.blocks.iter().position(|b| b.name == name).map(BlockId)
