@@ -69,16 +69,32 @@ impl CutCache {
     }
 }
 
-fn content_key(mesh: &Mesh, plane: &Plane, eps: f64) -> u64 {
-    // SipHash with fixed keys: the same content gives the same key in every run.
+/// Content hash of a source shape. SipHash with fixed keys: the same content gives the same
+/// key in every run.
+fn mesh_key(mesh: &Mesh) -> u64 {
     let mut h = std::collections::hash_map::DefaultHasher::new();
     for p in &mesh.vertices {
         p.iter().for_each(|c| c.to_bits().hash(&mut h));
     }
     mesh.faces.hash(&mut h);
+    h.finish()
+}
+
+/// Key of splitting the piece with key `piece` by `plane`. A piece made by a split is keyed by
+/// its derivation (parent key, plane, side, index) — equivalent to its content, since splits
+/// are deterministic — so a replay hashes each source mesh once, not every piece at every cut.
+fn split_key(piece: u64, plane: &Plane, eps: f64) -> u64 {
+    let mut h = std::collections::hash_map::DefaultHasher::new();
+    piece.hash(&mut h);
     plane.normal.iter().for_each(|c| c.to_bits().hash(&mut h));
     plane.offset.to_bits().hash(&mut h);
     eps.to_bits().hash(&mut h);
+    h.finish()
+}
+
+fn child_key(split: u64, side: char, index: usize) -> u64 {
+    let mut h = std::collections::hash_map::DefaultHasher::new();
+    (split, side, index).hash(&mut h);
     h.finish()
 }
 
@@ -92,7 +108,7 @@ pub fn replay(
     eps: f64,
     cache: &mut CutCache,
 ) -> Result<(Vec<Block>, ReplayStats), CutError> {
-    let mut pieces: Vec<Block> = sources.to_vec();
+    let mut pieces: Vec<(Block, u64)> = sources.iter().map(|b| (b.clone(), mesh_key(&b.mesh))).collect();
     let mut stats = ReplayStats::default();
     for (index, cut) in cuts.iter().enumerate() {
         let n = Vector3::from(cut.normal);
@@ -103,20 +119,20 @@ pub fn replay(
             return Err(CutError::BadPoint { index, point: cut.point });
         }
         if let Some(t) = &cut.target
-            && !pieces.iter().any(|p| &p.name == t)
+            && !pieces.iter().any(|(p, _)| &p.name == t)
         {
             return Err(CutError::UnknownTarget { index, target: t.clone() });
         }
         let plane = cut.plane();
         let mut next = Vec::with_capacity(pieces.len() + 2);
-        for piece in pieces {
+        for (piece, piece_key) in pieces {
             let targeted = cut.target.as_ref().is_some_and(|t| *t == piece.name);
             // Untargeted cuts skip supports; targeted cuts skip everything else.
             if !targeted && (cut.target.is_some() || piece.support) {
-                next.push(piece);
+                next.push((piece, piece_key));
                 continue;
             }
-            let key = content_key(&piece.mesh, &plane, eps);
+            let key = split_key(piece_key, &plane, eps);
             let result = match cache.map.get(&key) {
                 Some(r) => {
                     stats.cached += 1;
@@ -130,7 +146,7 @@ pub fn replay(
                 }
             };
             match result {
-                SplitResult::Negative | SplitResult::Positive => next.push(piece),
+                SplitResult::Negative | SplitResult::Positive => next.push((piece, piece_key)),
                 SplitResult::Pair { negative, positive } => {
                     let whole = MassProperties::of_mesh(&piece.mesh).volume;
                     for (sign, side) in [('-', negative), ('+', positive)] {
@@ -145,7 +161,8 @@ pub fn replay(
                             } else {
                                 format!("{}.{index}{sign}", piece.name)
                             };
-                            next.push(Block { name, mesh, support: piece.support, density: piece.density });
+                            let block = Block { name, mesh, support: piece.support, density: piece.density };
+                            next.push((block, child_key(key, sign, j)));
                         }
                     }
                 }
@@ -153,7 +170,7 @@ pub fn replay(
         }
         pieces = next;
     }
-    Ok((pieces, stats))
+    Ok((pieces.into_iter().map(|(b, _)| b).collect(), stats))
 }
 
 /// The scene's blocks after its cut history (the scene itself when it has no cuts). The source
