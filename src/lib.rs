@@ -10,6 +10,19 @@
 //! equilibrium problem over them and gives a graded verdict. [`io`] reads and writes scenes
 //! and reports, [`cli`] is the command line.
 //!
+//! ```
+//! use voussoir::analysis::{AnalysisSettings, analyze};
+//! use voussoir::model::builtin;
+//!
+//! // A 40-voussoir semicircular arch, t/R = 0.12, on two springers: it stands
+//! // (Milankovitch's minimum is t/R ≈ 0.1075).
+//! let scene = builtin("arch?n=40&t=0.12").unwrap();
+//! let result = analyze(&scene, &AnalysisSettings::default()).unwrap();
+//! assert!(result.statics.stands);
+//! assert_eq!(result.interfaces.len(), 41);
+//! assert!(result.statics.solver.residual < 1e-9 * result.statics.free_weight);
+//! ```
+//!
 //! Conventions: SI units, z up, gravity (0, 0, −9.81); moments about each block's volume
 //! centroid; an interface a→b has its normal pointing from a into b and b receives +f.
 
