@@ -133,3 +133,14 @@ fn interface_with_a_thousand_vertices() {
     let p = an.statics.interfaces[0].resultant_point.unwrap();
     assert!(p[0].abs() < 1e-6 && p[1].abs() < 1e-6, "resultant at the axis: {p:?}");
 }
+
+#[test]
+fn ten_thousand_block_wall() {
+    // 100 courses × 100 bricks (10 050 blocks, 29 850 interfaces): one component, one solve
+    // (≈ 35 s: the largest test, kept because scale is where solvers break).
+    let an = run(&builtin("wall?courses=100&bricks=100").unwrap(), &AnalysisSettings::default());
+    assert_eq!(an.assembly.blocks.len(), 10_051);
+    assert_eq!(an.interfaces.len(), 29_850);
+    solved(&an.statics, "10 000-block wall");
+    assert_eq!(an.statics.verdict, Verdict::Stands);
+}
