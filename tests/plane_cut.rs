@@ -127,7 +127,12 @@ fn l_prism() -> Mesh {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(256))]
+    // A fixed seed keeps CI deterministic; the fuzzers in fuzz/ do the open-ended search.
+    #![proptest_config(ProptestConfig {
+        cases: 256,
+        rng_seed: proptest::test_runner::RngSeed::Fixed(0x766f_7573_736f_6972),
+        ..ProptestConfig::default()
+    })]
 
     /// Random planes through a non-convex L prism: volumes add up, pieces are valid, and the
     /// caps are detected as interfaces whose total area equals the cut section's area.
