@@ -95,18 +95,11 @@ impl Mesh {
         Self { vertices, faces }
     }
 
-    /// Prism: a CCW (seen from +z) planar polygon at z = z0 extruded to z = z1 > z0.
-    /// The polygon may be non-convex; side faces are quads, caps are single polygon faces.
+    /// Prism: a planar polygon (convex or not) in the plane z = z0 extruded to z = z1 > z0.
+    /// Side faces are quads, caps are single polygon faces.
     pub fn extrude_z(polygon: &[[f64; 2]], z0: f64, z1: f64) -> Self {
-        let n = polygon.len();
-        let mut vertices: Vec<Point3> = polygon.iter().map(|p| Point3::new(p[0], p[1], z0)).collect();
-        vertices.extend(polygon.iter().map(|p| Point3::new(p[0], p[1], z1)));
-        let mut faces = vec![(0..n).rev().collect::<Vec<_>>(), (n..2 * n).collect()];
-        for i in 0..n {
-            let j = (i + 1) % n;
-            faces.push(vec![i, j, n + j, n + i]);
-        }
-        Self { vertices, faces }
+        let base: Vec<Point3> = polygon.iter().map(|p| Point3::new(p[0], p[1], z0)).collect();
+        Self::prism(&base, Vector3::new(0.0, 0.0, z1 - z0))
     }
 
     /// Hexahedron from 8 corners: 0..4 one quad, 4..8 the opposite quad with i + 4 joined to
