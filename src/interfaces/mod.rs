@@ -175,8 +175,8 @@ fn push_piece(
     faces: (Option<usize>, Option<usize>),
     out: &mut Vec<Interface>,
 ) {
-    let Some((outer, holes)) = piece.split_first() else { return };
-    let area = signed_area_2d(outer).abs() - holes.iter().map(|h| signed_area_2d(h).abs()).sum::<f64>();
+    let Some((outer, holes_2d)) = piece.split_first() else { return };
+    let area = signed_area_2d(outer).abs() - holes_2d.iter().map(|h| signed_area_2d(h).abs()).sum::<f64>();
     if area < min_area || outer.len() < 3 {
         return;
     }
@@ -185,17 +185,13 @@ fn push_piece(
     if signed_area_2d(outer) < 0.0 {
         polygon.reverse();
     }
-    let holes: Vec<Vec<Point3>> = holes.iter().map(|h| lift(h)).collect();
+    let holes: Vec<Vec<Point3>> = holes_2d.iter().map(|h| lift(h)).collect();
     // Area centroid of the region: outer minus holes.
     let mut c = centroid(&polygon).coords * signed_area_2d(outer).abs();
-    for (h3, h2) in holes.iter().zip(holes_2d(&piece)) {
+    for (h3, h2) in holes.iter().zip(holes_2d) {
         c -= centroid(h3).coords * signed_area_2d(h2).abs();
     }
     let origin = Point3::from(c / area);
     let frame = Frame::from_normal(origin, plane_frame.n);
     out.push(Interface { a, b, polygon, holes, frame, area, faces });
-}
-
-fn holes_2d(piece: &[Vec<[f64; 2]>]) -> impl Iterator<Item = &Vec<[f64; 2]>> {
-    piece.iter().skip(1)
 }
