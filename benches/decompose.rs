@@ -43,9 +43,8 @@ fn bench(c: &mut Criterion) {
     g.bench_function("split_10k_faces", |b| b.iter(|| black_box(split(black_box(&ball), &plane, 1e-9))));
 
     let beam = vec![Block::new("beam", Mesh::cuboid(Point3::origin(), Point3::new(51.0, 1.0, 1.0)))];
-    let cuts: Vec<Cut> = (1..=50)
-        .map(|k| Cut { point: [k as f64, 0.0, 0.0], normal: [1.0, 0.0, 0.05 * (k % 3) as f64], target: None })
-        .collect();
+    let cuts: Vec<Cut> =
+        (1..=50).map(|k| Cut::plane([k as f64, 0.0, 0.0], [1.0, 0.0, 0.05 * (k % 3) as f64])).collect();
     g.bench_function("replay_50_cuts_cold", |b| {
         b.iter(|| black_box(replay(&beam, &cuts, 1e-9, &mut CutCache::new()).unwrap()))
     });
@@ -58,7 +57,8 @@ fn bench(c: &mut Criterion) {
     g.bench_function("replay_after_moving_last_cut", |b| {
         b.iter(|| {
             flip = !flip;
-            moved[49].point[0] = if flip { 50.3 } else { 50.0 } + 1e-9 * cache.len() as f64;
+            let x = if flip { 50.3 } else { 50.0 } + 1e-9 * cache.len() as f64;
+            moved[49] = Cut::plane([x, 0.0, 0.0], [1.0, 0.0, 0.0]);
             black_box(replay(&beam, &moved, 1e-9, &mut cache).unwrap())
         })
     });

@@ -22,7 +22,8 @@ pub struct Cli {
 pub enum Command {
     /// Detect interfaces, solve the equilibrium, print the verdict (and write a JSON report).
     Analyze(AnalyzeArgs),
-    /// Add a plane cut to the scene's cut history and write the design (never over the input).
+    /// Add a plane or pattern cut to the scene's cut history and write the design (never over
+    /// the input).
     Cut(CutArgs),
 }
 
@@ -32,8 +33,16 @@ pub struct CutArgs {
     pub scene: String,
     /// The plane: a point and a normal, `px,py,pz,nx,ny,nz`; the `-` pieces are on the side
     /// the normal points away from.
-    #[arg(long, allow_hyphen_values = true)]
-    pub plane: String,
+    #[arg(long, allow_hyphen_values = true, required_unless_present = "apex", conflicts_with = "apex")]
+    pub plane: Option<String>,
+    /// Pattern cut: the apex `x,y,z` the segments are extruded to (with one `--segment` per
+    /// line of the pattern).
+    #[arg(long, allow_hyphen_values = true, requires = "segment")]
+    pub apex: Option<String>,
+    /// A pattern segment `x0,y0,z0,x1,y1,z1` (repeat; applied in order, each cutting the pieces
+    /// that the cone from the apex through it meets).
+    #[arg(long, allow_hyphen_values = true, requires = "apex")]
+    pub segment: Vec<String>,
     /// Cut only this piece (supports are cut only when named here).
     #[arg(long)]
     pub target: Option<String>,
@@ -162,25 +171,34 @@ fn run_analyze(args: &AnalyzeArgs) -> Result<i32, BadInput> {
 
 fn run_cut(args: &CutArgs) -> Result<i32, BadInput> {
     let mut scene = load(Some(&args.scene))?;
-    let numbers: Vec<f64> = args
-        .plane
-        .split(',')
-        .map(|x| x.trim().parse::<f64>())
-        .collect::<Result<_, _>>()
-        .map_err(|_| BadInput(format!("--plane '{}': expected six numbers px,py,pz,nx,ny,nz", args.plane)))?;
-    let [px, py, pz, nx, ny, nz] = numbers[..] else {
-        return Err(BadInput(format!("--plane '{}': expected six numbers, got {}", args.plane, numbers.len())));
+    let cut = match (&args.plane, &args.apex) {
+        (Some(plane), _) => {
+            let [px, py, pz, nx, ny, nz] = numbers::<6>("--plane", plane, "px,py,pz,nx,ny,nz")?;
+            crate::model::Cut::plane([px, py, pz], [nx, ny, nz])
+        }
+        (None, Some(apex)) => {
+            let apex = numbers::<3>("--apex", apex, "x,y,z")?;
+            let segments = args
+                .segment
+                .iter()
+                .map(|s| {
+                    numbers::<6>("--segment", s, "x0,y0,z0,x1,y1,z1").map(|v| [[v[0], v[1], v[2]], [v[3], v[4], v[5]]])
+                })
+                .collect::<Result<Vec<_>, _>>()?;
+            crate::model::Cut::pattern(apex, segments)
+        }
+        (None, None) => return Err(BadInput("give --plane or --apex with --segment".into())),
     };
     let before = crate::decompose::resolve(&scene, &Default::default(), &mut Default::default())
         .map_err(|e| BadInput(format!("{}: {e}", args.scene)))?
         .0;
-    scene.cuts.push(crate::model::Cut { point: [px, py, pz], normal: [nx, ny, nz], target: args.target.clone() });
+    scene.cuts.push(crate::model::Cut { target: args.target.clone(), ..cut });
     let (after, _) = crate::decompose::resolve(&scene, &Default::default(), &mut Default::default())
         .map_err(|e| BadInput(format!("{}: {e}", args.scene)))?;
     let old: std::collections::HashSet<&str> = before.blocks.iter().map(|b| b.name.as_str()).collect();
     let new: Vec<&str> = after.blocks.iter().map(|b| b.name.as_str()).filter(|n| !old.contains(n)).collect();
     if new.is_empty() {
-        println!("the plane misses every piece it may cut: the design is unchanged (the cut is recorded)");
+        println!("the cut misses every piece it may cut: the design is unchanged (the cut is recorded)");
     } else {
         println!("cut {}: {} new pieces: {}", scene.cuts.len() - 1, new.len(), new.join(", "));
     }
@@ -197,6 +215,16 @@ fn run_cut(args: &CutArgs) -> Result<i32, BadInput> {
         scene.cuts.len()
     );
     Ok(0)
+}
+
+/// `N` comma-separated numbers from option `option`.
+fn numbers<const N: usize>(option: &str, text: &str, form: &str) -> Result<[f64; N], BadInput> {
+    let v: Vec<f64> = text
+        .split(',')
+        .map(|x| x.trim().parse::<f64>())
+        .collect::<Result<_, _>>()
+        .map_err(|_| BadInput(format!("{option} '{text}': expected {N} numbers {form}")))?;
+    v.try_into().map_err(|v: Vec<f64>| BadInput(format!("{option} '{text}': expected {N} numbers, got {}", v.len())))
 }
 
 fn source_name(args: &AnalyzeArgs) -> String {

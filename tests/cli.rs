@@ -182,3 +182,57 @@ fn cut_appends_to_the_history_and_never_overwrites_the_input() {
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("'nope'"));
 }
+
+#[test]
+fn pattern_cut_from_the_command_line() {
+    // A 2 × 2 × 0.5 slab on the ground cut by a line across and a half line, both to an apex
+    // below: three pieces with interfaces converging on the apex.
+    let slab = tmp("slab.json");
+    std::fs::write(
+        &slab,
+        r#"{"ground": true, "blocks": [{"name": "slab", "vertices": [[-1,-1,0],[1,-1,0],[1,1,0],[-1,1,0],
+            [-1,-1,0.5],[1,-1,0.5],[1,1,0.5],[-1,1,0.5]],
+            "faces": [[0,3,2,1],[4,5,6,7],[0,1,5,4],[1,2,6,5],[2,3,7,6],[3,0,4,7]]}]}"#,
+    )
+    .unwrap();
+    let out_path = tmp("slab-cut.json");
+    let out = voussoir(&[
+        "cut",
+        slab.to_str().unwrap(),
+        "--apex",
+        "0,0,-3",
+        "--segment",
+        "0,-1,0.5,0,1,0.5",
+        "--segment",
+        "-1,0,0.5,0,0,0.5",
+        "-o",
+        out_path.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(String::from_utf8_lossy(&out.stdout).contains("3 new pieces"), "{}", String::from_utf8_lossy(&out.stdout));
+    let v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&out_path).unwrap()).unwrap();
+    assert_eq!(v["cuts"][0]["apex"], serde_json::json!([0.0, 0.0, -3.0]));
+    assert_eq!(v["cuts"][0]["segments"].as_array().unwrap().len(), 2);
+    // Malformed patterns are input errors: a segment through the apex, a segment without apex.
+    let bad = voussoir(&[
+        "cut",
+        slab.to_str().unwrap(),
+        "--apex",
+        "0,0,-3",
+        "--segment",
+        "0,0,0,0,0,1",
+        "-o",
+        tmp("z.json").to_str().unwrap(),
+    ]);
+    assert_eq!(bad.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&bad.stderr).contains("segment 0"), "{}", String::from_utf8_lossy(&bad.stderr));
+    let bad = voussoir(&[
+        "cut",
+        slab.to_str().unwrap(),
+        "--segment",
+        "0,-1,0.5,0,1,0.5",
+        "-o",
+        tmp("z.json").to_str().unwrap(),
+    ]);
+    assert_eq!(bad.status.code(), Some(2));
+}

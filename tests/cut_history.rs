@@ -9,7 +9,7 @@ use voussoir::geometry::Mesh;
 use voussoir::model::{Block, Cut};
 
 fn plane_x(x: f64) -> Cut {
-    Cut { point: [x, 0.0, 0.0], normal: [1.0, 0.0, 0.0], target: None }
+    Cut::plane([x, 0.0, 0.0], [1.0, 0.0, 0.0])
 }
 
 fn beam() -> Vec<Block> {
@@ -42,14 +42,14 @@ fn names_follow_the_history_and_supports_stay_whole() {
 fn a_side_that_falls_apart_gets_numbered_pieces() {
     let u = [[0., 0.], [3., 0.], [3., 3.], [2., 3.], [2., 1.], [1., 1.], [1., 3.], [0., 3.]];
     let src = vec![Block::new("u", Mesh::extrude_z(&u, 0.0, 1.0))];
-    let cut = Cut { point: [0.0, 2.0, 0.0], normal: [0.0, 1.0, 0.0], target: None };
+    let cut = Cut::plane([0.0, 2.0, 0.0], [0.0, 1.0, 0.0]);
     let (blocks, _) = replay(&src, &[cut], 1e-9, &mut CutCache::new()).unwrap();
     assert_eq!(names(&blocks), ["u.0-", "u.0+0", "u.0+1"]);
 }
 
 #[test]
 fn replay_is_deterministic() {
-    let cuts = [plane_x(1.3), Cut { point: [0.0, 0.0, 0.5], normal: [0.2, 0.1, 1.0], target: None }];
+    let cuts = [plane_x(1.3), Cut::plane([0.0, 0.0, 0.5], [0.2, 0.1, 1.0])];
     let a = replay(&beam(), &cuts, 1e-9, &mut CutCache::new()).unwrap().0;
     let b = replay(&beam(), &cuts, 1e-9, &mut CutCache::new()).unwrap().0;
     assert_eq!(a, b);
@@ -78,7 +78,7 @@ fn editing_a_cut_recomputes_only_what_is_downstream() {
 
 #[test]
 fn bad_histories_are_named_errors() {
-    let bad_normal = Cut { normal: [0.0, 0.0, 0.0], ..plane_x(1.0) };
+    let bad_normal = Cut::plane([1.0, 0.0, 0.0], [0.0, 0.0, 0.0]);
     assert_eq!(
         replay(&beam(), &[bad_normal], 1e-9, &mut CutCache::new()).unwrap_err(),
         CutError::BadNormal { index: 0, normal: [0.0, 0.0, 0.0] }

@@ -19,7 +19,7 @@ fn json_scene() -> String {
             Block::new("top", Mesh::cuboid(Point3::new(0.2, 0.0, 0.0), Point3::new(1.2, 1.0, 1.0))),
         ],
     );
-    s.cuts = vec![voussoir::model::Cut { point: [0.5, 0.5, 0.5], normal: [0.0, 0.3, 1.0], target: None }];
+    s.cuts = vec![voussoir::model::Cut::plane([0.5, 0.5, 0.5], [0.0, 0.3, 1.0])];
     voussoir::io::scene_json::scene_to_string(&s)
 }
 

@@ -11,7 +11,7 @@
 //! Sign convention: the plane `n · x = d`; the *negative* side is `n · x < d`. The negative
 //! pieces' caps face +n, the positive pieces' caps face −n.
 
-use super::polygon::{Frame, Plane, area_vector, signed_area_2d};
+use super::polygon::{Frame, Plane, area_vector, signed_area_2d, triangulate_2d};
 use super::{Mesh, Point3};
 use std::collections::{BTreeMap, HashMap};
 
@@ -138,8 +138,6 @@ pub fn split(mesh: &Mesh, plane: &Plane, eps: f64) -> SplitResult {
 /// Ear-clipped triangles of every face (faces are planar and simple).
 fn triangulate(mesh: &Mesh) -> Vec<Tri> {
     let mut out = Vec::new();
-    let mut earcut = earcut::Earcut::new();
-    let mut idx: Vec<usize> = Vec::new();
     for (f, face) in mesh.faces.iter().enumerate() {
         if face.len() == 3 {
             out.push(Tri { v: [face[0], face[1], face[2]], face: f });
@@ -148,11 +146,8 @@ fn triangulate(mesh: &Mesh) -> Vec<Tri> {
         let pts: Vec<Point3> = face.iter().map(|&i| mesh.vertices[i]).collect();
         let frame = Frame::from_normal(pts[0], area_vector(&pts));
         let p2: Vec<[f64; 2]> = pts.iter().map(|p| frame.to_2d(p)).collect();
-        earcut.earcut(p2.iter().copied(), &[] as &[usize], &mut idx);
-        for t in idx.chunks(3) {
-            let ccw = signed_area_2d(&[p2[t[0]], p2[t[1]], p2[t[2]]]) >= 0.0;
-            let (b, c) = if ccw { (t[1], t[2]) } else { (t[2], t[1]) };
-            out.push(Tri { v: [face[t[0]], face[b], face[c]], face: f });
+        for t in triangulate_2d(&p2, &[]) {
+            out.push(Tri { v: t.map(|k| face[k]), face: f });
         }
     }
     out
@@ -259,8 +254,6 @@ fn caps(verts: &[Point3], loops: &[Vec<usize>], plane: &Plane, cap_normal: nalge
         }
     }
     let mut out = Vec::new();
-    let mut earcut = earcut::Earcut::new();
-    let mut tri: Vec<usize> = Vec::new();
     for &o in &outer {
         if owner[o].is_empty() {
             out.push(loops[o].clone());
@@ -274,13 +267,10 @@ fn caps(verts: &[Point3], loops: &[Vec<usize>], plane: &Plane, cap_normal: nalge
             ids.extend(&loops[h]);
             pts.extend(&rings[h]);
         }
-        earcut.earcut(pts.iter().copied(), &starts, &mut tri);
-        for t in tri.chunks(3) {
-            let ccw = signed_area_2d(&[pts[t[0]], pts[t[1]], pts[t[2]]]) >= 0.0;
-            let (b, c) = if ccw { (t[1], t[2]) } else { (t[2], t[1]) };
+        for t in triangulate_2d(&pts, &starts) {
             // Ear clipping skipped collinear boundary vertices: put them back so the cap
             // meets the side faces vertex to vertex.
-            let mut face = vec![ids[t[0]], ids[b], ids[c]];
+            let mut face = t.map(|k| ids[k]).to_vec();
             for &l in std::iter::once(&o).chain(&owner[o]) {
                 face = expand(&face, &loops[l], verts);
             }

@@ -130,6 +130,41 @@ impl Mesh {
         Self { vertices, faces }
     }
 
+    /// Prism of a planar polygon with one hole (a letter with a counter, a loop): `outer` and
+    /// `inner` (inside it, no collinear consecutive vertices) swept by `dir`, oriented
+    /// outward. The caps are ear-clipped; when a hole vertex is collinear with outline edges
+    /// the clipper may emit a degenerate triangle, which validation then reports as a hole.
+    pub fn prism_with_hole(outer: &[Point3], inner: &[Point3], dir: Vector3) -> Self {
+        let n_dir = dir.normalize();
+        let (mut outer, mut inner) = (outer.to_vec(), inner.to_vec());
+        if super::polygon::area_vector(&outer).dot(&dir) < 0.0 {
+            outer.reverse();
+        }
+        if super::polygon::area_vector(&inner).dot(&dir) > 0.0 {
+            inner.reverse(); // holes run the other way
+        }
+        let (no, ni) = (outer.len(), inner.len());
+        let base: Vec<Point3> = outer.iter().chain(&inner).copied().collect();
+        let frame = super::polygon::Frame::from_normal(base[0], n_dir);
+        let flat: Vec<[f64; 2]> = base.iter().map(|p| frame.to_2d(p)).collect();
+        let tris = super::polygon::triangulate_2d(&flat, &[no]);
+        let m = no + ni;
+        let mut vertices = base.clone();
+        vertices.extend(base.iter().map(|p| p + dir));
+        let mut faces: Vec<Vec<usize>> = Vec::with_capacity(2 * tris.len() + m);
+        for t in &tris {
+            faces.push(vec![t[0], t[2], t[1]]); // base cap faces −dir
+            faces.push(vec![m + t[0], m + t[1], m + t[2]]);
+        }
+        for (start, len) in [(0, no), (no, ni)] {
+            for k in 0..len {
+                let (a, b) = (start + k, start + (k + 1) % len);
+                faces.push(vec![a, b, m + b, m + a]);
+            }
+        }
+        Self { vertices, faces }
+    }
+
     pub fn aabb(&self) -> Aabb3 {
         Aabb3::from_points(&self.vertices)
     }

@@ -112,6 +112,20 @@ pub fn signed_area_2d(ring: &[[f64; 2]]) -> f64 {
     0.5 * a
 }
 
+/// Triangles (index triples, counter-clockwise) of a 2D polygon given as its outer ring
+/// followed by hole rings starting at `hole_starts`. The only touchpoint of the triangulator
+/// (earcut); like every ear clipper it may drop collinear boundary vertices.
+pub fn triangulate_2d(points: &[[f64; 2]], hole_starts: &[usize]) -> Vec<[usize; 3]> {
+    let mut idx: Vec<usize> = Vec::new();
+    earcut::Earcut::new().earcut(points.iter().copied(), hole_starts, &mut idx);
+    idx.chunks(3)
+        .map(|t| {
+            let ccw = signed_area_2d(&[points[t[0]], points[t[1]], points[t[2]]]) >= 0.0;
+            if ccw { [t[0], t[1], t[2]] } else { [t[0], t[2], t[1]] }
+        })
+        .collect()
+}
+
 /// Largest distance of a vertex from the best-fit plane through the centroid with the Newell
 /// normal; 0 for fewer than 4 vertices.
 pub fn planarity_deviation(points: &[Point3]) -> f64 {

@@ -12,7 +12,7 @@
 //! positive normal component is compression. For the ground, a is the ground and n = +z.
 
 mod broad;
-mod overlap;
+pub(crate) mod overlap;
 
 use crate::geometry::polygon::{Frame, Plane, centroid, signed_area_2d};
 use crate::geometry::{Point3, Vector3};

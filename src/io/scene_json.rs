@@ -8,7 +8,9 @@
 //! ```
 //! `schema` (default 1), `name`, `density` (600 kg/m³), `friction` (tan 40°), `gravity`
 //! (0, 0, −9.81), `ground` (false), `cuts` (a cut history: `[{"point": [x,y,z], "normal":
-//! [nx,ny,nz], "target": "name"?}, …]`, default none: then `blocks` are the source shapes), and
+//! [nx,ny,nz], "target": "name"?}` or `{"apex": [x,y,z], "segments": [[[x,y,z],[x,y,z]], …],
+//! "target": "name"?}`, …], default none: then `blocks` are the source shapes), `removed`
+//! (names of pieces left out after the history, default none), and
 //! per block `support` (false) and `density` are optional, so the neutral shape without
 //! `schema` and `ground` loads as is. Unknown keys are errors (a
 //! typo must not be ignored silently).
@@ -40,6 +42,8 @@ struct SceneFile {
     ground: bool,
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     cuts: Vec<Cut>,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    removed: Vec<String>,
 }
 
 #[derive(Debug, Serialize, Deserialize)]
@@ -85,6 +89,7 @@ pub(crate) fn scene_from_value(path: &Path, value: serde_json::Value) -> Result<
     }
     scene.ground = file.ground;
     scene.cuts = file.cuts;
+    scene.removed = file.removed;
     scene.blocks = file
         .blocks
         .into_iter()
@@ -119,6 +124,7 @@ pub fn scene_to_string(scene: &Scene) -> String {
         gravity: Some([scene.gravity.x, scene.gravity.y, scene.gravity.z]),
         ground: scene.ground,
         cuts: scene.cuts.clone(),
+        removed: scene.removed.clone(),
     };
     serde_json::to_string_pretty(&file).expect("a scene always serialises")
 }

@@ -6,11 +6,12 @@
 
 mod assembly;
 pub mod builtin;
-mod cut;
+pub mod cases;
+pub mod cut;
 
 pub use assembly::{Assembly, AssemblyBlock, ModelError, Warning};
 pub use builtin::{BuiltinError, builtin};
-pub use cut::Cut;
+pub use cut::{Cut, CutShape};
 
 use crate::geometry::{Mesh, Vector3};
 use serde::{Deserialize, Serialize};
@@ -73,6 +74,8 @@ pub struct Scene {
     /// Cut history: when not empty, `blocks` are the source shapes and the blocks to analyse
     /// are the pieces of replaying these cuts ([`crate::decompose::resolve`]).
     pub cuts: Vec<Cut>,
+    /// Pieces left out after the cut history (by name): parts removed from a design.
+    pub removed: Vec<String>,
 }
 
 impl Scene {
@@ -84,6 +87,7 @@ impl Scene {
             gravity: Vector3::new(0.0, 0.0, -STANDARD_GRAVITY),
             ground: false,
             cuts: Vec::new(),
+            removed: Vec::new(),
         }
     }
 
