@@ -1,5 +1,9 @@
-//! The analysis pipeline as one function: scene → validated assembly → interfaces → statics,
-//! with timings. The CLI and the ECS layer both call this (one code path for results).
+//! The analysis pipeline: scene → cut history replayed → validated assembly → interfaces →
+//! statics, with timings. [`Pipeline`] keeps its work between runs (split pieces, block-pair
+//! interfaces and component solutions, each by content), so re-running after an edit
+//! recomputes only what the edit touched and reports how much in [`Work`]; [`analyze`] is one
+//! run of a fresh pipeline. The CLI and the ECS layer both go through [`Pipeline::run`] (one
+//! code path for results).
 
 use crate::decompose;
 use crate::geometry::Tolerances;
@@ -43,6 +47,20 @@ pub struct Timings {
     pub total: f64,
 }
 
+/// What a run computed and what it took from the pipeline's memory.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+pub struct Work {
+    /// Plane splits computed / reused while replaying the cut history.
+    pub pieces_cut: usize,
+    pub pieces_reused: usize,
+    /// Block pairs (and block–ground pairs) whose interfaces were detected / reused.
+    pub pairs_detected: usize,
+    pub pairs_reused: usize,
+    /// Connected components solved / whose solution was reused.
+    pub components_solved: usize,
+    pub components_reused: usize,
+}
+
 /// Everything the pipeline produced.
 #[derive(Clone, Debug)]
 pub struct Analysis {
@@ -50,27 +68,58 @@ pub struct Analysis {
     pub interfaces: Vec<Interface>,
     pub statics: StaticsResult,
     pub timings: Timings,
+    pub work: Work,
+}
+
+/// The pipeline with memory between runs (see the module docs). Each cache keeps only what the
+/// last run used, so memory follows the design, not the edit history.
+#[derive(Debug, Default)]
+pub struct Pipeline {
+    cuts: decompose::CutCache,
+    pairs: interfaces::DetectCache,
+    components: statics::StaticsCache,
 }
 
 /// Replays `scene`'s cut history, validates the blocks, detects their interfaces and solves
-/// their equilibrium.
+/// their equilibrium (one run of a fresh [`Pipeline`]).
 pub fn analyze(scene: &Scene, settings: &AnalysisSettings) -> Result<Analysis, AnalysisError> {
-    let tc = Instant::now();
-    let (resolved, _) = decompose::resolve(scene, &settings.tolerances, &mut decompose::CutCache::new())?;
-    let t0 = Instant::now();
-    let assembly = Assembly::new(&resolved, &settings.tolerances)?;
-    let t1 = Instant::now();
-    let interfaces = interfaces::detect(&assembly);
-    let t2 = Instant::now();
-    let statics = statics::analyze(&assembly, &interfaces, &settings.statics)?;
-    let t3 = Instant::now();
-    let timings = Timings {
-        cut: (t0 - tc).as_secs_f64(),
-        validate: (t1 - t0).as_secs_f64(),
-        detect: (t2 - t1).as_secs_f64(),
-        assemble: statics.assemble_seconds,
-        solve: statics.solver_seconds,
-        total: (t3 - tc).as_secs_f64(),
-    };
-    Ok(Analysis { assembly, interfaces, statics, timings })
+    Pipeline::default().run(scene, settings)
+}
+
+impl Pipeline {
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// One run; the results are those of [`analyze`] whatever the pipeline ran before.
+    pub fn run(&mut self, scene: &Scene, settings: &AnalysisSettings) -> Result<Analysis, AnalysisError> {
+        let tc = Instant::now();
+        let (resolved, cut_stats) = decompose::resolve(scene, &settings.tolerances, &mut self.cuts)?;
+        let t0 = Instant::now();
+        let assembly = Assembly::new(&resolved, &settings.tolerances)?;
+        let keys = interfaces::block_keys(&assembly);
+        let t1 = Instant::now();
+        let (interfaces, detect_stats) = interfaces::detect_cached(&assembly, &keys, &mut self.pairs);
+        let t2 = Instant::now();
+        let (statics, solve_stats) =
+            statics::analyze_cached(&assembly, &interfaces, &settings.statics, &keys, &mut self.components)?;
+        let t3 = Instant::now();
+        let timings = Timings {
+            cut: (t0 - tc).as_secs_f64(),
+            validate: (t1 - t0).as_secs_f64(),
+            detect: (t2 - t1).as_secs_f64(),
+            assemble: statics.assemble_seconds,
+            solve: statics.solver_seconds,
+            total: (t3 - tc).as_secs_f64(),
+        };
+        let work = Work {
+            pieces_cut: cut_stats.splits,
+            pieces_reused: cut_stats.cached,
+            pairs_detected: detect_stats.detected,
+            pairs_reused: detect_stats.reused,
+            components_solved: solve_stats.solved,
+            components_reused: solve_stats.reused,
+        };
+        Ok(Analysis { assembly, interfaces, statics, timings, work })
+    }
 }

@@ -32,6 +32,8 @@ pub enum CutError {
     BadPoint { index: usize, point: [f64; 3] },
     #[error("'{name}' is listed as removed but is not a piece of the design")]
     UnknownRemoved { name: String },
+    #[error("'{name}' is listed as a support but is not a piece of the design")]
+    UnknownSupport { name: String },
     #[error("cut {index}, segment {segment}: {why}")]
     BadSegment { index: usize, segment: usize, why: String },
     #[error("cut {index} targets '{target}', which is not a piece at that step of the history")]
@@ -283,7 +285,7 @@ pub fn resolve(
     tolerances: &crate::geometry::Tolerances,
     cache: &mut CutCache,
 ) -> Result<(Scene, ReplayStats), CutError> {
-    if scene.cuts.is_empty() && scene.removed.is_empty() {
+    if scene.cuts.is_empty() && scene.removed.is_empty() && scene.supports.is_empty() {
         return Ok((scene.clone(), ReplayStats::default()));
     }
     let tol = tolerances.resolve(scene.scale());
@@ -300,9 +302,16 @@ pub fn resolve(
         };
         blocks.remove(i);
     }
+    for name in &scene.supports {
+        let Some(b) = blocks.iter_mut().find(|b| &b.name == name) else {
+            return Err(CutError::UnknownSupport { name: name.clone() });
+        };
+        b.support = true;
+    }
     let mut out = scene.clone();
     out.blocks = blocks;
     out.cuts.clear();
     out.removed.clear();
+    out.supports.clear();
     Ok((out, stats))
 }

@@ -54,6 +54,10 @@ impl Aabb3 {
         if self.is_empty() { 0.0 } else { (self.max - self.min).norm() }
     }
 
+    pub fn center(&self) -> Point3 {
+        nalgebra::center(&self.min, &self.max)
+    }
+
     pub fn loosened(&self, margin: f64) -> Self {
         let m = Vector3::repeat(margin);
         Self { min: self.min - m, max: self.max + m }

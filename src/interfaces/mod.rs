@@ -12,11 +12,13 @@
 //! positive normal component is compression. For the ground, a is the ground and n = +z.
 
 mod broad;
+mod cache;
 pub(crate) mod overlap;
 
 use crate::geometry::polygon::{Frame, Plane, centroid, signed_area_2d};
 use crate::geometry::{Point3, Vector3};
 use crate::model::{Assembly, BlockId};
+pub use cache::{DetectCache, DetectStats, block_keys, detect_cached};
 use serde::Serialize;
 
 /// One side of an interface: a block or the ground plane z = 0.

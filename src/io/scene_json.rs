@@ -10,7 +10,8 @@
 //! (0, 0, −9.81), `ground` (false), `cuts` (a cut history: `[{"point": [x,y,z], "normal":
 //! [nx,ny,nz], "target": "name"?}` or `{"apex": [x,y,z], "segments": [[[x,y,z],[x,y,z]], …],
 //! "target": "name"?}`, …], default none: then `blocks` are the source shapes), `removed`
-//! (names of pieces left out after the history, default none), and
+//! (names of pieces left out after the history, default none), `supports` (names of pieces
+//! made supports after the history, default none), and
 //! per block `support` (false) and `density` are optional, so the neutral shape without
 //! `schema` and `ground` loads as is. Unknown keys are errors (a
 //! typo must not be ignored silently).
@@ -44,6 +45,8 @@ struct SceneFile {
     cuts: Vec<Cut>,
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     removed: Vec<String>,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    supports: Vec<String>,
 }
 
 #[derive(Debug, Serialize, Deserialize)]
@@ -90,6 +93,7 @@ pub(crate) fn scene_from_value(path: &Path, value: serde_json::Value) -> Result<
     scene.ground = file.ground;
     scene.cuts = file.cuts;
     scene.removed = file.removed;
+    scene.supports = file.supports;
     scene.blocks = file
         .blocks
         .into_iter()
@@ -125,6 +129,7 @@ pub fn scene_to_string(scene: &Scene) -> String {
         ground: scene.ground,
         cuts: scene.cuts.clone(),
         removed: scene.removed.clone(),
+        supports: scene.supports.clone(),
     };
     serde_json::to_string_pretty(&file).expect("a scene always serialises")
 }

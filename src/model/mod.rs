@@ -8,6 +8,7 @@ mod assembly;
 pub mod builtin;
 pub mod cases;
 pub mod cut;
+pub mod edit;
 
 pub use assembly::{Assembly, AssemblyBlock, ModelError, Warning};
 pub use builtin::{BuiltinError, builtin};
@@ -76,6 +77,8 @@ pub struct Scene {
     pub cuts: Vec<Cut>,
     /// Pieces left out after the cut history (by name): parts removed from a design.
     pub removed: Vec<String>,
+    /// Pieces made supports after the cut history (by name), besides blocks marked `support`.
+    pub supports: Vec<String>,
 }
 
 impl Scene {
@@ -88,6 +91,7 @@ impl Scene {
             ground: false,
             cuts: Vec::new(),
             removed: Vec::new(),
+            supports: Vec::new(),
         }
     }
 

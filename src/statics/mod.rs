@@ -30,12 +30,14 @@
 //! blocks is solved on its own (components in parallel when there are several big ones).
 
 mod assemble;
+mod cache;
 mod components;
 mod result;
 mod settings;
 mod solve;
 mod stages;
 
+pub use cache::{SolveStats, StaticsCache, analyze_cached};
 pub use components::{Component, components};
 pub use result::{InterfaceResult, SolverReport, SolverStatus, StaticsResult, Verdict, VertexForce};
 pub use settings::{FrictionModel, StaticsSettings};
@@ -62,15 +64,6 @@ pub fn analyze(
     interfaces: &[Interface],
     settings: &StaticsSettings,
 ) -> Result<StaticsResult, StaticsError> {
-    settings.validate()?;
-    let mu = settings.friction.unwrap_or(assembly.material.friction);
-    if !(mu >= 0.0 && mu.is_finite()) {
-        return Err(StaticsError::BadFriction(mu));
-    }
-    let mut comps = components(assembly, interfaces);
-    if !settings.split_components && comps.len() > 1 {
-        comps = vec![components::merged(comps)];
-    }
-    let outcomes = stages::solve_components(assembly, interfaces, &comps, mu, settings);
-    Ok(result::collect(assembly, interfaces, &comps, outcomes, mu, settings))
+    let keys = crate::interfaces::block_keys(assembly);
+    Ok(analyze_cached(assembly, interfaces, settings, &keys, &mut StaticsCache::default())?.0)
 }

@@ -1,0 +1,146 @@
+//! The ECS sandbox on bevy (headless: no render stack). Blocks are entities with small
+//! components, interfaces are entities linking two blocks (or a block and the ground), the
+//! scene's verdict, timings and work counters are resources. Requests are [`EditDesign`]
+//! messages. Every system is thin: it reads messages or resources, calls one core function
+//! ([`crate::model::edit::apply`], [`crate::analysis::Pipeline::run`]) and writes components.
+//!
+//! Order per update, one chained set: [`VoussoirSet::Edit`] (apply requests to the design) →
+//! [`VoussoirSet::Analyze`] (cut, detect, solve: the pipeline, only when something changed,
+//! recomputing only what the edit touched) → [`VoussoirSet::Write`] (block and interface
+//! entities and their results).
+//!
+//! Units and signs as in the core: SI, z up; see [`crate::statics`].
+
+mod systems;
+
+use crate::analysis::{AnalysisSettings, Pipeline, Timings, Work};
+use crate::geometry::{Mesh, Point3};
+use crate::model::Scene;
+use crate::model::edit::{Edit, SettingsEdit};
+use crate::statics::{InterfaceResult, Verdict};
+use bevy::app::{App, Plugin, PluginGroup, PluginGroupBuilder, Update};
+use bevy::ecs::prelude::*;
+use std::collections::HashMap;
+
+/// The plugin group: everything voussoir adds to an app.
+pub struct VoussoirPlugins;
+
+impl PluginGroup for VoussoirPlugins {
+    fn build(self) -> PluginGroupBuilder {
+        PluginGroupBuilder::start::<Self>().add(DesignPlugin)
+    }
+}
+
+/// The design, its analysis and the entities that show them.
+pub struct DesignPlugin;
+
+impl Plugin for DesignPlugin {
+    fn build(&self, app: &mut App) {
+        app.add_message::<EditDesign>()
+            .add_message::<EditSettings>()
+            .init_resource::<Design>()
+            .init_resource::<Settings>()
+            .init_resource::<PipelineState>()
+            .init_resource::<SceneStatus>()
+            .init_resource::<Counters>()
+            .init_resource::<BlockIndex>()
+            .configure_sets(Update, (VoussoirSet::Edit, VoussoirSet::Analyze, VoussoirSet::Write).chain())
+            .add_systems(Update, systems::apply_edits.in_set(VoussoirSet::Edit))
+            .add_systems(Update, systems::run_pipeline.in_set(VoussoirSet::Analyze))
+            .add_systems(Update, systems::write_entities.in_set(VoussoirSet::Write));
+    }
+}
+
+/// The stages of an update, run in this order.
+#[derive(SystemSet, Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum VoussoirSet {
+    Edit,
+    Analyze,
+    Write,
+}
+
+/// A request to change the design (applied in the order sent).
+#[derive(Message, Clone, Debug)]
+pub struct EditDesign(pub Edit);
+
+/// A request to change the analysis settings.
+#[derive(Message, Clone, Debug)]
+pub struct EditSettings(pub SettingsEdit);
+
+/// The design being edited (source shapes, cut history, removed pieces, material).
+#[derive(Resource, Default, Clone, Debug)]
+pub struct Design(pub Option<Scene>);
+
+/// Analysis settings (documented defaults).
+#[derive(Resource, Default, Clone, Debug)]
+pub struct Settings(pub AnalysisSettings);
+
+/// The pipeline with its memory, and whether the design changed since it last ran.
+#[derive(Resource, Default)]
+pub struct PipelineState {
+    pub pipeline: Pipeline,
+    pub dirty: bool,
+    /// The last run's results (`None` before the first or after an error).
+    pub analysis: Option<crate::analysis::Analysis>,
+    /// Bumped on every run, so the writer knows when to write.
+    pub generation: u64,
+}
+
+/// The scene's verdict and timings (after the last run), or why it could not run.
+#[derive(Resource, Default, Clone, Debug, PartialEq)]
+pub struct SceneStatus {
+    pub verdict: Option<Verdict>,
+    pub stands: bool,
+    pub tension_ratio: f64,
+    pub friction_excess_ratio: f64,
+    pub max_friction_utilization: f64,
+    pub timings: Timings,
+    /// The last run's work (what was recomputed and what reused).
+    pub work: Work,
+    /// The last edit or run that failed, with its message.
+    pub error: Option<String>,
+}
+
+/// Work summed over every run since the app started.
+#[derive(Resource, Default, Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Counters {
+    pub runs: usize,
+    pub pieces_recut: usize,
+    pub interfaces_redetected: usize,
+    pub components_resolved: usize,
+    pub components_reused: usize,
+}
+
+/// Block entities by name.
+#[derive(Resource, Default, Debug)]
+pub struct BlockIndex(pub HashMap<String, Entity>);
+
+/// A block's (piece's) name: its stable id.
+#[derive(Component, Clone, Debug, PartialEq, Eq, Hash)]
+pub struct BlockName(pub String);
+
+/// A block's validated mesh (m).
+#[derive(Component, Clone, Debug, PartialEq)]
+pub struct BlockMesh(pub Mesh);
+
+/// Marks a support (fixed) block.
+#[derive(Component, Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Support;
+
+/// Mass (kg) and volume centroid (m).
+#[derive(Component, Clone, Copy, Debug, PartialEq)]
+pub struct MassCentre {
+    pub mass: f64,
+    pub centroid: Point3,
+}
+
+/// An interface entity: the two bodies it links (`None` = the ground).
+#[derive(Component, Clone, Copy, Debug, PartialEq, Eq)]
+pub struct InterfaceOf {
+    pub a: Option<Entity>,
+    pub b: Option<Entity>,
+}
+
+/// An interface's forces and utilisation as the statics computed them.
+#[derive(Component, Clone, Debug, PartialEq)]
+pub struct InterfaceForces(pub InterfaceResult);

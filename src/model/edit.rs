@@ -1,0 +1,93 @@
+//! Edits of a design, as data: what the ECS layer's requests and the CLI carry. Applying one is
+//! a pure function of the scene; names are checked when the design is next resolved.
+
+use super::{Block, Cut, Scene};
+use crate::statics::FrictionModel;
+use thiserror::Error;
+
+/// One edit of a design.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Edit {
+    /// Replace the whole design.
+    Load(Scene),
+    /// Append a cut to the history.
+    AddCut(Cut),
+    /// Replace cut `index` of the history.
+    MoveCut { index: usize, cut: Cut },
+    /// Drop cut `index` of the history.
+    RemoveCut(usize),
+    /// Make a block or piece a support, or free it again.
+    ToggleSupport(String),
+    /// Leave a block or piece out of the design.
+    RemoveBlock(String),
+    /// Put a removed block or piece back.
+    RestoreBlock(String),
+    /// Add a source block.
+    AddBlock(Block),
+    /// Set the friction coefficient μ of the material.
+    SetFriction(f64),
+}
+
+/// Settings-level edits (they do not change the design itself).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum SettingsEdit {
+    SetFrictionModel(FrictionModel),
+}
+
+/// Why an edit cannot be applied.
+#[derive(Debug, Error, Clone, PartialEq)]
+pub enum EditError {
+    #[error("there is no cut {index} (the history has {len})")]
+    NoCut { index: usize, len: usize },
+    #[error("'{0}' is not removed")]
+    NotRemoved(String),
+    #[error("a block called '{0}' already exists")]
+    Duplicate(String),
+    #[error("friction coefficient {0} must be a finite number ≥ 0")]
+    BadFriction(f64),
+}
+
+/// Applies `edit` to `scene`. Names of pieces are checked when the design is resolved.
+pub fn apply(scene: &mut Scene, edit: &Edit) -> Result<(), EditError> {
+    let len = scene.cuts.len();
+    let no_cut = |index: usize| EditError::NoCut { index, len };
+    match edit {
+        Edit::Load(s) => *scene = s.clone(),
+        Edit::AddCut(cut) => scene.cuts.push(cut.clone()),
+        Edit::MoveCut { index, cut } => *scene.cuts.get_mut(*index).ok_or_else(|| no_cut(*index))? = cut.clone(),
+        Edit::RemoveCut(index) => {
+            if *index >= len {
+                return Err(no_cut(*index));
+            }
+            scene.cuts.remove(*index);
+        }
+        Edit::ToggleSupport(name) => {
+            // Without a history the blocks are the pieces: flip the flag itself.
+            if let Some(b) = scene.blocks.iter_mut().find(|b| &b.name == name && len == 0) {
+                b.support = !b.support;
+            } else if let Some(i) = scene.supports.iter().position(|s| s == name) {
+                scene.supports.remove(i);
+            } else {
+                scene.supports.push(name.clone());
+            }
+        }
+        Edit::RemoveBlock(name) => scene.removed.push(name.clone()),
+        Edit::RestoreBlock(name) => {
+            let i = scene.removed.iter().position(|s| s == name).ok_or_else(|| EditError::NotRemoved(name.clone()))?;
+            scene.removed.remove(i);
+        }
+        Edit::AddBlock(block) => {
+            if scene.blocks.iter().any(|b| b.name == block.name) {
+                return Err(EditError::Duplicate(block.name.clone()));
+            }
+            scene.blocks.push(block.clone());
+        }
+        Edit::SetFriction(mu) => {
+            if !(*mu >= 0.0 && mu.is_finite()) {
+                return Err(EditError::BadFriction(*mu));
+            }
+            scene.material.friction = *mu;
+        }
+    }
+    Ok(())
+}

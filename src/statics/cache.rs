@@ -1,0 +1,114 @@
+//! Statics that remembers: each component's outcome is kept by the component's content — its
+//! blocks (geometry, support flag, density, name), its interfaces (which of its blocks, or a
+//! fixed body, on each side; the polygon), gravity, μ and the settings — so after an edit only
+//! the components whose blocks or interfaces changed are solved again.
+
+use super::components::{Component, components, merged};
+use super::stages::{ComponentOutcome, solve_components};
+use super::{StaticsError, StaticsResult, StaticsSettings, result};
+use crate::interfaces::{Body, Interface};
+use crate::model::Assembly;
+use std::collections::HashMap;
+use std::hash::{Hash, Hasher};
+
+/// Outcomes by component key, with force points' interface indices local to the component.
+#[derive(Debug, Default)]
+pub struct StaticsCache {
+    map: HashMap<u64, ComponentOutcome>,
+}
+
+/// Components solved and reused by a cached analysis.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct SolveStats {
+    pub solved: usize,
+    pub reused: usize,
+}
+
+fn component_key(
+    assembly: &Assembly,
+    interfaces: &[Interface],
+    comp: &Component,
+    block_keys: &[u64],
+    common: u64,
+) -> u64 {
+    let mut h = std::collections::hash_map::DefaultHasher::new();
+    common.hash(&mut h);
+    for &b in &comp.blocks {
+        let blk = assembly.block(b);
+        (block_keys[b.0], blk.density.to_bits(), &blk.name).hash(&mut h);
+    }
+    let side = |body: Body| match body {
+        Body::Block(b) if !assembly.block(b).support => comp.blocks.binary_search(&b).map_or(u64::MAX, |i| i as u64),
+        _ => u64::MAX - 1, // a fixed body: which one does not change the problem
+    };
+    for &k in &comp.interfaces {
+        let i = &interfaces[k];
+        (side(i.a), side(i.b)).hash(&mut h);
+        for p in &i.polygon {
+            p.iter().for_each(|c| c.to_bits().hash(&mut h));
+        }
+        i.frame.n.iter().for_each(|c| c.to_bits().hash(&mut h));
+    }
+    h.finish()
+}
+
+/// [`super::analyze`] with a cache of component outcomes (`block_keys` from
+/// [`crate::interfaces::block_keys`]). The cache keeps only this assembly's components
+/// afterwards.
+pub fn analyze_cached(
+    assembly: &Assembly,
+    interfaces: &[Interface],
+    settings: &StaticsSettings,
+    block_keys: &[u64],
+    cache: &mut StaticsCache,
+) -> Result<(StaticsResult, SolveStats), StaticsError> {
+    settings.validate()?;
+    let mu = settings.friction.unwrap_or(assembly.material.friction);
+    if !(mu >= 0.0 && mu.is_finite()) {
+        return Err(StaticsError::BadFriction(mu));
+    }
+    let mut comps = components(assembly, interfaces);
+    if !settings.split_components && comps.len() > 1 {
+        comps = vec![merged(comps)];
+    }
+    let common = {
+        let mut h = std::collections::hash_map::DefaultHasher::new();
+        format!("{settings:?}").hash(&mut h);
+        mu.to_bits().hash(&mut h);
+        assembly.gravity.iter().for_each(|g| g.to_bits().hash(&mut h));
+        h.finish()
+    };
+    let keys: Vec<u64> = comps.iter().map(|c| component_key(assembly, interfaces, c, block_keys, common)).collect();
+    let mut outcomes: Vec<Option<ComponentOutcome>> = keys.iter().map(|k| cache.map.get(k).cloned()).collect();
+    let missing: Vec<usize> = (0..comps.len()).filter(|&i| outcomes[i].is_none()).collect();
+    let to_solve: Vec<Component> = missing.iter().map(|&i| comps[i].clone()).collect();
+    let stats = SolveStats { solved: missing.len(), reused: comps.len() - missing.len() };
+    let solved = solve_components(assembly, interfaces, &to_solve, mu, settings);
+    let mut solved = solved.into_iter();
+    let mut next = HashMap::new();
+    for (i, slot) in outcomes.iter_mut().enumerate() {
+        let local = &comps[i].interfaces;
+        let out = match slot.take() {
+            Some(mut out) => {
+                // Reused: no work this run; points back to this run's interface indices.
+                next.insert(keys[i], out.clone());
+                out.points.iter_mut().for_each(|p| p.interface = local[p.interface]);
+                (out.assemble_seconds, out.solver_seconds, out.iterations) = (0.0, 0.0, 0);
+                out
+            }
+            None => {
+                let out = solved.next().expect("one outcome per solved component");
+                let mut stored = out.clone();
+                for p in &mut stored.points {
+                    p.interface = local.binary_search(&p.interface).expect("a point of the component");
+                }
+                next.insert(keys[i], stored);
+                out
+            }
+        };
+        *slot = Some(out);
+    }
+    cache.map = next;
+    let outcomes = outcomes.into_iter().map(|o| o.expect("every component has an outcome")).collect();
+    Ok((result::collect(assembly, interfaces, &comps, outcomes, mu, settings), stats))
+}

@@ -1,0 +1,149 @@
+//! Invariant: the headless app (MinimalPlugins + VoussoirPlugins) gives the core's results,
+//! applies edits as messages, recomputes only what an edit touches, and is deterministic.
+
+mod common;
+use bevy::prelude::*;
+use common::*;
+use voussoir::analysis::{AnalysisSettings, analyze};
+use voussoir::ecs::*;
+use voussoir::model::edit::{Edit, SettingsEdit};
+use voussoir::model::{Cut, Scene, builtin};
+use voussoir::statics::FrictionModel;
+
+fn app() -> App {
+    let mut app = App::new();
+    app.add_plugins((MinimalPlugins, VoussoirPlugins));
+    app
+}
+
+fn send(app: &mut App, edit: Edit) {
+    app.world_mut().write_message(EditDesign(edit));
+    app.update();
+}
+
+fn status(app: &App) -> SceneStatus {
+    app.world().resource::<SceneStatus>().clone()
+}
+
+fn counters(app: &App) -> Counters {
+    *app.world().resource::<Counters>()
+}
+
+fn block_names(app: &mut App) -> Vec<String> {
+    let mut q = app.world_mut().query::<&BlockName>();
+    let mut v: Vec<String> = q.iter(app.world()).map(|n| n.0.clone()).collect();
+    v.sort();
+    v
+}
+
+fn forces(app: &mut App) -> Vec<voussoir::statics::InterfaceResult> {
+    let mut q = app.world_mut().query::<&InterfaceForces>();
+    let mut v: Vec<_> = q.iter(app.world()).map(|f| f.0.clone()).collect();
+    v.sort_by_key(|r| r.index);
+    v
+}
+
+#[test]
+fn loaded_scene_has_the_cores_verdict_and_forces() {
+    let scene = builtin("arch?n=9&t=0.15").unwrap();
+    let core = analyze(&scene, &AnalysisSettings::default()).unwrap();
+    let mut app = app();
+    send(&mut app, Edit::Load(scene));
+    let s = status(&app);
+    assert_eq!(s.verdict, Some(core.statics.verdict));
+    assert_eq!(s.tension_ratio, core.statics.tension_ratio);
+    assert_eq!(block_names(&mut app).len(), core.assembly.blocks.len());
+    assert_eq!(forces(&mut app), core.statics.interfaces, "bitwise the core's forces");
+    // Supports carry the marker; interfaces link entities.
+    let mut q = app.world_mut().query_filtered::<&BlockName, With<Support>>();
+    assert_eq!(q.iter(app.world()).count(), core.assembly.blocks.iter().filter(|b| b.support).count());
+    let mut q = app.world_mut().query::<&InterfaceOf>();
+    assert_eq!(q.iter(app.world()).count(), core.interfaces.len());
+}
+
+/// Two separate beams on the ground: cutting one must not re-solve the other.
+fn two_beams() -> Scene {
+    let mut s = Scene::new(
+        "beams",
+        vec![cuboid("left", [0.0, 0.0, 0.0], [4.0, 1.0, 1.0]), cuboid("right", [10.0, 0.0, 0.0], [14.0, 1.0, 1.0])],
+    );
+    s.ground = true;
+    s
+}
+
+#[test]
+fn cut_edits_recompute_only_what_they_touch() {
+    let mut app = app();
+    send(&mut app, Edit::Load(two_beams()));
+    assert_eq!(counters(&app).components_resolved, 2);
+    // Cut the left beam: two new pieces; only the left component is solved again.
+    let cut = Cut::plane([2.0, 0.0, 0.0], [1.0, 0.0, 0.2]).on("left");
+    send(&mut app, Edit::AddCut(cut));
+    assert_eq!(block_names(&mut app), ["left.0+", "left.0-", "right"]);
+    let w = status(&app).work;
+    // The two left pieces touch: one component, solved; the right beam's reused, and its
+    // ground pair too (3 new pairs: the pieces' joint and their two ground contacts).
+    assert_eq!((w.pieces_cut, w.components_solved, w.components_reused), (1, 1, 1), "{w:?}");
+    assert_eq!((w.pairs_detected, w.pairs_reused), (3, 1), "{w:?}");
+    // Move the cut: one split again (the right beam is no target), the right beam reused.
+    let moved = Cut::plane([2.5, 0.0, 0.0], [1.0, 0.0, 0.2]).on("left");
+    send(&mut app, Edit::MoveCut { index: 0, cut: moved });
+    let w = status(&app).work;
+    assert_eq!((w.pieces_cut, w.components_solved, w.components_reused), (1, 1, 1), "{w:?}");
+    // The results equal a fresh core analysis of the same design.
+    let design = app.world().resource::<Design>().0.clone().unwrap();
+    let core = analyze(&design, &AnalysisSettings::default()).unwrap();
+    assert_eq!(forces(&mut app), core.statics.interfaces);
+    // An update without requests does nothing.
+    let before = counters(&app);
+    app.update();
+    assert_eq!(counters(&app), before);
+}
+
+#[test]
+fn support_removal_and_friction_change_the_verdict() {
+    // Slope of 30°: stands for μ = 0.7 > tan 30°, slides for μ = 0.5.
+    let mut app = app();
+    send(&mut app, Edit::Load(builtin("slope?angle=30").unwrap()));
+    send(&mut app, Edit::SetFriction(0.7));
+    assert!(status(&app).stands);
+    send(&mut app, Edit::SetFriction(0.5));
+    let s = status(&app);
+    assert!(!s.stands && s.friction_excess_ratio > 0.0, "{s:?}");
+    // A bad μ is an error message, the design unchanged.
+    send(&mut app, Edit::SetFriction(-1.0));
+    assert!(status(&app).error.as_deref().is_some_and(|e| e.contains("-1")));
+
+    // A stack: removing the bottom block leaves the top one hanging (unsupported); making the
+    // top a support makes everything stand again.
+    let mut app = self::app();
+    send(&mut app, Edit::Load(builtin("stack?n=3").unwrap()));
+    assert!(status(&app).stands);
+    let names = block_names(&mut app);
+    send(&mut app, Edit::RemoveBlock(names[1].clone()));
+    assert!(!status(&app).stands);
+    assert_eq!(block_names(&mut app).len(), names.len() - 1);
+    send(&mut app, Edit::RestoreBlock(names[1].clone()));
+    assert!(status(&app).stands);
+    send(&mut app, Edit::ToggleSupport(names[2].clone()));
+    let mut q = app.world_mut().query_filtered::<&BlockName, With<Support>>();
+    assert!(q.iter(app.world()).any(|n| n.0 == names[2]));
+    // Friction model as a settings request.
+    app.world_mut().write_message(EditSettings(SettingsEdit::SetFrictionModel(FrictionModel::Cone)));
+    app.update();
+    assert!(status(&app).stands);
+}
+
+#[test]
+fn fixed_number_of_updates_is_deterministic() {
+    let run = || {
+        let mut app = app();
+        send(&mut app, Edit::Load(builtin("arch?n=7").unwrap()));
+        send(&mut app, Edit::AddCut(Cut::plane([0.0, 0.0, 0.3], [0.0, 0.0, 1.0])));
+        for _ in 0..5 {
+            app.update();
+        }
+        (block_names(&mut app), forces(&mut app), status(&app).verdict)
+    };
+    assert_eq!(run(), run());
+}
