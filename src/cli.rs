@@ -22,6 +22,8 @@ pub struct Cli {
 pub enum Command {
     /// Detect interfaces, solve the equilibrium, print the verdict (and write a JSON report).
     Analyze(AnalyzeArgs),
+    /// Statics and the rapier drop test side by side (= `analyze --dynamic`).
+    Drop(AnalyzeArgs),
     /// Add a plane or pattern cut to the scene's cut history and write the design (never over
     /// the input).
     Cut(CutArgs),
@@ -84,6 +86,15 @@ pub struct AnalyzeArgs {
     /// How many of the worst interfaces to list (default 5).
     #[arg(long, default_value_t = 5)]
     pub worst: usize,
+    /// Also run the rapier drop test and compare the verdicts.
+    #[arg(long)]
+    pub dynamic: bool,
+    /// Drop test: simulated seconds (default 2).
+    #[arg(long)]
+    pub duration: Option<f64>,
+    /// Drop test: time step, s (default 1/240).
+    #[arg(long)]
+    pub dt: Option<f64>,
 }
 
 /// A failure that is the input's fault: exit code 2.
@@ -95,6 +106,7 @@ pub fn run(cli: Cli) -> i32 {
     let result = match cli.command {
         None => run_analyze(&AnalyzeArgs { friction_model: FrictionModel::Pyramid8, worst: 5, ..Default::default() }),
         Some(Command::Analyze(args)) => run_analyze(&args),
+        Some(Command::Drop(args)) => run_analyze(&AnalyzeArgs { dynamic: true, ..args }),
         Some(Command::Cut(args)) => run_cut(&args),
     };
     match result {
@@ -159,14 +171,27 @@ fn run_analyze(args: &AnalyzeArgs) -> Result<i32, BadInput> {
     apply_options(&mut scene, args, &settings)?;
     let analysis = analyze(&scene, &settings).map_err(|e| BadInput(format!("{}: {e}", source_name(args))))?;
     print!("{}", summary(&analysis, args.worst));
+    let dynamic = if args.dynamic {
+        let mut ds = crate::dynamics::DropSettings { friction: args.mu, ..Default::default() };
+        ds.duration = args.duration.unwrap_or(ds.duration);
+        ds.dt = args.dt.unwrap_or(ds.dt);
+        let d = crate::dynamics::drop_test(&analysis.assembly, &ds).map_err(|e| BadInput(e.to_string()))?;
+        print!("{}", side_by_side(&analysis, &d));
+        Some(d)
+    } else {
+        None
+    };
     if let Some(out) = &args.json {
         if args.scene.as_deref().is_some_and(|s| Path::new(s) == out.as_path()) {
             return Err(BadInput(format!("--json {} would overwrite the input scene", out.display())));
         }
-        io::write_atomic(out, io::report::to_json(&analysis).as_bytes()).map_err(|e| BadInput(e.to_string()))?;
+        let json = io::report::to_json_with(&analysis, dynamic.as_ref());
+        io::write_atomic(out, json.as_bytes()).map_err(|e| BadInput(e.to_string()))?;
         println!("report written to {}", out.display());
     }
-    Ok(if analysis.statics.stands { 0 } else { 1 })
+    // Exit 0 only when it stands by every test that ran.
+    let stands = analysis.statics.stands && dynamic.as_ref().is_none_or(|d| d.stands);
+    Ok(if stands { 0 } else { 1 })
 }
 
 fn run_cut(args: &CutArgs) -> Result<i32, BadInput> {
@@ -225,6 +250,36 @@ fn numbers<const N: usize>(option: &str, text: &str, form: &str) -> Result<[f64;
         .collect::<Result<_, _>>()
         .map_err(|_| BadInput(format!("{option} '{text}': expected {N} numbers {form}")))?;
     v.try_into().map_err(|v: Vec<f64>| BadInput(format!("{option} '{text}': expected {N} numbers, got {}", v.len())))
+}
+
+/// The drop test beside the statics, with the disagreement flagged.
+fn side_by_side(analysis: &Analysis, d: &crate::dynamics::DropResult) -> String {
+    let s = &analysis.statics;
+    let word = |b: bool| if b { "stands" } else { "falls" };
+    let mut o = format!(
+        "drop test (rapier, {:.2} s simulated in {:.2} s, {} steps): {}\n  largest drift {:.3e} of the block size, \
+         largest rotation {:.3e} rad{}\n",
+        d.simulated_s,
+        d.wall_s,
+        d.steps,
+        word(d.stands),
+        d.max_drift,
+        d.max_rotation,
+        d.worst_block.as_ref().map(|b| format!(" (worst: {b})")).unwrap_or_default()
+    );
+    if d.max_volume_error > 0.0 {
+        o += &format!("  convex decomposition volume error up to {:.2} %\n", 100.0 * d.max_volume_error);
+    }
+    o += &format!(
+        "statics {} (tension {:.3e} W, friction excess {:.3e} W, utilisation {:.3}) | drop test {}: {}\n",
+        word(s.stands),
+        s.tension_ratio,
+        s.friction_excess_ratio,
+        s.max_friction_utilization,
+        word(d.stands),
+        if s.stands == d.stands { "AGREE" } else { "DISAGREE (near a limit both are uncertain: compare the margins)" }
+    );
+    o
 }
 
 fn source_name(args: &AnalyzeArgs) -> String {

@@ -147,3 +147,41 @@ fn fixed_number_of_updates_is_deterministic() {
     };
     assert_eq!(run(), run());
 }
+
+#[test]
+fn drop_test_plugin_moves_a_falling_block_and_leaves_a_stack() {
+    use std::time::Duration;
+    use voussoir::dynamics::DropSettings;
+    let mut scene = Scene::new(
+        "stack and a loose box",
+        vec![
+            cuboid("bottom", [0.0, 0.0, 0.0], [1.0, 1.0, 1.0]),
+            cuboid("top", [0.0, 0.0, 1.0], [1.0, 1.0, 2.0]),
+            cuboid("loose", [3.0, 0.0, 1.5], [4.0, 1.0, 2.5]),
+        ],
+    );
+    scene.ground = true;
+    let mut app = app();
+    // One fixed tick (1/64 s) per update, whatever the wall clock does.
+    app.insert_resource(bevy::time::TimeUpdateStrategy::ManualDuration(Duration::from_secs_f64(1.0 / 64.0)));
+    send(&mut app, Edit::Load(scene));
+    assert!(!status(&app).stands, "statics: the loose box touches nothing");
+    app.world_mut().write_message(RunDropTest(DropSettings { duration: 1.0, ..Default::default() }));
+    for _ in 0..100 {
+        app.update();
+        if app.world().resource::<DropStatus>().result.is_some() {
+            break;
+        }
+    }
+    let drop = app.world().resource::<DropStatus>();
+    let result = drop.result.clone().expect("the drop test finished within 100 ticks of 1/64 s");
+    assert!(!result.stands && result.worst_block.as_deref() == Some("loose"));
+    assert_eq!(drop.agree, Some(true));
+    let mut q = app.world_mut().query::<(&BlockName, &BlockPose)>();
+    let poses: std::collections::HashMap<String, BlockPose> =
+        q.iter(app.world()).map(|(n, p)| (n.0.clone(), *p)).collect();
+    // The loose box fell 1.5 m onto the ground (centroid at 0.5 m); the stack stayed.
+    assert!((poses["loose"].centroid.z - 0.5).abs() < 0.02, "{:?}", poses["loose"]);
+    assert!((poses["top"].centroid.z - 1.5).abs() < 0.005, "{:?}", poses["top"]);
+    assert!((poses["bottom"].centroid - nalgebra::Point3::new(0.5, 0.5, 0.5)).norm() < 0.005);
+}

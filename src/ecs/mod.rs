@@ -11,7 +11,10 @@
 //!
 //! Units and signs as in the core: SI, z up; see [`crate::statics`].
 
+pub mod dynamics;
 mod systems;
+
+pub use dynamics::{BlockPose, DropStatus, DynamicsPlugin, RunDropTest};
 
 use crate::analysis::{AnalysisSettings, Pipeline, Timings, Work};
 use crate::geometry::{Mesh, Point3};
@@ -27,7 +30,7 @@ pub struct VoussoirPlugins;
 
 impl PluginGroup for VoussoirPlugins {
     fn build(self) -> PluginGroupBuilder {
-        PluginGroupBuilder::start::<Self>().add(DesignPlugin)
+        PluginGroupBuilder::start::<Self>().add(DesignPlugin).add(DynamicsPlugin)
     }
 }
 

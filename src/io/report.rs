@@ -1,6 +1,7 @@
 //! The JSON report of an analysis (schema documented in the README, "Report JSON").
 
 use crate::analysis::{Analysis, Timings};
+use crate::dynamics::DropResult;
 use crate::statics::{InterfaceResult, SolverReport, Verdict};
 use serde::Serialize;
 
@@ -36,10 +37,31 @@ struct Report<'a> {
     solver: &'a SolverReport,
     timings: Timings,
     warnings: Vec<String>,
+    /// With a drop test: the statics' verdict fields, the drop test's, and whether they agree.
+    #[serde(rename = "static", skip_serializing_if = "Option::is_none")]
+    static_verdict: Option<StaticVerdict>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    dynamic: Option<&'a DropResult>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    agree: Option<bool>,
+}
+
+#[derive(Serialize)]
+struct StaticVerdict {
+    stands: bool,
+    verdict: Verdict,
+    tension_ratio: f64,
+    friction_excess_ratio: f64,
+    max_friction_utilization: f64,
 }
 
 /// The report as pretty JSON. Non-finite numbers (an infinite utilisation) become `null`.
 pub fn to_json(analysis: &Analysis) -> String {
+    to_json_with(analysis, None)
+}
+
+/// The report with a drop test beside the statics: keys `static`, `dynamic`, `agree`.
+pub fn to_json_with(analysis: &Analysis, dynamic: Option<&DropResult>) -> String {
     let a = &analysis.assembly;
     let s = &analysis.statics;
     let report = Report {
@@ -71,6 +93,15 @@ pub fn to_json(analysis: &Analysis) -> String {
         solver: &s.solver,
         timings: analysis.timings,
         warnings: a.warnings.iter().map(|w| w.to_string()).collect(),
+        static_verdict: dynamic.map(|_| StaticVerdict {
+            stands: s.stands,
+            verdict: s.verdict,
+            tension_ratio: s.tension_ratio,
+            friction_excess_ratio: s.friction_excess_ratio,
+            max_friction_utilization: s.max_friction_utilization,
+        }),
+        dynamic,
+        agree: dynamic.map(|d| d.stands == s.stands),
     };
     serde_json::to_string_pretty(&report).unwrap_or_else(|e| format!("{{\"error\": \"{e}\"}}"))
 }

@@ -1,0 +1,174 @@
+//! Dynamics: the rapier3d drop test of an assembly — the physics engine's yes/no beside the
+//! statics' graded answer. rapier is touched only in this module ([`world`]).
+//!
+//! The assembly becomes rigid bodies at their volume centroids with the exact mass and inertia
+//! of [`crate::geometry::MassProperties`]; convex blocks get convex-hull colliders, non-convex
+//! ones (hull more than 2 % larger) a convex decomposition (V-HACD); the volume error of either
+//! is reported. Supports and the
+//! ground (a box under z = 0) are fixed. Restitution 0, sleeping off, friction μ combined with
+//! an explicit rule, rapier's length unit set to the median block size (its slop and
+//! prediction distances are absolute otherwise). rapier computes in f32: coordinates are taken
+//! relative to the model's centre in x and y.
+//!
+//! Metrics per block: largest centroid drift (m, and relative to the block's size, its
+//! bounding-box diagonal), largest rotation (rad), final kinetic energy (J), time of first
+//! significant motion (s). It stands when every free block stays within the drift and rotation
+//! tolerances for the whole run. Same input, same trajectory (rapier single-threaded).
+//! Units SI, z up.
+
+mod settings;
+mod world;
+
+pub use settings::{DropError, DropSettings};
+pub use world::Simulation;
+
+use crate::model::Assembly;
+use serde::Serialize;
+use std::time::Instant;
+
+/// Motion of one free block over the run.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct BlockMotion {
+    pub name: String,
+    /// Largest centroid displacement from the start, m.
+    pub max_drift: f64,
+    /// `max_drift` / the block's size.
+    pub max_drift_ratio: f64,
+    /// Largest rotation from the start, rad.
+    pub max_rotation: f64,
+    /// Kinetic energy at the end, J.
+    pub final_kinetic_energy: f64,
+    /// When the block first moved more than a tenth of the tolerances, s.
+    pub first_motion: Option<f64>,
+}
+
+/// The drop test's outcome.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct DropResult {
+    pub stands: bool,
+    /// Largest drift ratio and rotation over the free blocks.
+    pub max_drift: f64,
+    pub max_rotation: f64,
+    /// The block that moved most (relative to the tolerances), if any block is free.
+    pub worst_block: Option<String>,
+    pub simulated_s: f64,
+    pub wall_s: f64,
+    pub steps: usize,
+    /// Largest relative volume error of a collider: a nearly convex block's hull or a
+    /// non-convex block's convex decomposition (0 when all blocks are convex).
+    pub max_volume_error: f64,
+    pub blocks: Vec<BlockMotion>,
+}
+
+/// Runs the drop test of `assembly` (see the module docs).
+pub fn drop_test(assembly: &Assembly, settings: &DropSettings) -> Result<DropResult, DropError> {
+    let mut run = DropRun::new(assembly, settings)?;
+    run.advance(run.total_steps());
+    Ok(run.result())
+}
+
+/// A drop test that can be advanced step by step (the ECS plugin steps it in FixedUpdate).
+pub struct DropRun {
+    sim: Simulation,
+    settings: DropSettings,
+    /// Indices of the free blocks and their sizes (m).
+    free: Vec<usize>,
+    size: Vec<f64>,
+    motions: Vec<BlockMotion>,
+    steps: usize,
+    total: usize,
+    wall: f64,
+}
+
+impl DropRun {
+    pub fn new(assembly: &Assembly, settings: &DropSettings) -> Result<Self, DropError> {
+        settings.validate()?;
+        let start = Instant::now();
+        let sim = Simulation::new(assembly, settings);
+        let free: Vec<usize> = (0..assembly.blocks.len()).filter(|&i| !assembly.blocks[i].support).collect();
+        let size = free.iter().map(|&i| assembly.blocks[i].aabb.diagonal()).collect();
+        let motions = free
+            .iter()
+            .map(|&i| BlockMotion {
+                name: assembly.blocks[i].name.clone(),
+                max_drift: 0.0,
+                max_drift_ratio: 0.0,
+                max_rotation: 0.0,
+                final_kinetic_energy: 0.0,
+                first_motion: None,
+            })
+            .collect();
+        let total = (settings.duration / settings.dt).ceil() as usize;
+        let wall = start.elapsed().as_secs_f64();
+        Ok(Self { sim, settings: settings.clone(), free, size, motions, steps: 0, total, wall })
+    }
+
+    pub fn total_steps(&self) -> usize {
+        self.total
+    }
+
+    /// The time step, s.
+    pub fn dt(&self) -> f64 {
+        self.settings.dt
+    }
+
+    pub fn steps_done(&self) -> usize {
+        self.steps
+    }
+
+    pub fn finished(&self) -> bool {
+        self.steps >= self.total
+    }
+
+    /// Advances by up to `n` steps (not past the duration), tracking every block's motion.
+    pub fn advance(&mut self, n: usize) {
+        let start = Instant::now();
+        let s = &self.settings;
+        for _ in 0..n.min(self.total - self.steps) {
+            self.sim.step();
+            self.steps += 1;
+            let t = self.steps as f64 * s.dt;
+            for (k, &i) in self.free.iter().enumerate() {
+                let (drift, rotation) = self.sim.displacement(i);
+                let m = &mut self.motions[k];
+                m.max_drift = m.max_drift.max(drift);
+                m.max_drift_ratio = m.max_drift / self.size[k];
+                m.max_rotation = m.max_rotation.max(rotation);
+                if m.first_motion.is_none()
+                    && (drift > 0.1 * s.drift_tolerance * self.size[k] || rotation > 0.1 * s.rotation_tolerance)
+                {
+                    m.first_motion = Some(t);
+                }
+            }
+        }
+        self.wall += start.elapsed().as_secs_f64();
+    }
+
+    /// Block `i`'s centroid (m) and rotation since the start (unit quaternion [w, x, y, z]).
+    pub fn pose(&self, i: usize) -> (crate::geometry::Point3, [f64; 4]) {
+        self.sim.pose(i)
+    }
+
+    /// The outcome so far (the verdict covers the steps run).
+    pub fn result(&self) -> DropResult {
+        let s = &self.settings;
+        let mut motions = self.motions.clone();
+        for (m, &i) in motions.iter_mut().zip(&self.free) {
+            m.final_kinetic_energy = self.sim.kinetic_energy(i);
+        }
+        let badness =
+            |m: &BlockMotion| (m.max_drift_ratio / s.drift_tolerance).max(m.max_rotation / s.rotation_tolerance);
+        let worst = motions.iter().max_by(|a, b| badness(a).total_cmp(&badness(b)));
+        DropResult {
+            stands: motions.iter().all(|m| badness(m) <= 1.0),
+            max_drift: motions.iter().map(|m| m.max_drift_ratio).fold(0.0, f64::max),
+            max_rotation: motions.iter().map(|m| m.max_rotation).fold(0.0, f64::max),
+            worst_block: worst.map(|m| m.name.clone()),
+            simulated_s: self.steps as f64 * s.dt,
+            wall_s: self.wall,
+            steps: self.steps,
+            max_volume_error: self.sim.max_volume_error,
+            blocks: motions,
+        }
+    }
+}
