@@ -236,3 +236,22 @@ fn pattern_cut_from_the_command_line() {
     ]);
     assert_eq!(bad.status.code(), Some(2));
 }
+
+#[test]
+fn drop_prints_both_verdicts_and_writes_static_dynamic_agree() {
+    let json = tmp("drop.json");
+    let out = voussoir(&["drop", "builtin:stack?n=3", "--duration", "0.5", "--json", json.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(String::from_utf8_lossy(&out.stdout).contains("AGREE"));
+    let r: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    assert_eq!(r["static"]["stands"], true);
+    for key in ["stands", "max_drift", "max_rotation", "simulated_s", "wall_s"] {
+        assert!(!r["dynamic"][key].is_null(), "dynamic.{key}");
+    }
+    assert_eq!(r["agree"], true);
+    // A falling design exits 1 with both verdicts.
+    let out = voussoir(&["analyze", "builtin:harmonic?n=5&s=1.4", "--dynamic", "--duration", "1"]);
+    assert_eq!(out.status.code(), Some(1));
+    let bad = voussoir(&["drop", "builtin:stack", "--dt", "0"]);
+    assert_eq!(bad.status.code(), Some(2));
+}
