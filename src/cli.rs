@@ -24,6 +24,8 @@ pub enum Command {
     Analyze(AnalyzeArgs),
     /// Statics and the rapier drop test side by side (= `analyze --dynamic`).
     Drop(AnalyzeArgs),
+    /// Static and drop-test thresholds of a parametric family, by bisection.
+    Sweep(SweepArgs),
     /// Add a plane or pattern cut to the scene's cut history and write the design (never over
     /// the input).
     Cut(CutArgs),
@@ -51,6 +53,37 @@ pub struct CutArgs {
     /// Output scene JSON (written atomically).
     #[arg(short, long)]
     pub output: PathBuf,
+}
+
+#[derive(Args, Debug)]
+pub struct SweepArgs {
+    /// arch (t/R), slope (degrees), harmonic (overhang fraction) or tilt (ground tilt in
+    /// degrees of `--scene`).
+    pub family: String,
+    /// Lower end of the parameter range (default per family).
+    #[arg(long, allow_hyphen_values = true)]
+    pub lo: Option<f64>,
+    /// Upper end of the parameter range (default per family).
+    #[arg(long, allow_hyphen_values = true)]
+    pub hi: Option<f64>,
+    /// Bisection steps per threshold (default 10: the bracket shrinks 1024×).
+    #[arg(long, default_value_t = 10)]
+    pub iterations: usize,
+    /// Voussoirs (arch) or blocks (harmonic), default 15 / 6.
+    #[arg(long)]
+    pub n: Option<usize>,
+    /// Friction coefficient of the slope family (default tan 40°).
+    #[arg(long)]
+    pub mu: Option<f64>,
+    /// The scene the tilt family tilts (file or builtin:…).
+    #[arg(long)]
+    pub scene: Option<String>,
+    /// Drop test: simulated seconds per evaluation (default 2).
+    #[arg(long)]
+    pub duration: Option<f64>,
+    /// Write the result as JSON here (atomically).
+    #[arg(long)]
+    pub json: Option<PathBuf>,
 }
 
 #[derive(Args, Debug, Default)]
@@ -108,6 +141,7 @@ pub fn run(cli: Cli) -> i32 {
         Some(Command::Analyze(args)) => run_analyze(&args),
         Some(Command::Drop(args)) => run_analyze(&AnalyzeArgs { dynamic: true, ..args }),
         Some(Command::Cut(args)) => run_cut(&args),
+        Some(Command::Sweep(args)) => run_sweep(&args),
     };
     match result {
         Ok(code) => code,
@@ -239,6 +273,51 @@ fn run_cut(args: &CutArgs) -> Result<i32, BadInput> {
         after.blocks.len(),
         scene.cuts.len()
     );
+    Ok(0)
+}
+
+fn run_sweep(args: &SweepArgs) -> Result<i32, BadInput> {
+    use crate::sweep::{Family, sweep};
+    let (family, lo, hi) = match args.family.as_str() {
+        "arch" => (Family::Arch { n: args.n.unwrap_or(15) }, 0.02, 0.4),
+        "slope" => (Family::Slope { mu: args.mu.unwrap_or(40f64.to_radians().tan()) }, 0.0, 80.0),
+        "harmonic" => (Family::Harmonic { n: args.n.unwrap_or(6) }, 0.5, 1.5),
+        "tilt" => {
+            let scene = load(Some(args.scene.as_deref().ok_or_else(|| BadInput("tilt needs --scene".into()))?))?;
+            (Family::Tilt { scene: Box::new(scene) }, 0.0, 60.0)
+        }
+        other => return Err(BadInput(format!("unknown family '{other}': arch, slope, harmonic or tilt"))),
+    };
+    let range = (args.lo.unwrap_or(lo), args.hi.unwrap_or(hi));
+    if range.0.partial_cmp(&range.1) != Some(std::cmp::Ordering::Less) {
+        return Err(BadInput(format!("--lo {} must be below --hi {}", range.0, range.1)));
+    }
+    let mut drop = crate::dynamics::DropSettings::default();
+    drop.duration = args.duration.unwrap_or(drop.duration);
+    let bar = indicatif::ProgressBar::new(2 * (args.iterations as u64 + 2));
+    bar.set_message(format!("sweeping {}", args.family));
+    let result = sweep(&family, range, args.iterations, &drop, &mut || bar.inc(1));
+    bar.finish_and_clear();
+    let r = result.map_err(|e| BadInput(e.to_string()))?;
+    println!(
+        "{}: statics threshold {:.5} (stands at {:.5}, falls at {:.5})",
+        args.family,
+        r.statics.mid(),
+        r.statics.stands_at,
+        r.statics.fails_at
+    );
+    println!(
+        "{}: drop-test threshold {:.5} (stands at {:.5}, falls at {:.5})",
+        args.family,
+        r.dynamic.mid(),
+        r.dynamic.stands_at,
+        r.dynamic.fails_at
+    );
+    println!("gap (drop test − statics): {:+.5}, {} evaluations", r.gap, r.evaluations);
+    if let Some(out) = &args.json {
+        let json = serde_json::to_string_pretty(&r).unwrap_or_default();
+        io::write_atomic(out, json.as_bytes()).map_err(|e| BadInput(e.to_string()))?;
+    }
     Ok(0)
 }
 

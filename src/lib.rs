@@ -36,3 +36,4 @@ pub mod interfaces;
 pub mod io;
 pub mod model;
 pub mod statics;
+pub mod sweep;
