@@ -24,6 +24,8 @@ pub enum Command {
     Analyze(AnalyzeArgs),
     /// Statics and the rapier drop test side by side (= `analyze --dynamic`).
     Drop(AnalyzeArgs),
+    /// Check every step of an assembly order (static, and with --dynamic the drop test).
+    Sequence(SequenceArgs),
     /// Static and drop-test thresholds of a parametric family, by bisection.
     Sweep(SweepArgs),
     /// Add a plane or pattern cut to the scene's cut history and write the design (never over
@@ -53,6 +55,24 @@ pub struct CutArgs {
     /// Output scene JSON (written atomically).
     #[arg(short, long)]
     pub output: PathBuf,
+}
+
+#[derive(Args, Debug)]
+pub struct SequenceArgs {
+    /// Scene file or `builtin:…`.
+    pub scene: String,
+    /// Block names in placing order, comma-separated (default: bottom-up by height).
+    #[arg(long)]
+    pub order: Option<String>,
+    /// Also drop-test every step.
+    #[arg(long)]
+    pub dynamic: bool,
+    /// Friction coefficient μ (default: the scene's).
+    #[arg(long)]
+    pub mu: Option<f64>,
+    /// Write the report as JSON here (atomically).
+    #[arg(long)]
+    pub json: Option<PathBuf>,
 }
 
 #[derive(Args, Debug)]
@@ -142,6 +162,7 @@ pub fn run(cli: Cli) -> i32 {
         Some(Command::Drop(args)) => run_analyze(&AnalyzeArgs { dynamic: true, ..args }),
         Some(Command::Cut(args)) => run_cut(&args),
         Some(Command::Sweep(args)) => run_sweep(&args),
+        Some(Command::Sequence(args)) => run_sequence(&args),
     };
     match result {
         Ok(code) => code,
@@ -274,6 +295,46 @@ fn run_cut(args: &CutArgs) -> Result<i32, BadInput> {
         scene.cuts.len()
     );
     Ok(0)
+}
+
+fn run_sequence(args: &SequenceArgs) -> Result<i32, BadInput> {
+    use crate::sequence::{OrderSpec, check};
+    let scene = load(Some(&args.scene))?;
+    let spec = match &args.order {
+        Some(list) => {
+            OrderSpec::Given(list.split(',').map(|s| s.trim().to_string()).filter(|s| !s.is_empty()).collect())
+        }
+        None => OrderSpec::BottomUp,
+    };
+    let mut settings = AnalysisSettings::default();
+    settings.statics.friction = args.mu;
+    let drop = crate::dynamics::DropSettings { friction: args.mu, ..Default::default() };
+    let bar = indicatif::ProgressBar::new(scene.blocks.len() as u64);
+    let report = check(&scene, &spec, &settings, args.dynamic.then_some(&drop), &mut || bar.inc(1));
+    bar.finish_and_clear();
+    let r = report.map_err(|e| BadInput(format!("{}: {e}", args.scene)))?;
+    println!(
+        "step  placed                 statics  tension      friction excess{}",
+        if args.dynamic { "  drop test" } else { "" }
+    );
+    for (i, s) in r.steps.iter().enumerate() {
+        let d = s.dynamic.as_ref().map(|d| if d.stands { "  stands" } else { "  falls" }).unwrap_or("");
+        let word = if s.stands { "stands" } else { "FAILS " };
+        println!("{i:>4}  {:<22} {word}   {:.3e} W  {:.3e} W{d}", s.placed, s.tension_ratio, s.friction_excess_ratio);
+    }
+    match r.first_failure {
+        None => println!("every step stands"),
+        Some(k) => {
+            let s = &r.steps[k];
+            println!("first failure at step {k} ({}): {:?} {}", s.placed, s.verdict, s.offending.join(", "))
+        }
+    }
+    if let Some(out) = &args.json {
+        let json = serde_json::to_string_pretty(&r).unwrap_or_default();
+        io::write_atomic(out, json.as_bytes()).map_err(|e| BadInput(e.to_string()))?;
+    }
+    let dyn_ok = r.steps.iter().all(|s| s.dynamic.as_ref().is_none_or(|d| d.stands));
+    Ok(if r.first_failure.is_none() && dyn_ok { 0 } else { 1 })
 }
 
 fn run_sweep(args: &SweepArgs) -> Result<i32, BadInput> {

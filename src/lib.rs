@@ -35,5 +35,6 @@ pub mod geometry;
 pub mod interfaces;
 pub mod io;
 pub mod model;
+pub mod sequence;
 pub mod statics;
 pub mod sweep;
