@@ -185,3 +185,32 @@ fn drop_test_plugin_moves_a_falling_block_and_leaves_a_stack() {
     assert!((poses["top"].centroid.z - 1.5).abs() < 0.005, "{:?}", poses["top"]);
     assert!((poses["bottom"].centroid - nalgebra::Point3::new(0.5, 0.5, 0.5)).norm() < 0.005);
 }
+
+#[test]
+fn sequence_plugin_steps_through_an_order() {
+    use voussoir::sequence::OrderSpec;
+    let mut app = app();
+    send(&mut app, Edit::Load(builtin("arch?n=5&t=0.15").unwrap()));
+    app.world_mut().write_message(StartSequence(OrderSpec::BottomUp));
+    app.update();
+    let placed = |app: &mut App| {
+        let mut q = app.world_mut().query_filtered::<&BlockName, With<Placed>>();
+        q.iter(app.world()).count()
+    };
+    let status = app.world().resource::<SequenceStatus>();
+    assert_eq!(status.current, 0);
+    let first = status.step().unwrap().clone();
+    assert!(!first.stands, "one voussoir on a springer tips");
+    assert_eq!(placed(&mut app), 1);
+    for _ in 0..10 {
+        app.world_mut().write_message(StepSequence(1));
+        app.update();
+    }
+    let status = app.world().resource::<SequenceStatus>();
+    assert_eq!(status.current, 4, "clamped at the last step");
+    assert!(status.step().unwrap().stands, "the closed arch stands");
+    assert_eq!(placed(&mut app), 5);
+    app.world_mut().write_message(StepSequence(-2));
+    app.update();
+    assert_eq!(placed(&mut app), 3);
+}

@@ -12,9 +12,11 @@
 //! Units and signs as in the core: SI, z up; see [`crate::statics`].
 
 pub mod dynamics;
+pub mod sequence;
 mod systems;
 
 pub use dynamics::{BlockPose, DropStatus, DynamicsPlugin, RunDropTest};
+pub use sequence::{Placed, SequencePlugin, SequenceStatus, StartSequence, StepSequence};
 
 use crate::analysis::{AnalysisSettings, Pipeline, Timings, Work};
 use crate::geometry::{Mesh, Point3};
@@ -30,7 +32,7 @@ pub struct VoussoirPlugins;
 
 impl PluginGroup for VoussoirPlugins {
     fn build(self) -> PluginGroupBuilder {
-        PluginGroupBuilder::start::<Self>().add(DesignPlugin).add(DynamicsPlugin)
+        PluginGroupBuilder::start::<Self>().add(DesignPlugin).add(DynamicsPlugin).add(SequencePlugin)
     }
 }
 
