@@ -61,7 +61,8 @@ pub struct CutArgs {
 pub struct SequenceArgs {
     /// Scene file or `builtin:…`.
     pub scene: String,
-    /// Block names in placing order, comma-separated (default: bottom-up by height).
+    /// `bottom-up` (default: by height), `from-supports` (by graph distance from the supports)
+    /// or block names in placing order, comma-separated.
     #[arg(long)]
     pub order: Option<String>,
     /// Also drop-test every step.

@@ -15,6 +15,9 @@ use thiserror::Error;
 pub enum OrderSpec {
     /// By the height of the lowest point, then of the centroid, then by name.
     BottomUp,
+    /// By the number of interfaces between the block and a support or the ground (graph
+    /// distance), then bottom-up.
+    FromSupports,
     /// These block names, each free block exactly once.
     Given(Vec<String>),
 }
@@ -62,10 +65,57 @@ pub struct SequenceReport {
     pub temporary_supports: Vec<(String, usize)>,
 }
 
+/// Graph distance of every free block (by name) from the fixed bodies over the interfaces of
+/// the complete design; blocks that reach none get `usize::MAX`.
+fn distances(
+    resolved: &Scene,
+    settings: &AnalysisSettings,
+) -> Result<std::collections::HashMap<String, usize>, SequenceError> {
+    use crate::interfaces::Body;
+    let asm = crate::model::Assembly::new(resolved, &settings.tolerances).map_err(AnalysisError::from)?;
+    let ifs = crate::interfaces::detect(&asm);
+    let n = asm.blocks.len();
+    let mut dist = vec![usize::MAX; n];
+    let mut queue = std::collections::VecDeque::new();
+    let fixed = |body: Body| body.is_fixed(&asm);
+    for i in &ifs {
+        for (x, y) in [(i.a, i.b), (i.b, i.a)] {
+            if let (true, Body::Block(b)) = (fixed(x), y)
+                && !asm.block(b).support
+                && dist[b.0] == usize::MAX
+            {
+                dist[b.0] = 1;
+                queue.push_back(b.0);
+            }
+        }
+    }
+    while let Some(k) = queue.pop_front() {
+        for i in ifs.iter().filter(|i| i.touches(crate::model::BlockId(k))) {
+            let other = if i.a == Body::Block(crate::model::BlockId(k)) { i.b } else { i.a };
+            if let Body::Block(b) = other
+                && !asm.block(b).support
+                && dist[b.0] == usize::MAX
+            {
+                dist[b.0] = dist[k] + 1;
+                queue.push_back(b.0);
+            }
+        }
+    }
+    Ok(asm.blocks.iter().zip(dist).map(|(b, d)| (b.name.clone(), d)).collect())
+}
+
 /// The free blocks of the resolved design in the order asked for.
-pub fn order(resolved: &Scene, spec: &OrderSpec) -> Result<Vec<String>, SequenceError> {
+pub fn order(resolved: &Scene, spec: &OrderSpec, settings: &AnalysisSettings) -> Result<Vec<String>, SequenceError> {
     let free: Vec<&crate::model::Block> = resolved.blocks.iter().filter(|b| !b.support).collect();
     match spec {
+        OrderSpec::FromSupports => {
+            let d = distances(resolved, settings)?;
+            let bottom_up = order(resolved, &OrderSpec::BottomUp, settings)?;
+            let mut keyed: Vec<(usize, usize, String)> =
+                bottom_up.into_iter().enumerate().map(|(k, name)| (d[&name], k, name)).collect();
+            keyed.sort();
+            Ok(keyed.into_iter().map(|k| k.2).collect())
+        }
         OrderSpec::BottomUp => {
             let mut keyed: Vec<(f64, f64, &str)> = free
                 .iter()
@@ -107,7 +157,7 @@ pub fn check(
     tick: &mut dyn FnMut(),
 ) -> Result<SequenceReport, SequenceError> {
     let (resolved, _) = resolve(scene, &settings.tolerances, &mut CutCache::new()).map_err(AnalysisError::from)?;
-    let order = order(&resolved, spec)?;
+    let order = order(&resolved, spec, settings)?;
     let mut pipeline = Pipeline::new();
     let mut placed: HashSet<&str> = HashSet::new();
     let mut steps = Vec::with_capacity(order.len());

@@ -43,3 +43,15 @@ fn bad_orders_are_named_errors() {
     assert_eq!(err(given(&[f[0], f[0], f[1]])), SequenceError::Repeated(f[0].into()));
     assert_eq!(err(given(&[f[0]])), SequenceError::Missing(f[1].into()));
 }
+
+#[test]
+fn from_supports_orders_by_graph_distance() {
+    // An arch: the voussoirs next to the springers first, the keystone last.
+    let scene = builtin("arch?n=7&t=0.15").unwrap();
+    let r = check(&scene, &OrderSpec::FromSupports, &AnalysisSettings::default(), None, &mut || {}).unwrap();
+    assert_eq!(r.order.len(), 7);
+    let ends: Vec<&str> = r.order[..2].iter().map(String::as_str).collect();
+    assert!(ends.contains(&"v0") && ends.contains(&"v6"), "{:?}", r.order);
+    assert_eq!(r.order[6], "v3", "the keystone is farthest from the supports");
+    assert!(r.steps.last().unwrap().stands);
+}
