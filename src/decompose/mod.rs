@@ -80,17 +80,6 @@ impl CutCache {
     }
 }
 
-/// Content hash of a source shape. SipHash with fixed keys: the same content gives the same
-/// key in every run.
-fn mesh_key(mesh: &Mesh) -> u64 {
-    let mut h = std::collections::hash_map::DefaultHasher::new();
-    for p in &mesh.vertices {
-        p.iter().for_each(|c| c.to_bits().hash(&mut h));
-    }
-    mesh.faces.hash(&mut h);
-    h.finish()
-}
-
 /// Key of splitting the piece with key `piece` by `plane`. A piece made by a split is keyed by
 /// its derivation (parent key, plane, side, index) — equivalent to its content, since splits
 /// are deterministic — so a replay hashes each source mesh once, not every piece at every cut.
@@ -211,7 +200,8 @@ pub fn replay(
     cache: &mut CutCache,
 ) -> Result<(Vec<Block>, ReplayStats), CutError> {
     // (block, content key, in the target's scope for the current cut)
-    let mut pieces: Vec<(Block, u64, bool)> = sources.iter().map(|b| (b.clone(), mesh_key(&b.mesh), false)).collect();
+    let mut pieces: Vec<(Block, u64, bool)> =
+        sources.iter().map(|b| (b.clone(), b.mesh.content_key(), false)).collect();
     let mut stats = ReplayStats::default();
     for (index, cut) in cuts.iter().enumerate() {
         let blades = blades(index, cut)?;

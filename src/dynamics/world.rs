@@ -1,7 +1,6 @@
 //! The only touchpoint of rapier3d: the assembly as a rapier world, stepped.
 
 use super::DropSettings;
-use crate::geometry::polygon::{Frame, area_vector, triangulate_2d};
 use crate::geometry::{Point3, Vector3};
 use crate::model::Assembly;
 use rapier3d::math::{Matrix, Pose, Vector};
@@ -20,18 +19,6 @@ pub struct Simulation {
 
 fn v32(v: Vector3) -> Vector {
     Vector::new(v.x as f32, v.y as f32, v.z as f32)
-}
-
-/// Triangles of every face (faces are planar, maybe non-convex).
-fn triangles(mesh: &crate::geometry::Mesh) -> Vec<[u32; 3]> {
-    let mut out = Vec::new();
-    for face in &mesh.faces {
-        let pts: Vec<Point3> = face.iter().map(|&i| mesh.vertices[i]).collect();
-        let frame = Frame::from_normal(pts[0], area_vector(&pts));
-        let flat: Vec<[f64; 2]> = pts.iter().map(|p| frame.to_2d(p)).collect();
-        out.extend(triangulate_2d(&flat, &[]).into_iter().map(|t| t.map(|k| face[k] as u32)));
-    }
-    out
 }
 
 impl Simulation {
@@ -76,9 +63,10 @@ impl Simulation {
                 let tol = 1e-3 * b.aabb.diagonal();
                 // Triangles are exactly planar (warped faces within the planarity tolerance are
                 // not), so the splits stay exact.
+                let triangles = b.mesh.triangles();
                 let tri = crate::geometry::Mesh::new(
                     b.mesh.vertices.clone(),
-                    triangles(&b.mesh).iter().map(|t| t.iter().map(|&k| k as usize).collect()).collect(),
+                    triangles.iter().map(|(t, _)| t.to_vec()).collect(),
                 );
                 let parts = match crate::geometry::convex::convex_parts(&tri, tol, 16) {
                     Some(parts) => {
@@ -91,7 +79,10 @@ impl Simulation {
                             .collect();
                         ColliderBuilder::compound(shapes)
                     }
-                    None => ColliderBuilder::convex_decomposition(&local, &triangles(&b.mesh)),
+                    None => {
+                        let indices: Vec<[u32; 3]> = triangles.iter().map(|(t, _)| t.map(|k| k as u32)).collect();
+                        ColliderBuilder::convex_decomposition(&local, &indices)
+                    }
                 };
                 let v = parts.build().volume() as f64;
                 max_volume_error = max_volume_error.max((v - b.mass.volume).abs() / b.mass.volume);

@@ -137,20 +137,7 @@ pub fn split(mesh: &Mesh, plane: &Plane, eps: f64) -> SplitResult {
 
 /// Ear-clipped triangles of every face (faces are planar and simple).
 fn triangulate(mesh: &Mesh) -> Vec<Tri> {
-    let mut out = Vec::new();
-    for (f, face) in mesh.faces.iter().enumerate() {
-        if face.len() == 3 {
-            out.push(Tri { v: [face[0], face[1], face[2]], face: f });
-            continue;
-        }
-        let pts: Vec<Point3> = face.iter().map(|&i| mesh.vertices[i]).collect();
-        let frame = Frame::from_normal(pts[0], area_vector(&pts));
-        let p2: Vec<[f64; 2]> = pts.iter().map(|p| frame.to_2d(p)).collect();
-        for t in triangulate_2d(&p2, &[]) {
-            out.push(Tri { v: t.map(|k| face[k]), face: f });
-        }
-    }
-    out
+    mesh.triangles().into_iter().map(|(v, face)| Tri { v, face }).collect()
 }
 
 /// Directed boundary edges (used once, not cancelled by a reverse edge) of a triangle set.

@@ -174,6 +174,36 @@ impl Mesh {
     }
 
     /// The face's vertex positions in order.
+    /// Ear-clipped triangles of every face (faces planar and simple), each with the index of
+    /// the face it came from; triangles are kept as they are.
+    pub fn triangles(&self) -> Vec<([usize; 3], usize)> {
+        use super::polygon::{Frame, area_vector, triangulate_2d};
+        let mut out = Vec::new();
+        for (f, face) in self.faces.iter().enumerate() {
+            if face.len() == 3 {
+                out.push(([face[0], face[1], face[2]], f));
+                continue;
+            }
+            let pts: Vec<Point3> = face.iter().map(|&i| self.vertices[i]).collect();
+            let frame = Frame::from_normal(pts[0], area_vector(&pts));
+            let p2: Vec<[f64; 2]> = pts.iter().map(|p| frame.to_2d(p)).collect();
+            out.extend(triangulate_2d(&p2, &[]).into_iter().map(|t| (t.map(|k| face[k]), f)));
+        }
+        out
+    }
+
+    /// Content hash of the vertices (bit patterns) and faces. SipHash with fixed keys: the
+    /// same content gives the same key in every run.
+    pub fn content_key(&self) -> u64 {
+        use std::hash::{Hash, Hasher};
+        let mut h = std::collections::hash_map::DefaultHasher::new();
+        for p in &self.vertices {
+            p.iter().for_each(|c| c.to_bits().hash(&mut h));
+        }
+        self.faces.hash(&mut h);
+        h.finish()
+    }
+
     pub fn face_points(&self, f: usize) -> impl Iterator<Item = Point3> + '_ {
         self.faces[f].iter().map(|&i| self.vertices[i])
     }

@@ -32,11 +32,7 @@ pub fn block_keys(assembly: &Assembly) -> Vec<u64> {
         .iter()
         .map(|b| {
             let mut h = hasher();
-            for p in &b.mesh.vertices {
-                p.iter().for_each(|c| c.to_bits().hash(&mut h));
-            }
-            b.mesh.faces.hash(&mut h);
-            b.support.hash(&mut h);
+            (b.mesh.content_key(), b.support).hash(&mut h);
             h.finish()
         })
         .collect()
