@@ -61,10 +61,21 @@ pub struct CutArgs {
 pub struct SequenceArgs {
     /// Scene file or `builtin:…`.
     pub scene: String,
-    /// `bottom-up` (default: by height), `from-supports` (by graph distance from the supports)
-    /// or block names in placing order, comma-separated.
-    #[arg(long)]
+    /// `bottom-up` (by height), `from-supports` (by graph distance from the supports) or
+    /// block names in placing order, comma-separated (a source shape's name stands for all its
+    /// pieces, bottom-up). Default: the scene file's `order`, else bottom-up.
+    #[arg(long, conflicts_with = "search")]
     pub order: Option<String>,
+    /// Search an order in which every step stands; when none exists, propose temporary
+    /// supports (exit code 1).
+    #[arg(long)]
+    pub search: bool,
+    /// Propose temporary supports (props) for the order wherever a step would not stand.
+    #[arg(long)]
+    pub props: bool,
+    /// Static checks the search may run (default 20 per block + 200).
+    #[arg(long)]
+    pub max_checks: Option<usize>,
     /// Also drop-test every step.
     #[arg(long)]
     pub dynamic: bool,
@@ -299,32 +310,68 @@ fn run_cut(args: &CutArgs) -> Result<i32, BadInput> {
 }
 
 fn run_sequence(args: &SequenceArgs) -> Result<i32, BadInput> {
-    use crate::sequence::{OrderSpec, check};
+    use crate::sequence::{OrderSpec, SearchSettings, check, check_with_props, search};
     let scene = load(Some(&args.scene))?;
-    let spec = match &args.order {
+    let spec = match args.order.as_deref() {
+        Some("bottom-up") => OrderSpec::BottomUp,
+        Some("from-supports") => OrderSpec::FromSupports,
         Some(list) => {
             OrderSpec::Given(list.split(',').map(|s| s.trim().to_string()).filter(|s| !s.is_empty()).collect())
         }
+        None if !scene.order.is_empty() => OrderSpec::Given(scene.order.clone()),
         None => OrderSpec::BottomUp,
     };
     let mut settings = AnalysisSettings::default();
     settings.statics.friction = args.mu;
     let drop = crate::dynamics::DropSettings { friction: args.mu, ..Default::default() };
-    let bar = indicatif::ProgressBar::new(scene.blocks.len() as u64);
-    let report = check(&scene, &spec, &settings, args.dynamic.then_some(&drop), &mut || bar.inc(1));
+    let dynamic = args.dynamic.then_some(&drop);
+    let search_settings = SearchSettings { max_checks: args.max_checks, ..Default::default() };
+    let bar = if args.search {
+        let bar = indicatif::ProgressBar::new_spinner();
+        bar.set_message("searching an order (static checks)");
+        bar
+    } else {
+        indicatif::ProgressBar::new(scene.blocks.len() as u64)
+    };
+    let tick = || bar.inc(1);
+    let report = if args.search {
+        search(&scene, &settings, &search_settings, dynamic, &tick)
+    } else if args.props {
+        check_with_props(&scene, &spec, &settings, &search_settings, dynamic, &tick)
+    } else {
+        check(&scene, &spec, &settings, dynamic, &tick)
+    };
     bar.finish_and_clear();
     let r = report.map_err(|e| BadInput(format!("{}: {e}", args.scene)))?;
+    if let Some(info) = &r.search {
+        let what = match (info.found, info.exhaustive) {
+            (true, _) => "found an order in which every step stands".to_string(),
+            (false, true) => "no order stands at every step (the search was exhaustive)".to_string(),
+            (false, false) => format!("no standing order found within {} checks", info.checks),
+        };
+        println!("search: {what}; {} static checks, longest standing prefix {}", info.checks, info.deepest);
+    }
     println!(
-        "step  placed                 statics  tension      friction excess{}",
+        "step  placed                 statics  tension      friction excess{}  props",
         if args.dynamic { "  drop test" } else { "" }
     );
     for (i, s) in r.steps.iter().enumerate() {
-        let d = s.dynamic.as_ref().map(|d| if d.stands { "  stands" } else { "  falls" }).unwrap_or("");
+        let d = s.dynamic.as_ref().map(|d| if d.stands { "  stands" } else { "  falls " }).unwrap_or("");
         let word = if s.stands { "stands" } else { "FAILS " };
-        println!("{i:>4}  {:<22} {word}   {:.3e} W  {:.3e} W{d}", s.placed, s.tension_ratio, s.friction_excess_ratio);
+        println!(
+            "{i:>4}  {:<22} {word}   {:.3e} W  {:.3e} W{d}  {}",
+            s.placed,
+            s.tension_ratio,
+            s.friction_excess_ratio,
+            s.props.join(", ")
+        );
+    }
+    for p in &r.temporary_supports {
+        println!("prop '{}' from step {} until step {}", p.block, p.from, p.until);
     }
     match r.first_failure {
-        None => println!("every step stands"),
+        None if r.temporary_supports.is_empty() => println!("every step stands"),
+        None => println!("every step stands with {} temporary support(s)", r.temporary_supports.len()),
         Some(k) => {
             let s = &r.steps[k];
             println!("first failure at step {k} ({}): {:?} {}", s.placed, s.verdict, s.offending.join(", "))
@@ -335,7 +382,7 @@ fn run_sequence(args: &SequenceArgs) -> Result<i32, BadInput> {
         io::write_atomic(out, json.as_bytes()).map_err(|e| BadInput(e.to_string()))?;
     }
     let dyn_ok = r.steps.iter().all(|s| s.dynamic.as_ref().is_none_or(|d| d.stands));
-    Ok(if r.first_failure.is_none() && dyn_ok { 0 } else { 1 })
+    Ok(if r.stands_unpropped() && dyn_ok { 0 } else { 1 })
 }
 
 fn run_sweep(args: &SweepArgs) -> Result<i32, BadInput> {

@@ -255,3 +255,40 @@ fn drop_prints_both_verdicts_and_writes_static_dynamic_agree() {
     let bad = voussoir(&["drop", "builtin:stack", "--dt", "0"]);
     assert_eq!(bad.status.code(), Some(2));
 }
+
+#[test]
+fn sequence_search_props_and_exit_codes() {
+    let case = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/cases/fig6_dmsc_sequence.json");
+    // The scene's own order (D, M, S, C) fails while D and M are placed: exit 1.
+    let json = tmp("seq_given.json");
+    let out = voussoir(&["sequence", case, "--json", json.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(1), "{}", String::from_utf8_lossy(&out.stderr));
+    let r: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    for key in ["order", "steps", "first_failure", "temporary_supports"] {
+        assert!(r.get(key).is_some(), "missing {key}");
+    }
+    assert_eq!(r["first_failure"], 4);
+    let step = &r["steps"][4];
+    assert_eq!(step["stands"], false);
+    assert!(step["tension_ratio"].as_f64().unwrap() > 0.1 && step.get("friction_excess_ratio").is_some());
+    // The search finds a standing order: exit 0, no props.
+    let json = tmp("seq_search.json");
+    let out = voussoir(&["sequence", case, "--search", "--json", json.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stdout));
+    let r: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    assert_eq!(r["first_failure"], serde_json::Value::Null);
+    assert_eq!(r["temporary_supports"].as_array().unwrap().len(), 0);
+    assert_eq!(r["search"]["found"], true);
+    // An arch has no standing order: props are proposed, every step then stands, exit 1.
+    let json = tmp("seq_arch.json");
+    let out = voussoir(&["sequence", "builtin:arch?n=7&t=0.15", "--search", "--json", json.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(1));
+    let r: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let props = r["temporary_supports"].as_array().unwrap();
+    assert!(!props.is_empty() && props.iter().all(|p| p["block"].is_string() && p["until"].is_u64()));
+    assert_eq!(r["first_failure"], serde_json::Value::Null);
+    // Bad orders are bad input.
+    let out = voussoir(&["sequence", case, "--order", "D,M,S"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("is missing"));
+}

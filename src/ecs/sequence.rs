@@ -54,7 +54,7 @@ fn start_sequence(
 ) {
     let Some(StartSequence(spec)) = requests.read().last() else { return };
     let Some(scene) = &design.0 else { return };
-    *status = match check(scene, spec, &settings.0, None, &mut || {}) {
+    *status = match check(scene, spec, &settings.0, None, &|| {}) {
         Ok(r) => SequenceStatus { report: Some(r), current: 0, error: None },
         Err(e) => SequenceStatus { error: Some(e.to_string()), ..Default::default() },
     };

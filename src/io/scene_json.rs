@@ -47,6 +47,8 @@ struct SceneFile {
     removed: Vec<String>,
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     supports: Vec<String>,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    order: Vec<String>,
 }
 
 #[derive(Debug, Serialize, Deserialize)]
@@ -94,6 +96,7 @@ pub(crate) fn scene_from_value(path: &Path, value: serde_json::Value) -> Result<
     scene.cuts = file.cuts;
     scene.removed = file.removed;
     scene.supports = file.supports;
+    scene.order = file.order;
     scene.blocks = file
         .blocks
         .into_iter()
@@ -130,6 +133,7 @@ pub fn scene_to_string(scene: &Scene) -> String {
         cuts: scene.cuts.clone(),
         removed: scene.removed.clone(),
         supports: scene.supports.clone(),
+        order: scene.order.clone(),
     };
     serde_json::to_string_pretty(&file).expect("a scene always serialises")
 }

@@ -183,6 +183,48 @@ pub fn fig6() -> Scene {
     design("fig6: DMSC in many pieces", vec![d, m, s, c], cuts)
 }
 
+/// Fig. 6 as the paper's sequence study: the same letters set as a ligature — the M's right
+/// leg stops one unit above the ground and rests on the S's lower bar, drawn out under it — so
+/// that, as the paper reports of its DMSC, "D" and "M" cannot stand alone: placed in the order
+/// D, M, S, C (the scene's `order`), the M's upper piece tips over its left foot until the S
+/// is there.
+pub fn fig6_sequence() -> Scene {
+    let mut scene = fig6();
+    scene.name = "fig6 (sequence): DMSC with the M's right foot on the S".into();
+    let m = [
+        [0.0, 0.0],
+        [1.0, 0.0],
+        [1.0, 3.0],
+        [2.5, 1.5],
+        [4.0, 3.0],
+        [4.0, 1.0],
+        [5.0, 1.0],
+        [5.0, 5.0],
+        [4.0, 5.0],
+        [2.5, 3.5],
+        [1.0, 5.0],
+        [0.0, 5.0],
+    ];
+    let s = [
+        [-2.2, 0.0],
+        [3.0, 0.0],
+        [3.0, 3.0],
+        [1.0, 3.0],
+        [1.0, 4.0],
+        [3.0, 4.0],
+        [3.0, 5.0],
+        [0.0, 5.0],
+        [0.0, 2.0],
+        [2.0, 2.0],
+        [2.0, 1.0],
+        [-2.2, 1.0],
+    ];
+    scene.blocks[1] = letter("M", 4.0, &m);
+    scene.blocks[2] = letter("S", 10.0, &s);
+    scene.order = ["D", "M", "S", "C"].map(String::from).to_vec();
+    scene
+}
+
 /// Prism (along +y, thickness `T`) of a union of grid cells `[x0, z0, x1, z1]` (grid units)
 /// whose corners lie on common grid lines: the cap is one quad per cell and the sides are
 /// split at every grid line, so the mesh is closed however the cells touch (a loop's hole
@@ -363,6 +405,7 @@ pub fn all() -> Vec<(String, Scene)> {
         out.push((format!("fig5{k}_m_inclined"), s));
     }
     out.push(("fig6_dmsc".into(), fig6()));
+    out.push(("fig6_dmsc_sequence".into(), fig6_sequence()));
     for (k, s) in ["a", "b", "c", "d"].iter().zip(fig7()) {
         out.push((format!("fig7{k}_loop"), s));
     }

@@ -79,6 +79,9 @@ pub struct Scene {
     pub removed: Vec<String>,
     /// Pieces made supports after the cut history (by name), besides blocks marked `support`.
     pub supports: Vec<String>,
+    /// An assembly order (piece names, or source-shape names standing for all their pieces
+    /// bottom-up) for [`crate::sequence`]; empty when none is given.
+    pub order: Vec<String>,
 }
 
 impl Scene {
@@ -92,6 +95,7 @@ impl Scene {
             cuts: Vec::new(),
             removed: Vec::new(),
             supports: Vec::new(),
+            order: Vec::new(),
         }
     }
 

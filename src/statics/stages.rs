@@ -158,10 +158,14 @@ pub fn solve_component(
             excess = b2.objective.max(0.0);
             best = b2;
         }
-        let c = stage(&sys, Stage::Distribution { tension, excess }, &mut tally);
-        // The distribution QP only refines the forces: if it fails, the last LP's solution is
-        // an equilibrium with the same minimum tension and excess.
-        let c = if ok(c.status) { c } else { best };
+        // The distribution QP only refines the forces: if it fails (or is not asked for), the
+        // last LP's solution is an equilibrium with the same minimum tension and excess.
+        let c = if settings.distribution {
+            let c = stage(&sys, Stage::Distribution { tension, excess }, &mut tally);
+            if ok(c.status) { c } else { best }
+        } else {
+            best
+        };
         (sys, c, tension, excess)
     };
     let mut c = c;

@@ -1,0 +1,270 @@
+//! Order search and temporary supports.
+//!
+//! Search: depth-first over *sets* of placed blocks — whether a set stands does not depend on
+//! the order it was placed in, so a set from which no complete order exists is remembered and
+//! never explored twice. At each set the candidates are the unplaced blocks touching a placed
+//! block or a fixed body, tried in the from-supports order (graph distance, then height): the
+//! first that stands is taken (greedy), the next on backtracking. With a budget of static
+//! checks; the search is exhaustive (a "no order" is a proof) when it ends within it.
+//!
+//! Temporary supports (props): along an order, when a step does not stand, the fewest placed
+//! blocks are fixed so that it does — one prop is tried first (the new block, then the blocks
+//! of the offending interfaces, then its neighbours), more are added greedily by the graded
+//! answer; after each later step, props whose release still leaves the step standing are
+//! released (all at once when possible, as when a keystone closes an arch).
+
+use super::order::{Adjacency, adjacency};
+use super::steps::Stepper;
+use super::{SequenceError, Step, TemporarySupport};
+use crate::analysis::AnalysisSettings;
+use crate::dynamics::DropSettings;
+use crate::model::Scene;
+use std::collections::{HashMap, HashSet};
+
+/// Settings of the order search.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SearchSettings {
+    /// Static checks allowed; `None` (default) allows 20 per block + 200.
+    pub max_checks: Option<usize>,
+    /// Prop candidates tried one by one at a failing step before adding props greedily.
+    /// Default 24.
+    pub prop_candidates: usize,
+}
+
+impl Default for SearchSettings {
+    fn default() -> Self {
+        Self { max_checks: None, prop_candidates: 24 }
+    }
+}
+
+/// What the search found.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct SearchInfo {
+    /// An order in which every step stands was found.
+    pub found: bool,
+    /// The search covered every order (so `found == false` proves there is none).
+    pub exhaustive: bool,
+    /// Static checks run (search and props).
+    pub checks: usize,
+    /// The longest standing prefix reached.
+    pub deepest: usize,
+}
+
+type Set = Vec<u64>;
+
+struct Dfs<'s, 'a> {
+    stepper: &'s mut Stepper<'a>,
+    names: Vec<&'a str>,
+    adj: &'s Adjacency,
+    rank: Vec<usize>,
+    dead: HashSet<Set>,
+    budget: usize,
+    out_of_budget: bool,
+    best: Vec<usize>,
+    tick: &'s (dyn Fn() + Sync),
+}
+
+fn has(set: &Set, k: usize) -> bool {
+    set[k / 64] >> (k % 64) & 1 == 1
+}
+
+impl Dfs<'_, '_> {
+    fn stands(&mut self, order: &[usize]) -> Result<bool, SequenceError> {
+        let placed: HashSet<&str> = order.iter().map(|&k| self.names[k]).collect();
+        (self.tick)();
+        Ok(self.stepper.stands(&placed, &HashSet::new())?.0)
+    }
+
+    fn candidates(&self, set: &Set, free: &[usize]) -> Vec<usize> {
+        let mut c: Vec<usize> = free
+            .iter()
+            .copied()
+            .filter(|&k| !has(set, k))
+            .filter(|&k| self.adj.grounded[k] || self.adj.neighbours[k].iter().any(|&m| has(set, m)))
+            .collect();
+        c.sort_by_key(|&k| self.rank[k]);
+        c
+    }
+
+    /// Extends `order` (standing, with `set` its blocks) to all of `free`; false when no
+    /// extension exists or the budget ran out.
+    fn extend(&mut self, set: &mut Set, order: &mut Vec<usize>, free: &[usize]) -> Result<bool, SequenceError> {
+        if order.len() == free.len() {
+            return Ok(true);
+        }
+        for c in self.candidates(set, free) {
+            if self.stepper.checks >= self.budget {
+                self.out_of_budget = true;
+                return Ok(false);
+            }
+            set[c / 64] |= 1 << (c % 64);
+            order.push(c);
+            let ok = !self.dead.contains(set) && self.stands(order)?;
+            if ok {
+                if order.len() > self.best.len() {
+                    self.best = order.clone();
+                }
+                if self.extend(set, order, free)? {
+                    return Ok(true);
+                }
+            }
+            if !self.out_of_budget {
+                self.dead.insert(set.clone());
+            }
+            order.pop();
+            set[c / 64] &= !(1 << (c % 64));
+            if self.out_of_budget {
+                return Ok(false);
+            }
+        }
+        Ok(false)
+    }
+}
+
+/// Searches an order of the free blocks of `resolved` in which every prefix stands. Returns the
+/// order found (or the longest standing prefix) and the search's account.
+pub(crate) fn search_order<'a>(
+    stepper: &mut Stepper<'a>,
+    resolved: &'a Scene,
+    settings: &AnalysisSettings,
+    search: &SearchSettings,
+    tick: &(dyn Fn() + Sync),
+) -> Result<(Vec<String>, SearchInfo), SequenceError> {
+    let adj = adjacency(resolved, settings)?;
+    let ranked = super::order(resolved, &super::OrderSpec::FromSupports, settings)?;
+    let index: HashMap<&str, usize> = resolved.blocks.iter().enumerate().map(|(k, b)| (b.name.as_str(), k)).collect();
+    let n = resolved.blocks.len();
+    let mut rank = vec![usize::MAX; n];
+    for (r, name) in ranked.iter().enumerate() {
+        rank[index[name.as_str()]] = r;
+    }
+    let free: Vec<usize> = (0..n).filter(|&k| !resolved.blocks[k].support).collect();
+    let budget = stepper.checks + search.max_checks.unwrap_or(20 * free.len() + 200);
+    let mut dfs = Dfs {
+        stepper,
+        names: resolved.blocks.iter().map(|b| b.name.as_str()).collect(),
+        adj: &adj,
+        rank,
+        dead: HashSet::new(),
+        budget,
+        out_of_budget: false,
+        best: Vec::new(),
+        tick,
+    };
+    let mut set = vec![0u64; n.div_ceil(64)];
+    let mut order = Vec::new();
+    let found = dfs.extend(&mut set, &mut order, &free)?;
+    let info = SearchInfo {
+        found,
+        exhaustive: found || !dfs.out_of_budget,
+        checks: dfs.stepper.checks,
+        deepest: if found { free.len() } else { dfs.best.len() },
+    };
+    let chosen = if found { order } else { dfs.best };
+    Ok((chosen.into_iter().map(|k| resolved.blocks[k].name.clone()).collect(), info))
+}
+
+fn set_of<'x>(active: &[(&'x str, usize)]) -> HashSet<&'x str> {
+    active.iter().map(|p| p.0).collect()
+}
+
+/// The steps of `order` with temporary supports where a step would not stand (module docs).
+pub(crate) fn with_props(
+    stepper: &mut Stepper<'_>,
+    resolved: &Scene,
+    settings: &AnalysisSettings,
+    order: &[String],
+    search: &SearchSettings,
+    dynamic: Option<&DropSettings>,
+    tick: &(dyn Fn() + Sync),
+) -> Result<(Vec<Step>, Vec<TemporarySupport>), SequenceError> {
+    let adj = adjacency(resolved, settings)?;
+    let index = super::order::index(resolved);
+    let mut placed: HashSet<&str> = HashSet::new();
+    // Active props: name → step from which it is propped.
+    let mut active: Vec<(&str, usize)> = Vec::new();
+    let mut props_out = Vec::new();
+    let mut steps = Vec::with_capacity(order.len());
+    for (k, name) in order.iter().enumerate() {
+        placed.insert(name);
+        tick();
+        // Release what is no longer needed: everything at once, else one by one (latest first).
+        if !active.is_empty() {
+            if stepper.stands(&placed, &HashSet::new())?.0 {
+                props_out.extend(active.drain(..).map(|(b, from)| TemporarySupport::new(b, from, k)));
+            } else {
+                let mut i = active.len();
+                while i > 0 && active.len() > 1 {
+                    i -= 1;
+                    let mut without = active.clone();
+                    without.remove(i);
+                    if stepper.stands(&placed, &set_of(&without))?.0 {
+                        let (b, from) = active.remove(i);
+                        props_out.push(TemporarySupport::new(b, from, k));
+                    }
+                }
+            }
+        }
+        let (ok, _) = stepper.stands(&placed, &set_of(&active))?;
+        if !ok {
+            // Candidates: the new block, the blocks of the offending interfaces, its neighbours,
+            // then the other placed blocks from the top down.
+            let analysis = stepper.analyse(&placed, &set_of(&active))?;
+            let s = &analysis.statics;
+            let mut cands: Vec<&str> = vec![name.as_str()];
+            for r in s
+                .interfaces
+                .iter()
+                .filter(|r| r.tension > 1e-6 * s.free_weight || r.friction_excess > 1e-6 * s.free_weight)
+            {
+                cands.extend([r.a.as_str(), r.b.as_str()]);
+            }
+            let me = index[name.as_str()].0;
+            cands.extend(adj.neighbours[me].iter().map(|&m| resolved.blocks[m].name.as_str()));
+            cands.extend(order[..k].iter().rev().map(String::as_str));
+            let mut seen = HashSet::new();
+            let cands: Vec<&str> = cands
+                .into_iter()
+                .filter(|c| placed.contains(c) && !active.iter().any(|p| p.0 == *c) && seen.insert(*c))
+                .map(|c| *placed.get(c).expect("placed"))
+                .collect();
+            let mut fixed = false;
+            for &c in cands.iter().take(search.prop_candidates) {
+                let mut with = set_of(&active);
+                with.insert(c);
+                if stepper.stands(&placed, &with)?.0 {
+                    active.push((c, k));
+                    fixed = true;
+                    break;
+                }
+            }
+            // Greedy: add the candidate that lowers the graded answer most, until it stands.
+            while !fixed {
+                let mut best: Option<(f64, &str)> = None;
+                for &c in cands.iter().filter(|c| !active.iter().any(|p| p.0 == **c)).take(search.prop_candidates) {
+                    let mut with = set_of(&active);
+                    with.insert(c);
+                    let (ok, g) = stepper.stands(&placed, &with)?;
+                    if ok {
+                        best = Some((-1.0, c));
+                        break;
+                    }
+                    if best.is_none_or(|b| g < b.0) {
+                        best = Some((g, c));
+                    }
+                }
+                match best {
+                    Some((g, c)) => {
+                        active.push((c, k));
+                        fixed = g < 0.0;
+                    }
+                    None => break, // every candidate is propped already: report the failure
+                }
+            }
+        }
+        steps.push(stepper.step(name, &placed, &set_of(&active), dynamic)?);
+    }
+    props_out.extend(active.drain(..).map(|(b, from)| TemporarySupport::new(b, from, order.len())));
+    props_out.sort_by(|a, b| (a.from, &a.block).cmp(&(b.from, &b.block)));
+    Ok((steps, props_out))
+}

@@ -1,0 +1,138 @@
+//! One step's analysis: the blocks placed so far (and the props, as supports) through a
+//! [`Pipeline`] that keeps its work between steps, so a step costs about the component the new
+//! block joins. A sequence check runs the steps on two threads (each prefix is independent).
+
+use super::{SequenceError, Step};
+use crate::analysis::{Analysis, AnalysisSettings, Pipeline};
+use crate::dynamics::{DropSettings, drop_test};
+use crate::model::Scene;
+use std::collections::HashSet;
+
+/// Analyses prefixes of one resolved design.
+pub(crate) struct Stepper<'a> {
+    resolved: &'a Scene,
+    settings: AnalysisSettings,
+    pipeline: Pipeline,
+    /// Static checks run so far.
+    pub checks: usize,
+}
+
+impl<'a> Stepper<'a> {
+    /// Only the graded numbers are reported per step, so the distribution QP is skipped (the
+    /// minimum tension and friction excess are exact either way).
+    pub fn new(resolved: &'a Scene, settings: &AnalysisSettings) -> Self {
+        let mut settings = settings.clone();
+        settings.statics.distribution = false;
+        Self { resolved, settings, pipeline: Pipeline::new(), checks: 0 }
+    }
+
+    /// The design with only the `placed` free blocks, the `props` among them fixed.
+    fn prefix(&self, placed: &HashSet<&str>, props: &HashSet<&str>) -> Scene {
+        let mut scene = Scene::new(self.resolved.name.clone(), Vec::new());
+        scene.material = self.resolved.material;
+        scene.gravity = self.resolved.gravity;
+        scene.ground = self.resolved.ground;
+        scene.blocks = self
+            .resolved
+            .blocks
+            .iter()
+            .filter(|b| b.support || placed.contains(b.name.as_str()))
+            .map(|b| {
+                let mut b = b.clone();
+                b.support |= props.contains(b.name.as_str());
+                b
+            })
+            .collect();
+        scene
+    }
+
+    pub fn analyse(&mut self, placed: &HashSet<&str>, props: &HashSet<&str>) -> Result<Analysis, SequenceError> {
+        self.checks += 1;
+        let prefix = self.prefix(placed, props);
+        Ok(self.pipeline.run(&prefix, &self.settings)?)
+    }
+
+    /// Whether the prefix stands, and its graded answer (minimum tension plus friction excess,
+    /// relative to its free weight).
+    pub fn stands(&mut self, placed: &HashSet<&str>, props: &HashSet<&str>) -> Result<(bool, f64), SequenceError> {
+        let a = self.analyse(placed, props)?;
+        Ok((a.statics.stands, a.statics.tension_ratio + a.statics.friction_excess_ratio))
+    }
+
+    /// The step that placed `name`, with the drop test when asked.
+    pub fn step(
+        &mut self,
+        name: &str,
+        placed: &HashSet<&str>,
+        props: &HashSet<&str>,
+        dynamic: Option<&DropSettings>,
+    ) -> Result<Step, SequenceError> {
+        let a = self.analyse(placed, props)?;
+        let s = &a.statics;
+        let offending = s
+            .interfaces
+            .iter()
+            .filter(|r| r.tension > 1e-6 * s.free_weight || r.friction_excess > 1e-6 * s.free_weight)
+            .map(|r| format!("{} | {}", r.a, r.b))
+            .collect();
+        let dynamic = match dynamic {
+            Some(ds) => Some(drop_test(&a.assembly, ds).map_err(|e| SequenceError::Drop(e.to_string()))?),
+            None => None,
+        };
+        let mut props: Vec<String> = props.iter().map(|p| p.to_string()).collect();
+        props.sort();
+        Ok(Step {
+            placed: name.to_string(),
+            stands: s.stands,
+            verdict: s.verdict,
+            tension_ratio: s.tension_ratio,
+            friction_excess_ratio: s.friction_excess_ratio,
+            offending,
+            props,
+            dynamic,
+        })
+    }
+}
+
+/// Every prefix of `order` (no props), on two threads: thread t takes the steps k ≡ t (mod 2)
+/// with its own pipeline (steps k and k + 2 share most components). Each step depends only on
+/// its prefix, so the result does not depend on the split.
+pub(crate) fn check_order(
+    resolved: &Scene,
+    order: &[String],
+    settings: &AnalysisSettings,
+    dynamic: Option<&DropSettings>,
+    tick: &(dyn Fn() + Sync),
+) -> Result<Vec<Step>, SequenceError> {
+    let mut settings = settings.clone();
+    // The two step threads already use both cores.
+    settings.statics.parallel = false;
+    let lane = |t: usize| -> Result<Vec<(usize, Step)>, SequenceError> {
+        let mut stepper = Stepper::new(resolved, &settings);
+        let none = HashSet::new();
+        let mut placed: HashSet<&str> = HashSet::new();
+        let mut out = Vec::new();
+        for (k, name) in order.iter().enumerate() {
+            placed.insert(name);
+            if k % 2 == t {
+                out.push((k, stepper.step(name, &placed, &none, dynamic)?));
+                tick();
+            }
+        }
+        Ok(out)
+    };
+    let (a, b) = if order.len() < 8 {
+        (lane(0), lane(1))
+    } else {
+        std::thread::scope(|s| {
+            let other = s.spawn(|| lane(1));
+            let mine = lane(0);
+            // A panic in the other lane: run its steps here instead.
+            (mine, other.join().unwrap_or_else(|_| lane(1)))
+        })
+    };
+    let (a, b) = (a?, b?);
+    let mut steps: Vec<(usize, Step)> = a.into_iter().chain(b).collect();
+    steps.sort_by_key(|s| s.0);
+    Ok(steps.into_iter().map(|s| s.1).collect())
+}
