@@ -10,6 +10,10 @@
 //! - semicircular arch, N = 100 voussoirs: the minimum thickness t*/R (Milankovitch's
 //!   N → ∞ value 0.1075; finite N differ).
 //! - beam on two narrow supports: reaction vs the lever rule (w = 1e-3: O(w²) ≈ 1e-7).
+//! - mixed friction, arch N = 100 (Cocchetti & Rizzi 2020, N → ∞): at 1.001 × its own minimum
+//!   thickness the arch keeps standing down to μ = 0.3958 (purely rotational collapse above);
+//!   and no thickness stands below μ = 0.3092 (minimum over t of the lowest μ at which the arch
+//!   of thickness t stands; golden section over t, cone at 1e-8 only — 300 solves).
 
 use plotters::prelude::*;
 use std::time::Instant;
@@ -59,6 +63,41 @@ fn tilted(theta: f64, phi: f64) -> Scene {
     s
 }
 
+fn arch_stands(t: f64, mu: f64, set: &AnalysisSettings) -> bool {
+    let mut set = set.clone();
+    set.statics.friction = Some(mu);
+    analyze(&builtin(&format!("arch?n=100&t={t}")).unwrap(), &set).unwrap().statics.stands
+}
+
+/// min over t of μ*(t), the lowest μ at which the arch of thickness t stands (golden section on
+/// t ∈ [0.11, 0.6], above the rotational minimum); returns (μ, solves).
+fn lowest_mu_any_thickness(set: &AnalysisSettings) -> (f64, usize) {
+    let mut solves = 0;
+    let mut mu_star = |t: f64| {
+        let (mu, n) = bisect(1.0, 0.1, |mu| arch_stands(t, mu, set));
+        solves += n;
+        mu
+    };
+    let g = (5f64.sqrt() - 1.0) / 2.0;
+    let (mut a, mut b) = (0.11, 0.6);
+    let (mut c, mut d) = (b - g * (b - a), a + g * (b - a));
+    let (mut fc, mut fd) = (mu_star(c), mu_star(d));
+    for _ in 0..14 {
+        if fc < fd {
+            b = d;
+            (d, fd) = (c, fc);
+            c = b - g * (b - a);
+            fc = mu_star(c);
+        } else {
+            a = c;
+            (c, fc) = (d, fd);
+            d = a + g * (b - a);
+            fd = mu_star(d);
+        }
+    }
+    (fc.min(fd), solves)
+}
+
 fn run_all() -> Vec<Row> {
     let mut rows = Vec::new();
     for model in [FrictionModel::Box4, FrictionModel::Pyramid8, FrictionModel::Cone] {
@@ -90,15 +129,26 @@ fn run_all() -> Vec<Row> {
                 },
                 1.0,
             );
+            let mut t_rot = 0.1075;
             time(
                 "arch N=100 t*/R",
                 &mut || {
-                    bisect(0.2, 0.05, |t| {
+                    let (t, n) = bisect(0.2, 0.05, |t| {
                         analyze(&builtin(&format!("arch?n=100&t={t}")).unwrap(), &set).unwrap().statics.stands
-                    })
+                    });
+                    t_rot = t;
+                    (t, n)
                 },
                 0.1075,
             );
+            time(
+                "arch μ keeping t* (0.3958)",
+                &mut || bisect(0.8, 0.25, |mu| arch_stands(1.001 * t_rot, mu, &set)),
+                0.3958,
+            );
+            if model == FrictionModel::Cone && tol == 1e-8 {
+                time("arch μ for any t (0.3092)", &mut || lowest_mu_any_thickness(&set), 0.3092);
+            }
             time(
                 "beam lever rule",
                 &mut || {
@@ -148,6 +198,7 @@ fn write(rows: &[Row]) -> std::io::Result<()> {
     md.push_str("\n![error against time](accuracy.svg)\n");
     voussoir::io::write_atomic(&docs.join("accuracy.md"), md.as_bytes()).map_err(std::io::Error::other)?;
 
+    voussoir::plot::register_font();
     let svg = docs.join("accuracy.svg");
     let root = SVGBackend::new(&svg, (900, 560)).into_drawing_area();
     root.fill(&WHITE).map_err(std::io::Error::other)?;

@@ -116,6 +116,13 @@ pub struct SweepArgs {
     /// Write the result as JSON here (atomically).
     #[arg(long)]
     pub json: Option<PathBuf>,
+    /// Also plot both verdicts and margins against the parameter (.png or .svg), from a scan
+    /// of `--points` evenly spaced parameters.
+    #[arg(long)]
+    pub plot: Option<PathBuf>,
+    /// Parameters scanned for the plot (default 25).
+    #[arg(long, default_value_t = 25)]
+    pub points: usize,
 }
 
 #[derive(Args, Debug, Default)]
@@ -426,6 +433,27 @@ fn run_sweep(args: &SweepArgs) -> Result<i32, BadInput> {
     if let Some(out) = &args.json {
         let json = serde_json::to_string_pretty(&r).unwrap_or_default();
         io::write_atomic(out, json.as_bytes()).map_err(|e| BadInput(e.to_string()))?;
+    }
+    if let Some(out) = &args.plot {
+        let bar = indicatif::ProgressBar::new(args.points as u64);
+        bar.set_message("scanning for the plot");
+        let scan = crate::sweep::scan(&family, range, args.points, &drop, &mut || bar.inc(1));
+        bar.finish_and_clear();
+        let scan = scan.map_err(|e| BadInput(e.to_string()))?;
+        let parameter = match args.family.as_str() {
+            "arch" => "thickness t/R",
+            "slope" => "slope angle (degrees)",
+            "harmonic" => "overhang / critical overhang",
+            _ => "ground tilt (degrees)",
+        };
+        let plot = crate::plot::SweepPlot {
+            title: format!("{} sweep: statics vs drop test", args.family),
+            parameter: parameter.into(),
+            scan: &scan,
+            result: Some(&r),
+        };
+        crate::plot::write_sweep(&plot, out).map_err(|e| BadInput(e.to_string()))?;
+        println!("plot written to {}", out.display());
     }
     Ok(0)
 }

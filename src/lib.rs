@@ -35,6 +35,7 @@ pub mod geometry;
 pub mod interfaces;
 pub mod io;
 pub mod model;
+pub mod plot;
 pub mod sequence;
 pub mod statics;
 pub mod sweep;

@@ -133,3 +133,46 @@ pub fn sweep(
     let d = bisect("drop test", family, range, iterations, &mut dynamic, tick)?;
     Ok(SweepResult { statics: s, dynamic: d, gap: d.mid() - s.mid(), evaluations })
 }
+
+/// Both answers at one parameter value of a family.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct ScanPoint {
+    pub parameter: f64,
+    pub statics_stands: bool,
+    /// The graded static answer: minimum tension plus friction excess, relative to W.
+    pub static_margin: f64,
+    pub max_friction_utilization: f64,
+    pub drop_stands: bool,
+    /// Largest drift or rotation of a block relative to its tolerance (> 1 falls).
+    pub drop_motion: f64,
+}
+
+/// Both answers at `points` evenly spaced parameters over [lo, hi] (for the plot of verdicts
+/// and margins against the parameter).
+pub fn scan(
+    family: &Family,
+    (lo, hi): (f64, f64),
+    points: usize,
+    drop: &DropSettings,
+    tick: &mut dyn FnMut(),
+) -> Result<Vec<ScanPoint>, SweepError> {
+    let settings = AnalysisSettings::default();
+    let design = |e: String| SweepError::Design(e);
+    (0..points.max(2))
+        .map(|k| {
+            let p = lo + (hi - lo) * k as f64 / (points.max(2) - 1) as f64;
+            let a = analyze(&family.scene(p)?, &settings).map_err(|e| design(e.to_string()))?;
+            let d = drop_test(&a.assembly, drop).map_err(|e| design(e.to_string()))?;
+            tick();
+            let s = &a.statics;
+            Ok(ScanPoint {
+                parameter: p,
+                statics_stands: s.stands,
+                static_margin: s.tension_ratio + s.friction_excess_ratio,
+                max_friction_utilization: s.max_friction_utilization,
+                drop_stands: d.stands,
+                drop_motion: (d.max_drift / drop.drift_tolerance).max(d.max_rotation / drop.rotation_tolerance),
+            })
+        })
+        .collect()
+}

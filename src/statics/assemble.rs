@@ -239,6 +239,10 @@ impl System {
     }
 }
 
+/// A minimum tension (relative to the component's weight) at or below this is zero: the
+/// minimum-tension LP is solved to 1e-10, so smaller values are its round-off.
+pub const PINNED_TENSION: f64 = 1e-10;
+
 /// What a stage minimises and which budgets it respects.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Stage {
@@ -280,6 +284,22 @@ pub fn problem(sys: &System, stage: Stage, settings: &StaticsSettings) -> Proble
     }
     let mut a = sys.eq.clone();
     let mut b = sys.eq_rhs.clone();
+    // When the minimum tension is zero (to what the LP resolves), the later stages pin every
+    // c_n⁻ to 0 by equality rows instead of a budget Σ c_n⁻ ≤ ~0: an inequality budget at zero
+    // leaves the interior-point method no interior (the friction-excess LP then took 60–200
+    // iterations on partial vaults instead of ~20).
+    let pinned = match stage {
+        Stage::FrictionExcess { tension } | Stage::Distribution { tension, .. } => tension <= PINNED_TENSION,
+        _ => false,
+    };
+    if pinned {
+        for i in 0..np {
+            if let Some(col) = sys.col(i, Var::CnNeg) {
+                a.push((b.len(), col, 1.0));
+                b.push(0.0);
+            }
+        }
+    }
     let mut cones = vec![Cone::Zero(b.len())];
     let nonneg_start = b.len();
     let push_row = |a: &mut Vec<(usize, usize, f64)>, b: &mut Vec<f64>, entries: &[(Option<usize>, f64)], rhs: f64| {
@@ -297,7 +317,7 @@ pub fn problem(sys: &System, stage: Stage, settings: &StaticsSettings) -> Proble
         if lay.relaxed || !lay.friction {
             push_row(&mut a, &mut b, &[(sys.col(i, Var::CnPos), -1.0)], 0.0);
         }
-        if lay.relaxed {
+        if lay.relaxed && !pinned {
             push_row(&mut a, &mut b, &[(sys.col(i, Var::CnNeg), -1.0)], 0.0);
         }
         if lay.relaxed && lay.friction {
@@ -309,7 +329,7 @@ pub fn problem(sys: &System, stage: Stage, settings: &StaticsSettings) -> Proble
     // budget at exactly the minimum leaves a degenerate feasible set).
     let budget = |value: f64| value * (1.0 + 1e-6) + 1e-9;
     let tension_budget = match stage {
-        Stage::FrictionExcess { tension } | Stage::Distribution { tension, .. } => Some(budget(tension)),
+        Stage::FrictionExcess { tension } | Stage::Distribution { tension, .. } if !pinned => Some(budget(tension)),
         _ => None,
     };
     if let Some(t) = tension_budget {

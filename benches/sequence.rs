@@ -1,0 +1,39 @@
+//! Assembly sequences: the check of every prefix (steps on two threads, pipelines reused), the
+//! order search and the temporary supports. The Armadillo's 399-step bottom-up check takes
+//! minutes (most prefixes fail, and each failing prefix needs the two exact LPs); its timing is
+//! taken with the CLI and reported in docs/benchmarks.md, not here.
+
+use criterion::{Criterion, criterion_group, criterion_main};
+use std::time::Duration;
+use voussoir::analysis::AnalysisSettings;
+use voussoir::model::builtin;
+use voussoir::sequence::{OrderSpec, SearchSettings, check, search};
+
+fn sequences(c: &mut Criterion) {
+    let s = AnalysisSettings::default();
+    let wall = builtin("wall?courses=5&bricks=10").unwrap();
+    c.bench_function("sequence: wall 5×10 bottom-up (every step stands)", |b| {
+        b.iter(|| check(&wall, &OrderSpec::BottomUp, &s, None, &|| {}).unwrap())
+    });
+    let arch = builtin("arch?n=15&t=0.15").unwrap();
+    c.bench_function("sequence: arch 15 bottom-up (fails until the keystone)", |b| {
+        b.iter(|| check(&arch, &OrderSpec::BottomUp, &s, None, &|| {}).unwrap())
+    });
+    c.bench_function("search: arch 15 (no order; temporary supports)", |b| {
+        b.iter(|| search(&arch, &s, &SearchSettings::default(), None, &|| {}).unwrap())
+    });
+    let dmsc = voussoir::io::load_scene(
+        &std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/cases/fig6_dmsc_sequence.json"),
+    )
+    .unwrap();
+    c.bench_function("search: DMSC ligature (an order is found)", |b| {
+        b.iter(|| search(&dmsc, &s, &SearchSettings::default(), None, &|| {}).unwrap())
+    });
+}
+
+criterion_group! {
+    name = benches;
+    config = Criterion::default().sample_size(10).measurement_time(Duration::from_secs(5));
+    targets = sequences
+}
+criterion_main!(benches);
