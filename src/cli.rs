@@ -31,6 +31,31 @@ pub enum Command {
     /// Add a plane or pattern cut to the scene's cut history and write the design (never over
     /// the input).
     Cut(CutArgs),
+    /// Export the analysed design without a window: glTF binary with the blocks and the
+    /// interface polygons coloured by a diagram mode.
+    Export(ExportArgs),
+}
+
+#[derive(Args, Debug)]
+pub struct ExportArgs {
+    /// Scene file or `builtin:…`.
+    pub scene: String,
+    /// Write a glTF binary (.glb) here (atomically; never over the input).
+    #[arg(long)]
+    pub gltf: PathBuf,
+    /// Diagram colouring the interfaces: compression (blue compression, red tension, grey
+    /// nothing) or friction (grey, yellow up to --threshold of μ, orange up to μ, red beyond).
+    #[arg(long, default_value = "compression")]
+    pub mode: String,
+    /// Friction mode: the "low friction" limit as a fraction of μ · compression (default 0.5).
+    #[arg(long, default_value_t = 0.5)]
+    pub threshold: f64,
+    /// Friction model: pyramid8 (default), cone or box4.
+    #[arg(long, default_value = "pyramid8")]
+    pub friction_model: FrictionModel,
+    /// Friction coefficient μ (default: the scene's).
+    #[arg(long)]
+    pub mu: Option<f64>,
 }
 
 #[derive(Args, Debug)]
@@ -182,6 +207,7 @@ pub fn run(cli: Cli) -> i32 {
         Some(Command::Cut(args)) => run_cut(&args),
         Some(Command::Sweep(args)) => run_sweep(&args),
         Some(Command::Sequence(args)) => run_sequence(&args),
+        Some(Command::Export(args)) => run_export(&args),
     };
     match result {
         Ok(code) => code,
@@ -312,6 +338,37 @@ fn run_cut(args: &CutArgs) -> Result<i32, BadInput> {
         args.output.display(),
         after.blocks.len(),
         scene.cuts.len()
+    );
+    Ok(0)
+}
+
+fn run_export(args: &ExportArgs) -> Result<i32, BadInput> {
+    use crate::viz::DiagramMode;
+    let mode = match args.mode.as_str() {
+        "compression" => DiagramMode::Compression,
+        "friction" if (0.0..=1.0).contains(&args.threshold) => DiagramMode::Friction { threshold: args.threshold },
+        "friction" => return Err(BadInput(format!("--threshold {} must be within [0, 1]", args.threshold))),
+        m => return Err(BadInput(format!("--mode {m}: expected compression or friction"))),
+    };
+    let scene = load(Some(&args.scene))?;
+    let same_file = std::fs::canonicalize(&args.scene).ok().zip(std::fs::canonicalize(&args.gltf).ok());
+    if same_file.is_some_and(|(a, b)| a == b) {
+        return Err(BadInput(format!("--gltf {} would overwrite the input; write elsewhere", args.gltf.display())));
+    }
+    let mut settings = AnalysisSettings::default();
+    settings.statics.friction_model = args.friction_model;
+    settings.statics.friction = args.mu;
+    let a = crate::analysis::analyze(&scene, &settings).map_err(|e| BadInput(format!("{}: {e}", args.scene)))?;
+    let bytes = crate::viz::glb(&a, mode);
+    io::write_atomic(&args.gltf, &bytes).map_err(|e| BadInput(e.to_string()))?;
+    println!(
+        "{}: {} blocks and {} interfaces written to {} ({} KB; the design {})",
+        args.scene,
+        a.assembly.blocks.len(),
+        a.statics.interfaces.len(),
+        args.gltf.display(),
+        bytes.len() / 1024,
+        if a.statics.stands { "stands" } else { "does not stand" }
     );
     Ok(0)
 }

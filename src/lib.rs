@@ -39,3 +39,4 @@ pub mod plot;
 pub mod sequence;
 pub mod statics;
 pub mod sweep;
+pub mod viz;

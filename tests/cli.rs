@@ -292,3 +292,23 @@ fn sequence_search_props_and_exit_codes() {
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("is missing"));
 }
+
+#[test]
+fn export_writes_a_glb_and_refuses_bad_modes() {
+    let out_path = tmp("stack.glb");
+    let out = voussoir(&["export", "builtin:stack?n=3", "--gltf", out_path.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stderr));
+    let bytes = std::fs::read(&out_path).unwrap();
+    assert_eq!(&bytes[..4], b"glTF");
+    assert_eq!(u32::from_le_bytes(bytes[8..12].try_into().unwrap()) as usize, bytes.len());
+    let out = voussoir(&["export", "builtin:stack?n=3", "--gltf", out_path.to_str().unwrap(), "--mode", "vectors"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--mode vectors"));
+    let scene = tmp("stack_scene.json");
+    std::fs::write(&scene, std::fs::read(concat!(env!("CARGO_MANIFEST_DIR"), "/assets/cases/fig3c_sc.json")).unwrap())
+        .unwrap();
+    let before = std::fs::read(&scene).unwrap();
+    let out = voussoir(&["export", scene.to_str().unwrap(), "--gltf", scene.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(2));
+    assert_eq!(std::fs::read(&scene).unwrap(), before, "the input is never overwritten");
+}

@@ -1,0 +1,170 @@
+//! glTF 2.0 binary export (.glb) of an analysis: every block as a translucent mesh (flat
+//! normals) and every interface polygon coloured per vertex by a diagram mode, so any glTF
+//! viewer (or Rhino) shows the forces inside the assembly. Written by hand (the format is a
+//! JSON header and one binary buffer); `tests/gltf_export.rs` reads it back with the `gltf`
+//! crate. Axes: glTF is y-up, voussoir z-up: (x, y, z) → (x, z, −y), here and nowhere else in
+//! the export.
+
+use super::colors::{self, Rgb};
+use crate::analysis::Analysis;
+use crate::geometry::polygon::triangulate_2d;
+use serde_json::{Value, json};
+
+/// Which diagram colours the interfaces.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum DiagramMode {
+    /// Blue compression, red tension, grey nothing, normalised per face.
+    Compression,
+    /// Grey / yellow up to `threshold` of the capacity / orange / red beyond μ.
+    Friction { threshold: f64 },
+}
+
+fn y_up(p: [f64; 3]) -> [f32; 3] {
+    [p[0] as f32, p[2] as f32, -p[1] as f32]
+}
+
+/// Accumulates the binary buffer and the JSON arrays.
+#[derive(Default)]
+struct Builder {
+    bin: Vec<u8>,
+    views: Vec<Value>,
+    accessors: Vec<Value>,
+    meshes: Vec<Value>,
+    nodes: Vec<Value>,
+}
+
+impl Builder {
+    /// A vec3 float accessor (with the min/max glTF requires for positions).
+    fn vec3(&mut self, data: &[[f32; 3]], bounds: bool) -> usize {
+        let offset = self.bin.len();
+        for v in data {
+            for c in v {
+                self.bin.extend_from_slice(&c.to_le_bytes());
+            }
+        }
+        self.views.push(json!({"buffer": 0, "byteOffset": offset, "byteLength": data.len() * 12, "target": 34962}));
+        let mut acc =
+            json!({"bufferView": self.views.len() - 1, "componentType": 5126, "count": data.len(), "type": "VEC3"});
+        if bounds {
+            let mut min = [f32::INFINITY; 3];
+            let mut max = [f32::NEG_INFINITY; 3];
+            for v in data {
+                for k in 0..3 {
+                    min[k] = min[k].min(v[k]);
+                    max[k] = max[k].max(v[k]);
+                }
+            }
+            acc["min"] = json!(min);
+            acc["max"] = json!(max);
+        }
+        self.accessors.push(acc);
+        self.accessors.len() - 1
+    }
+
+    /// One mesh node of flat triangles (`positions` in threes).
+    fn mesh(&mut self, name: &str, positions: Vec<[f32; 3]>, colors: Option<Vec<Rgb>>, material: usize) {
+        if positions.is_empty() {
+            return;
+        }
+        let normals: Vec<[f32; 3]> = positions
+            .chunks(3)
+            .flat_map(|t| {
+                let a = nalgebra::Vector3::from(t[0]);
+                let n = (nalgebra::Vector3::from(t[1]) - a).cross(&(nalgebra::Vector3::from(t[2]) - a));
+                let n = if n.norm() > 0.0 { n.normalize() } else { nalgebra::Vector3::y() };
+                [[n.x, n.y, n.z]; 3]
+            })
+            .collect();
+        let pos = self.vec3(&positions, true);
+        let nor = self.vec3(&normals, false);
+        let mut attributes = json!({"POSITION": pos, "NORMAL": nor});
+        if let Some(c) = colors {
+            attributes["COLOR_0"] = json!(self.vec3(&c, false));
+        }
+        self.meshes.push(json!({"name": name, "primitives": [{"attributes": attributes, "material": material}]}));
+        self.nodes.push(json!({"name": name, "mesh": self.meshes.len() - 1}));
+    }
+}
+
+/// The .glb bytes of `analysis` with interfaces coloured by `mode`.
+pub fn glb(analysis: &Analysis, mode: DiagramMode) -> Vec<u8> {
+    let mut b = Builder::default();
+    for block in &analysis.assembly.blocks {
+        let m = &block.mesh;
+        let pos: Vec<[f32; 3]> = m
+            .triangles()
+            .into_iter()
+            .flat_map(|(t, _)| t.map(|k| y_up([m.vertices[k].x, m.vertices[k].y, m.vertices[k].z])))
+            .collect();
+        b.mesh(&block.name, pos, None, if block.support { 1 } else { 0 });
+    }
+    let s = &analysis.statics;
+    let mu = s.friction_coefficient;
+    for r in &s.interfaces {
+        let geometry = &analysis.interfaces[r.index];
+        let pts: Vec<[f64; 3]> = r.vertices.iter().map(|v| v.position).collect();
+        if pts.len() < 3 {
+            continue;
+        }
+        let colors: Vec<Rgb> = match mode {
+            DiagramMode::Compression => {
+                let net: Vec<f64> = r.vertices.iter().map(|v| v.compression - v.tension).collect();
+                let face_max = net.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+                net.iter().map(|&n| colors::compression_tension(n, face_max)).collect()
+            }
+            DiagramMode::Friction { threshold } => r
+                .vertices
+                .iter()
+                .map(|v| colors::friction(v.friction_u.hypot(v.friction_v), mu * v.compression, threshold))
+                .collect(),
+        };
+        let frame = &geometry.frame;
+        let p2: Vec<[f64; 2]> = pts.iter().map(|p| frame.to_2d(&nalgebra::Point3::from(*p))).collect();
+        let mut pos = Vec::new();
+        let mut col = Vec::new();
+        for t in triangulate_2d(&p2, &[]) {
+            for k in t {
+                pos.push(y_up(pts[k]));
+                col.push(colors[k]);
+            }
+        }
+        b.mesh(&format!("{} | {}", r.a, r.b), pos, Some(col), 2);
+    }
+    // Materials: free blocks translucent stone, supports darker, interfaces white × vertex colour.
+    let materials = json!([
+        {"name": "block", "pbrMetallicRoughness": {"baseColorFactor": [0.85, 0.82, 0.76, 0.35], "metallicFactor": 0.0, "roughnessFactor": 0.9}, "alphaMode": "BLEND"},
+        {"name": "support", "pbrMetallicRoughness": {"baseColorFactor": [0.35, 0.35, 0.38, 0.6], "metallicFactor": 0.0, "roughnessFactor": 0.9}, "alphaMode": "BLEND"},
+        {"name": "interface", "pbrMetallicRoughness": {"baseColorFactor": [1.0, 1.0, 1.0, 1.0], "metallicFactor": 0.0, "roughnessFactor": 1.0}, "doubleSided": true}
+    ]);
+    while !b.bin.len().is_multiple_of(4) {
+        b.bin.push(0);
+    }
+    let nodes: Vec<usize> = (0..b.nodes.len()).collect();
+    let doc = json!({
+        "asset": {"version": "2.0", "generator": concat!("voussoir ", env!("CARGO_PKG_VERSION"))},
+        "scene": 0,
+        "scenes": [{"name": analysis.assembly.name.clone(), "nodes": nodes}],
+        "nodes": b.nodes,
+        "meshes": b.meshes,
+        "materials": materials,
+        "accessors": b.accessors,
+        "bufferViews": b.views,
+        "buffers": [{"byteLength": b.bin.len()}],
+    });
+    let mut text = serde_json::to_vec(&doc).expect("a JSON value always serialises");
+    while !text.len().is_multiple_of(4) {
+        text.push(b' ');
+    }
+    let total = 12 + 8 + text.len() + 8 + b.bin.len();
+    let mut out = Vec::with_capacity(total);
+    out.extend_from_slice(b"glTF");
+    out.extend_from_slice(&2u32.to_le_bytes());
+    out.extend_from_slice(&(total as u32).to_le_bytes());
+    out.extend_from_slice(&(text.len() as u32).to_le_bytes());
+    out.extend_from_slice(b"JSON");
+    out.extend_from_slice(&text);
+    out.extend_from_slice(&(b.bin.len() as u32).to_le_bytes());
+    out.extend_from_slice(b"BIN\0");
+    out.extend_from_slice(&b.bin);
+    out
+}
