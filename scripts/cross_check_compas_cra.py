@@ -3,9 +3,9 @@
 Set-up (once): python3 -m venv /tmp/cra && /tmp/cra/bin/pip install compas_cra==0.8.0
 Run:           /tmp/cra/bin/python scripts/cross_check_compas_cra.py [path/to/voussoir]
 
-For each compas Assembly file: compas_cra's `rbe_solve_native` (the seed's penalty QP, w_t = 1e6,
-8-sided pyramid... as compas_cra builds it, mu = 0.84, on the interfaces stored in the file) and
-`voussoir analyze --mu 0.84 --json` (its own interface detection). Both are compared relative to
+For each compas Assembly file: compas_cra's `rbe_solve_native` (the seed's penalty QP as
+compas_cra builds it: w_t = 1e6, an 8-sided friction pyramid, mu = 0.84, on the interfaces stored
+in the file) and `voussoir analyze --mu 0.84 --json` (pyramid8, its own interface detection). Both are compared relative to
 the total free weight W: total tension, and the net normal force of every block pair found by
 both. Prints a table; writes nothing.
 """
