@@ -41,10 +41,14 @@ pub struct ExportArgs {
     /// Scene file or `builtin:…`.
     pub scene: String,
     /// Write a glTF binary (.glb) here (atomically; never over the input).
+    #[arg(long, required_unless_present = "png")]
+    pub gltf: Option<PathBuf>,
+    /// Render the diagram offscreen to a picture here (.png or .svg; atomically).
     #[arg(long)]
-    pub gltf: PathBuf,
+    pub png: Option<PathBuf>,
     /// Diagram colouring the interfaces: compression (blue compression, red tension, grey
-    /// nothing) or friction (grey, yellow up to --threshold of μ, orange up to μ, red beyond).
+    /// nothing), friction (grey, yellow up to --threshold of μ, orange up to μ, red beyond) or
+    /// vectors (force arrows over the compression colours).
     #[arg(long, default_value = "compression")]
     pub mode: String,
     /// Friction mode: the "low friction" limit as a fraction of μ · compression (default 0.5).
@@ -346,30 +350,40 @@ fn run_export(args: &ExportArgs) -> Result<i32, BadInput> {
     use crate::viz::DiagramMode;
     let mode = match args.mode.as_str() {
         "compression" => DiagramMode::Compression,
+        "vectors" => DiagramMode::Vectors,
         "friction" if (0.0..=1.0).contains(&args.threshold) => DiagramMode::Friction { threshold: args.threshold },
         "friction" => return Err(BadInput(format!("--threshold {} must be within [0, 1]", args.threshold))),
-        m => return Err(BadInput(format!("--mode {m}: expected compression or friction"))),
+        m => return Err(BadInput(format!("--mode {m}: expected compression, friction or vectors"))),
     };
     let scene = load(Some(&args.scene))?;
-    let same_file = std::fs::canonicalize(&args.scene).ok().zip(std::fs::canonicalize(&args.gltf).ok());
-    if same_file.is_some_and(|(a, b)| a == b) {
-        return Err(BadInput(format!("--gltf {} would overwrite the input; write elsewhere", args.gltf.display())));
+    for out in [&args.gltf, &args.png].into_iter().flatten() {
+        let same_file = std::fs::canonicalize(&args.scene).ok().zip(std::fs::canonicalize(out).ok());
+        if same_file.is_some_and(|(a, b)| a == b) {
+            return Err(BadInput(format!("{} would overwrite the input; write elsewhere", out.display())));
+        }
     }
     let mut settings = AnalysisSettings::default();
     settings.statics.friction_model = args.friction_model;
     settings.statics.friction = args.mu;
     let a = crate::analysis::analyze(&scene, &settings).map_err(|e| BadInput(format!("{}: {e}", args.scene)))?;
-    let bytes = crate::viz::glb(&a, mode);
-    io::write_atomic(&args.gltf, &bytes).map_err(|e| BadInput(e.to_string()))?;
-    println!(
-        "{}: {} blocks and {} interfaces written to {} ({} KB; the design {})",
-        args.scene,
-        a.assembly.blocks.len(),
-        a.statics.interfaces.len(),
-        args.gltf.display(),
-        bytes.len() / 1024,
-        if a.statics.stands { "stands" } else { "does not stand" }
-    );
+    let verdict = if a.statics.stands { "stands" } else { "does not stand" };
+    if let Some(out) = &args.gltf {
+        let bytes = crate::viz::glb(&a, mode);
+        io::write_atomic(out, &bytes).map_err(|e| BadInput(e.to_string()))?;
+        println!(
+            "{}: {} blocks and {} interfaces written to {} ({} KB; the design {verdict})",
+            args.scene,
+            a.assembly.blocks.len(),
+            a.statics.interfaces.len(),
+            out.display(),
+            bytes.len() / 1024
+        );
+    }
+    if let Some(out) = &args.png {
+        let picture = crate::plot::DiagramPicture::new(&a, mode);
+        crate::plot::write_diagram(&picture, out).map_err(|e| BadInput(e.to_string()))?;
+        println!("{}: {} diagram rendered to {} (the design {verdict})", args.scene, args.mode, out.display());
+    }
     Ok(0)
 }
 

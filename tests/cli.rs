@@ -301,9 +301,13 @@ fn export_writes_a_glb_and_refuses_bad_modes() {
     let bytes = std::fs::read(&out_path).unwrap();
     assert_eq!(&bytes[..4], b"glTF");
     assert_eq!(u32::from_le_bytes(bytes[8..12].try_into().unwrap()) as usize, bytes.len());
-    let out = voussoir(&["export", "builtin:stack?n=3", "--gltf", out_path.to_str().unwrap(), "--mode", "vectors"]);
+    let out = voussoir(&["export", "builtin:stack?n=3", "--gltf", out_path.to_str().unwrap(), "--mode", "heat"]);
     assert_eq!(out.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&out.stderr).contains("--mode vectors"));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--mode heat"));
+    let png = tmp("stack.png");
+    let out = voussoir(&["export", "builtin:stack?n=3", "--png", png.to_str().unwrap(), "--mode", "vectors"]);
+    assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stderr));
+    assert_eq!(&std::fs::read(&png).unwrap()[..4], b"\x89PNG");
     let scene = tmp("stack_scene.json");
     std::fs::write(&scene, std::fs::read(concat!(env!("CARGO_MANIFEST_DIR"), "/assets/cases/fig3c_sc.json")).unwrap())
         .unwrap();

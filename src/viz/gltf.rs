@@ -5,19 +5,11 @@
 //! crate. Axes: glTF is y-up, voussoir z-up: (x, y, z) → (x, z, −y), here and nowhere else in
 //! the export.
 
-use super::colors::{self, Rgb};
+use super::DiagramMode;
+use super::colors::Rgb;
 use crate::analysis::Analysis;
 use crate::geometry::polygon::triangulate_2d;
 use serde_json::{Value, json};
-
-/// Which diagram colours the interfaces.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum DiagramMode {
-    /// Blue compression, red tension, grey nothing, normalised per face.
-    Compression,
-    /// Grey / yellow up to `threshold` of the capacity / orange / red beyond μ.
-    Friction { threshold: f64 },
-}
 
 fn y_up(p: [f64; 3]) -> [f32; 3] {
     [p[0] as f32, p[2] as f32, -p[1] as f32]
@@ -106,18 +98,7 @@ pub fn glb(analysis: &Analysis, mode: DiagramMode) -> Vec<u8> {
         if pts.len() < 3 {
             continue;
         }
-        let colors: Vec<Rgb> = match mode {
-            DiagramMode::Compression => {
-                let net: Vec<f64> = r.vertices.iter().map(|v| v.compression - v.tension).collect();
-                let face_max = net.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-                net.iter().map(|&n| colors::compression_tension(n, face_max)).collect()
-            }
-            DiagramMode::Friction { threshold } => r
-                .vertices
-                .iter()
-                .map(|v| colors::friction(v.friction_u.hypot(v.friction_v), mu * v.compression, threshold))
-                .collect(),
-        };
+        let colors = super::vertex_colors(r, mu, mode);
         let frame = &geometry.frame;
         let p2: Vec<[f64; 2]> = pts.iter().map(|p| frame.to_2d(&nalgebra::Point3::from(*p))).collect();
         let mut pos = Vec::new();

@@ -1,34 +1,10 @@
-//! Plots (plotters is touched only here): a threshold sweep's verdicts and margins against its
-//! parameter, written as PNG or SVG by the file's extension. Text uses the bundled DejaVu Sans
-//! Mono (assets/fonts, so no system fonts are needed). Writes are atomic.
+//! A threshold sweep's verdicts and margins against its parameter.
 
+use super::PlotError;
 use crate::sweep::{ScanPoint, SweepResult};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use std::path::Path;
-use thiserror::Error;
-
-/// Why a plot could not be written.
-#[derive(Debug, Error)]
-pub enum PlotError {
-    #[error("{path}: plots are written as .png or .svg")]
-    Format { path: String },
-    #[error("{path}: cannot draw the plot: {message}")]
-    Draw { path: String, message: String },
-    #[error("{path}: cannot write: {message}")]
-    Write { path: String, message: String },
-}
-
-static FONT: &[u8] = include_bytes!("../assets/fonts/DejaVuSansMono.ttf");
-
-/// Registers the bundled font as "sans-serif" for every plotters backend (idempotent).
-pub fn register_font() {
-    static ONCE: std::sync::Once = std::sync::Once::new();
-    ONCE.call_once(|| {
-        // The bundled font is valid: registering it cannot fail.
-        let _ = plotters::style::register_font("sans-serif", FontStyle::Normal, FONT);
-    });
-}
 
 /// What a sweep plot shows.
 pub struct SweepPlot<'a> {
@@ -40,31 +16,13 @@ pub struct SweepPlot<'a> {
 
 /// Writes `plot` to `path` (.png or .svg), atomically.
 pub fn write_sweep(plot: &SweepPlot, path: &Path) -> Result<(), PlotError> {
-    register_font();
-    let shown = path.display().to_string();
-    let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
-    // A temporary file beside the target with the same extension (the bitmap backend picks the
-    // encoder by extension), renamed over the target when complete.
-    let tmp = path.with_file_name(format!(
-        ".{}.{}.tmp.{}",
-        path.file_stem().and_then(|s| s.to_str()).unwrap_or("plot"),
-        std::process::id(),
-        ext.as_deref().unwrap_or("")
-    ));
-    let size = (960, 640);
-    let drawn = match ext.as_deref() {
-        Some("png") => draw(BitMapBackend::new(&tmp, size).into_drawing_area(), plot),
-        Some("svg") => draw(SVGBackend::new(&tmp, size).into_drawing_area(), plot),
-        _ => return Err(PlotError::Format { path: shown }),
-    };
-    if let Err(message) = drawn {
-        let _ = std::fs::remove_file(&tmp);
-        return Err(PlotError::Draw { path: shown, message });
+    super::write(plot, path, (960, 640))
+}
+
+impl super::Drawing for SweepPlot<'_> {
+    fn draw<DB: DrawingBackend>(&self, root: DrawingArea<DB, Shift>) -> Result<(), String> {
+        draw(root, self)
     }
-    std::fs::rename(&tmp, path).map_err(|e| {
-        let _ = std::fs::remove_file(&tmp);
-        PlotError::Write { path: shown, message: e.to_string() }
-    })
 }
 
 fn draw<DB: DrawingBackend>(root: DrawingArea<DB, Shift>, plot: &SweepPlot) -> Result<(), String> {
