@@ -1,6 +1,6 @@
 //! Invariant: the offscreen diagram pictures show what the statics say — blue interface pixels
 //! and no red for a standing design in compression mode, red where tension is needed, yellow /
-//! orange / red friction by utilisation, dark arrows in vectors mode — asserted on the pixels of
+//! orange / red friction by utilisation, dark green arrows in vectors mode — asserted on the pixels of
 //! the PNG read back, left of the text panel (whose legend shows every colour).
 
 use voussoir::analysis::{AnalysisSettings, analyze};
@@ -52,7 +52,8 @@ fn render(spec: &str, mode: DiagramMode) -> Counts {
         if r > 220 && (90..190).contains(&g) && b < 80 {
             c.orange += 1;
         }
-        if (r - 20).abs() < 15 && (g - 40).abs() < 15 && (b - 140).abs() < 20 {
+        // The arrows' dark green (0, 120, 70): no diagram colour is green.
+        if g > r + 60 && g > b + 30 {
             c.arrow += 1;
         }
     }
@@ -83,5 +84,5 @@ fn friction_mode_yellow_orange_red_by_utilisation() {
 fn vectors_mode_draws_arrows() {
     let with = render("arch?n=9&t=0.15", DiagramMode::Vectors);
     let without = render("arch?n=9&t=0.15", DiagramMode::Compression);
-    assert!(with.arrow > 100 && without.arrow < with.arrow / 10, "{with:?} vs {without:?}");
+    assert!(with.arrow > 500 && without.arrow == 0, "{with:?} vs {without:?}");
 }

@@ -183,7 +183,7 @@ impl Drawing for DiagramPicture<'_> {
         if self.mode == DiagramMode::Vectors {
             let biggest = a.statics.interfaces.iter().map(|r| Vector3::from(r.resultant).norm()).fold(0.0, f64::max);
             let length = 0.15 * ((x1 - x0).max(y1 - y0));
-            let arrow = RGBColor(20, 40, 140);
+            let arrow = RGBColor(0, 120, 70);
             for r in &a.statics.interfaces {
                 let (Some(at), f) = (r.resultant_point, Vector3::from(r.resultant)) else { continue };
                 if biggest <= 0.0 || f.norm() < 1e-3 * biggest {
