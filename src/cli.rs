@@ -404,13 +404,13 @@ fn run_sequence(args: &SequenceArgs) -> Result<i32, BadInput> {
     let drop = crate::dynamics::DropSettings { friction: args.mu, ..Default::default() };
     let dynamic = args.dynamic.then_some(&drop);
     let search_settings = SearchSettings { max_checks: args.max_checks, ..Default::default() };
-    let bar = if args.search {
-        let bar = indicatif::ProgressBar::new_spinner();
-        bar.set_message("searching an order (static checks)");
-        bar
-    } else {
-        indicatif::ProgressBar::new(scene.blocks.len() as u64)
-    };
+    // The number of steps is known only after the cut history is replayed: a counting spinner.
+    let bar = indicatif::ProgressBar::new_spinner();
+    bar.set_style(
+        indicatif::ProgressStyle::with_template("{spinner} {pos} {msg} ({elapsed})")
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_spinner()),
+    );
+    bar.set_message(if args.search { "static checks (searching an order)" } else { "steps checked" });
     let tick = || bar.inc(1);
     let report = if args.search {
         search(&scene, &settings, &search_settings, dynamic, &tick)
