@@ -214,3 +214,29 @@ fn sequence_plugin_steps_through_an_order() {
     app.update();
     assert_eq!(placed(&mut app), 3);
 }
+
+#[test]
+fn interfaces_are_coloured_by_the_diagram_mode() {
+    use voussoir::viz::{DiagramMode, colors};
+    let mut app = app();
+    send(&mut app, Edit::Load(builtin("slope?angle=35&b=2&h=0.5").unwrap()));
+    let colours = |app: &mut App| -> Vec<(voussoir::statics::InterfaceResult, Vec<[f32; 3]>)> {
+        let mut q = app.world_mut().query::<(&InterfaceForces, &InterfaceColors)>();
+        q.iter(app.world()).map(|(f, c)| (f.0.clone(), c.0.clone())).collect()
+    };
+    let before = colours(&mut app);
+    assert_eq!(before.len(), 1);
+    // Compression: every force point carries compression on a standing slope: blue.
+    assert!(before[0].1.iter().all(|c| c[2] > c[0] + 0.2), "{:?}", before[0].1);
+    app.world_mut().write_message(SetDiagram(DiagramMode::Friction { threshold: 0.5 }));
+    app.update();
+    let after = colours(&mut app);
+    let mu = 40f64.to_radians().tan();
+    for (r, cs) in &after {
+        assert_eq!(cs.len(), r.vertices.len());
+        for (v, c) in r.vertices.iter().zip(cs) {
+            assert_eq!(*c, colors::friction(v.friction_u.hypot(v.friction_v), mu * v.compression, 0.5));
+        }
+    }
+    assert_ne!(before[0].1, after[0].1, "the mode switch recoloured the interface");
+}

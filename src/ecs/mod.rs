@@ -11,10 +11,12 @@
 //!
 //! Units and signs as in the core: SI, z up; see [`crate::statics`].
 
+pub mod diagram;
 pub mod dynamics;
 pub mod sequence;
 mod systems;
 
+pub use diagram::{DiagramPlugin, DiagramSettings, InterfaceColors, SetDiagram};
 pub use dynamics::{BlockPose, DropStatus, DynamicsPlugin, RunDropTest};
 pub use sequence::{Placed, SequencePlugin, SequenceStatus, StartSequence, StepSequence};
 
@@ -32,7 +34,7 @@ pub struct VoussoirPlugins;
 
 impl PluginGroup for VoussoirPlugins {
     fn build(self) -> PluginGroupBuilder {
-        PluginGroupBuilder::start::<Self>().add(DesignPlugin).add(DynamicsPlugin).add(SequencePlugin)
+        PluginGroupBuilder::start::<Self>().add(DesignPlugin).add(DiagramPlugin).add(DynamicsPlugin).add(SequencePlugin)
     }
 }
 
