@@ -124,8 +124,9 @@ pub fn check_with_props(
 ) -> Result<SequenceReport, SequenceError> {
     let resolved = resolved(scene, settings)?;
     let order = order(&resolved, spec, settings)?;
+    let adj = order::adjacency(&resolved, settings)?;
     let mut stepper = Stepper::new(&resolved, settings);
-    let (steps, props) = search::with_props(&mut stepper, &resolved, settings, &order, search, dynamic, tick)?;
+    let (steps, props) = search::with_props(&mut stepper, &resolved, &adj, &order, search, dynamic, tick)?;
     Ok(SequenceReport::new(order, steps, props, None))
 }
 
@@ -140,14 +141,16 @@ pub fn search(
     tick: &(dyn Fn() + Sync),
 ) -> Result<SequenceReport, SequenceError> {
     let resolved = resolved(scene, settings)?;
+    // One detection of the complete design serves the ranking, the search and the props.
+    let adj = order::adjacency(&resolved, settings)?;
+    let ranked = order::from_supports(&resolved, &adj);
     let mut stepper = Stepper::new(&resolved, settings);
-    let (mut order, mut info) = search::search_order(&mut stepper, &resolved, settings, search, tick)?;
+    let (mut order, mut info) = search::search_order(&mut stepper, &resolved, &adj, &ranked, search, tick)?;
     if !info.found {
         let placed: std::collections::HashSet<String> = order.iter().cloned().collect();
-        let rest = self::order(&resolved, &OrderSpec::FromSupports, settings)?;
-        order.extend(rest.into_iter().filter(|n| !placed.contains(n)));
+        order.extend(ranked.into_iter().filter(|n| !placed.contains(n)));
     }
-    let (steps, props) = search::with_props(&mut stepper, &resolved, settings, &order, search, dynamic, tick)?;
+    let (steps, props) = search::with_props(&mut stepper, &resolved, &adj, &order, search, dynamic, tick)?;
     info.checks = stepper.checks;
     Ok(SequenceReport::new(order, steps, props, Some(info)))
 }

@@ -92,23 +92,25 @@ fn expand<'a>(resolved: &'a Scene, name: &str) -> Vec<&'a Block> {
     resolved.blocks.iter().filter(|b| b.name.starts_with(&prefix)).collect()
 }
 
+/// The free blocks by graph distance from the fixed bodies over `adj`, then bottom-up.
+pub(crate) fn from_supports(resolved: &Scene, adj: &Adjacency) -> Vec<String> {
+    let dist = distances(adj);
+    let index = index(resolved);
+    let mut keyed: Vec<(usize, usize, String)> = bottom_up(resolved.blocks.iter().filter(|b| !b.support))
+        .into_iter()
+        .enumerate()
+        .map(|(k, name)| (dist[index[&name].0], k, name))
+        .collect();
+    keyed.sort();
+    keyed.into_iter().map(|k| k.2).collect()
+}
+
 /// The free blocks of the resolved design in the order asked for.
 pub fn order(resolved: &Scene, spec: &OrderSpec, settings: &AnalysisSettings) -> Result<Vec<String>, SequenceError> {
     let free = || resolved.blocks.iter().filter(|b| !b.support);
     match spec {
         OrderSpec::BottomUp => Ok(bottom_up(free())),
-        OrderSpec::FromSupports => {
-            let dist = distances(&adjacency(resolved, settings)?);
-            let index: HashMap<&str, usize> =
-                resolved.blocks.iter().enumerate().map(|(k, b)| (b.name.as_str(), k)).collect();
-            let mut keyed: Vec<(usize, usize, String)> = bottom_up(free())
-                .into_iter()
-                .enumerate()
-                .map(|(k, name)| (dist[index[name.as_str()]], k, name))
-                .collect();
-            keyed.sort();
-            Ok(keyed.into_iter().map(|k| k.2).collect())
-        }
+        OrderSpec::FromSupports => Ok(from_supports(resolved, &adjacency(resolved, settings)?)),
         OrderSpec::Given(names) => {
             let mut seen = HashSet::new();
             let mut out = Vec::new();

@@ -13,13 +13,13 @@
 //! answer; after each later step, props whose release still leaves the step standing are
 //! released (all at once when possible, as when a keystone closes an arch).
 
-use super::order::{Adjacency, adjacency};
+use super::order::Adjacency;
 use super::steps::Stepper;
 use super::{SequenceError, Step, TemporarySupport};
-use crate::analysis::AnalysisSettings;
+use crate::analysis::Analysis;
 use crate::dynamics::DropSettings;
 use crate::model::Scene;
-use std::collections::{HashMap, HashSet};
+use std::collections::HashSet;
 
 /// Settings of the order search.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -72,7 +72,7 @@ impl Dfs<'_, '_> {
     fn stands(&mut self, order: &[usize]) -> Result<bool, SequenceError> {
         let placed: HashSet<&str> = order.iter().map(|&k| self.names[k]).collect();
         (self.tick)();
-        Ok(self.stepper.stands(&placed, &HashSet::new())?.0)
+        Ok(self.stepper.analyse(&placed, &HashSet::new())?.statics.stands)
     }
 
     fn candidates(&self, set: &Set, free: &[usize]) -> Vec<usize> {
@@ -123,27 +123,27 @@ impl Dfs<'_, '_> {
 
 /// Searches an order of the free blocks of `resolved` in which every prefix stands. Returns the
 /// order found (or the longest standing prefix) and the search's account.
+/// `ranked`: the free blocks in the from-supports order (the candidates' priority).
 pub(crate) fn search_order<'a>(
     stepper: &mut Stepper<'a>,
     resolved: &'a Scene,
-    settings: &AnalysisSettings,
+    adj: &Adjacency,
+    ranked: &[String],
     search: &SearchSettings,
     tick: &(dyn Fn() + Sync),
 ) -> Result<(Vec<String>, SearchInfo), SequenceError> {
-    let adj = adjacency(resolved, settings)?;
-    let ranked = super::order(resolved, &super::OrderSpec::FromSupports, settings)?;
-    let index: HashMap<&str, usize> = resolved.blocks.iter().enumerate().map(|(k, b)| (b.name.as_str(), k)).collect();
+    let index = super::order::index(resolved);
     let n = resolved.blocks.len();
     let mut rank = vec![usize::MAX; n];
     for (r, name) in ranked.iter().enumerate() {
-        rank[index[name.as_str()]] = r;
+        rank[index[name].0] = r;
     }
     let free: Vec<usize> = (0..n).filter(|&k| !resolved.blocks[k].support).collect();
     let budget = stepper.checks + search.max_checks.unwrap_or(20 * free.len() + 200);
     let mut dfs = Dfs {
         stepper,
         names: resolved.blocks.iter().map(|b| b.name.as_str()).collect(),
-        adj: &adj,
+        adj,
         rank,
         dead: HashSet::new(),
         budget,
@@ -168,17 +168,23 @@ fn set_of<'x>(active: &[(&'x str, usize)]) -> HashSet<&'x str> {
     active.iter().map(|p| p.0).collect()
 }
 
+/// The graded answer of an analysis: minimum tension plus friction excess, relative to W.
+fn graded(a: &Analysis) -> f64 {
+    a.statics.tension_ratio + a.statics.friction_excess_ratio
+}
+
 /// The steps of `order` with temporary supports where a step would not stand (module docs).
+/// Every analysis of a step's final set (placed blocks, props) is the one the step reports:
+/// no set is analysed twice.
 pub(crate) fn with_props(
     stepper: &mut Stepper<'_>,
     resolved: &Scene,
-    settings: &AnalysisSettings,
+    adj: &Adjacency,
     order: &[String],
     search: &SearchSettings,
     dynamic: Option<&DropSettings>,
     tick: &(dyn Fn() + Sync),
 ) -> Result<(Vec<Step>, Vec<TemporarySupport>), SequenceError> {
-    let adj = adjacency(resolved, settings)?;
     let index = super::order::index(resolved);
     let mut placed: HashSet<&str> = HashSet::new();
     // Active props: name → step from which it is propped.
@@ -189,28 +195,36 @@ pub(crate) fn with_props(
         placed.insert(name);
         tick();
         // Release what is no longer needed: everything at once, else one by one (latest first).
+        // `current` is the analysis of (placed, active) once one has been run.
+        let mut current: Option<Analysis> = None;
         if !active.is_empty() {
-            if stepper.stands(&placed, &HashSet::new())?.0 {
+            let bare = stepper.analyse(&placed, &HashSet::new())?;
+            if bare.statics.stands {
                 props_out.extend(active.drain(..).map(|(b, from)| TemporarySupport::new(b, from, k)));
+                current = Some(bare);
             } else {
                 let mut i = active.len();
                 while i > 0 && active.len() > 1 {
                     i -= 1;
                     let mut without = active.clone();
                     without.remove(i);
-                    if stepper.stands(&placed, &set_of(&without))?.0 {
+                    let a = stepper.analyse(&placed, &set_of(&without))?;
+                    if a.statics.stands {
                         let (b, from) = active.remove(i);
                         props_out.push(TemporarySupport::new(b, from, k));
+                        current = Some(a);
                     }
                 }
             }
         }
-        let (ok, _) = stepper.stands(&placed, &set_of(&active))?;
-        if !ok {
+        let mut current = match current {
+            Some(a) => a,
+            None => stepper.analyse(&placed, &set_of(&active))?,
+        };
+        if !current.statics.stands {
             // Candidates: the new block, the blocks of the offending interfaces, its neighbours,
             // then the other placed blocks from the top down.
-            let analysis = stepper.analyse(&placed, &set_of(&active))?;
-            let s = &analysis.statics;
+            let s = &current.statics;
             let mut cands: Vec<&str> = vec![name.as_str()];
             for r in s
                 .interfaces
@@ -228,41 +242,34 @@ pub(crate) fn with_props(
                 .filter(|c| placed.contains(c) && !active.iter().any(|p| p.0 == *c) && seen.insert(*c))
                 .map(|c| *placed.get(c).expect("placed"))
                 .collect();
-            let mut fixed = false;
-            for &c in cands.iter().take(search.prop_candidates) {
-                let mut with = set_of(&active);
-                with.insert(c);
-                if stepper.stands(&placed, &with)?.0 {
-                    active.push((c, k));
-                    fixed = true;
-                    break;
-                }
-            }
-            // Greedy: add the candidate that lowers the graded answer most, until it stands.
-            while !fixed {
-                let mut best: Option<(f64, &str)> = None;
+            // Greedy rounds: each tries the candidates one at a time (so the first round finds a
+            // single prop when one suffices among them), takes the first with which the step
+            // stands, else the one that lowers the graded answer most, and goes again.
+            loop {
+                let mut best: Option<(f64, &str, Analysis)> = None;
                 for &c in cands.iter().filter(|c| !active.iter().any(|p| p.0 == **c)).take(search.prop_candidates) {
                     let mut with = set_of(&active);
                     with.insert(c);
-                    let (ok, g) = stepper.stands(&placed, &with)?;
-                    if ok {
-                        best = Some((-1.0, c));
+                    let a = stepper.analyse(&placed, &with)?;
+                    if a.statics.stands {
+                        best = Some((-1.0, c, a));
                         break;
                     }
-                    if best.is_none_or(|b| g < b.0) {
-                        best = Some((g, c));
+                    let g = graded(&a);
+                    if best.as_ref().is_none_or(|b| g < b.0) {
+                        best = Some((g, c, a));
                     }
                 }
-                match best {
-                    Some((g, c)) => {
-                        active.push((c, k));
-                        fixed = g < 0.0;
-                    }
-                    None => break, // every candidate is propped already: report the failure
+                // Every candidate is propped already: the step fails with the props it has.
+                let Some((_, c, a)) = best else { break };
+                active.push((c, k));
+                current = a;
+                if current.statics.stands {
+                    break;
                 }
             }
         }
-        steps.push(stepper.step(name, &placed, &set_of(&active), dynamic)?);
+        steps.push(stepper.step_from(name, &current, &set_of(&active), dynamic)?);
     }
     props_out.extend(active.drain(..).map(|(b, from)| TemporarySupport::new(b, from, order.len())));
     props_out.sort_by(|a, b| (a.from, &a.block).cmp(&(b.from, &b.block)));

@@ -52,13 +52,6 @@ impl<'a> Stepper<'a> {
         Ok(self.pipeline.run(&prefix, &self.settings)?)
     }
 
-    /// Whether the prefix stands, and its graded answer (minimum tension plus friction excess,
-    /// relative to its free weight).
-    pub fn stands(&mut self, placed: &HashSet<&str>, props: &HashSet<&str>) -> Result<(bool, f64), SequenceError> {
-        let a = self.analyse(placed, props)?;
-        Ok((a.statics.stands, a.statics.tension_ratio + a.statics.friction_excess_ratio))
-    }
-
     /// The step that placed `name`, with the drop test when asked.
     pub fn step(
         &mut self,
@@ -68,6 +61,17 @@ impl<'a> Stepper<'a> {
         dynamic: Option<&DropSettings>,
     ) -> Result<Step, SequenceError> {
         let a = self.analyse(placed, props)?;
+        self.step_from(name, &a, props, dynamic)
+    }
+
+    /// The step that placed `name`, from the analysis `a` of its prefix with `props`.
+    pub fn step_from(
+        &self,
+        name: &str,
+        a: &Analysis,
+        props: &HashSet<&str>,
+        dynamic: Option<&DropSettings>,
+    ) -> Result<Step, SequenceError> {
         let s = &a.statics;
         let offending = s
             .interfaces
