@@ -262,6 +262,9 @@ fn apply_options(scene: &mut Scene, args: &AnalyzeArgs, settings: &AnalysisSetti
 }
 
 fn run_analyze(args: &AnalyzeArgs) -> Result<i32, BadInput> {
+    if let Some(out) = &args.json {
+        refuse_overwrite(args.scene.as_deref(), out, "--json")?;
+    }
     let mut scene = load(args.scene.as_deref())?;
     let mut settings = AnalysisSettings::default();
     settings.statics.friction_model = args.friction_model;
@@ -286,9 +289,6 @@ fn run_analyze(args: &AnalyzeArgs) -> Result<i32, BadInput> {
         None
     };
     if let Some(out) = &args.json {
-        if args.scene.as_deref().is_some_and(|s| Path::new(s) == out.as_path()) {
-            return Err(BadInput(format!("--json {} would overwrite the input scene", out.display())));
-        }
         let json = io::report::to_json_with(&analysis, dynamic.as_ref());
         io::write_atomic(out, json.as_bytes()).map_err(|e| BadInput(e.to_string()))?;
         println!("report written to {}", out.display());
@@ -331,10 +331,7 @@ fn run_cut(args: &CutArgs) -> Result<i32, BadInput> {
     } else {
         println!("cut {}: {} new pieces: {}", scene.cuts.len() - 1, new.len(), new.join(", "));
     }
-    let same_file = std::fs::canonicalize(&args.scene).ok().zip(std::fs::canonicalize(&args.output).ok());
-    if same_file.is_some_and(|(a, b)| a == b) {
-        return Err(BadInput(format!("-o {} would overwrite the input; write elsewhere", args.output.display())));
-    }
+    refuse_overwrite(Some(&args.scene), &args.output, "-o")?;
     io::write_atomic(&args.output, io::scene_json::scene_to_string(&scene).as_bytes())
         .map_err(|e| BadInput(e.to_string()))?;
     println!(
@@ -344,6 +341,20 @@ fn run_cut(args: &CutArgs) -> Result<i32, BadInput> {
         scene.cuts.len()
     );
     Ok(0)
+}
+
+/// Refuses to write `out` when it is the input scene file (by canonical path, so `./a.json`
+/// and `a.json` match); `option` names the flag in the message. Inputs are never overwritten.
+fn refuse_overwrite(input: Option<&str>, out: &Path, option: &str) -> Result<(), BadInput> {
+    let Some(input) = input else { return Ok(()) };
+    let same = match (std::fs::canonicalize(input), std::fs::canonicalize(out)) {
+        (Ok(a), Ok(b)) => a == b,
+        _ => Path::new(input) == out,
+    };
+    if same {
+        return Err(BadInput(format!("{option} {} would overwrite the input; write elsewhere", out.display())));
+    }
+    Ok(())
 }
 
 fn run_export(args: &ExportArgs) -> Result<i32, BadInput> {
@@ -356,10 +367,9 @@ fn run_export(args: &ExportArgs) -> Result<i32, BadInput> {
         m => return Err(BadInput(format!("--mode {m}: expected compression, friction or vectors"))),
     };
     let scene = load(Some(&args.scene))?;
-    for out in [&args.gltf, &args.png].into_iter().flatten() {
-        let same_file = std::fs::canonicalize(&args.scene).ok().zip(std::fs::canonicalize(out).ok());
-        if same_file.is_some_and(|(a, b)| a == b) {
-            return Err(BadInput(format!("{} would overwrite the input; write elsewhere", out.display())));
+    for (out, option) in [(&args.gltf, "--gltf"), (&args.png, "--png")] {
+        if let Some(out) = out {
+            refuse_overwrite(Some(&args.scene), out, option)?;
         }
     }
     let mut settings = AnalysisSettings::default();
@@ -389,6 +399,9 @@ fn run_export(args: &ExportArgs) -> Result<i32, BadInput> {
 
 fn run_sequence(args: &SequenceArgs) -> Result<i32, BadInput> {
     use crate::sequence::{OrderSpec, SearchSettings, check, check_with_props, search};
+    if let Some(out) = &args.json {
+        refuse_overwrite(Some(&args.scene), out, "--json")?;
+    }
     let scene = load(Some(&args.scene))?;
     let spec = match args.order.as_deref() {
         Some("bottom-up") => OrderSpec::BottomUp,
@@ -465,6 +478,11 @@ fn run_sequence(args: &SequenceArgs) -> Result<i32, BadInput> {
 
 fn run_sweep(args: &SweepArgs) -> Result<i32, BadInput> {
     use crate::sweep::{Family, sweep};
+    for (out, option) in [(&args.json, "--json"), (&args.plot, "--plot")] {
+        if let Some(out) = out {
+            refuse_overwrite(args.scene.as_deref(), out, option)?;
+        }
+    }
     let (family, lo, hi) = match args.family.as_str() {
         "arch" => (Family::Arch { n: args.n.unwrap_or(15) }, 0.02, 0.4),
         "slope" => (Family::Slope { mu: args.mu.unwrap_or(40f64.to_radians().tan()) }, 0.0, 80.0),

@@ -287,6 +287,12 @@ fn sequence_search_props_and_exit_codes() {
     let props = r["temporary_supports"].as_array().unwrap();
     assert!(!props.is_empty() && props.iter().all(|p| p["block"].is_string() && p["until"].is_u64()));
     assert_eq!(r["first_failure"], serde_json::Value::Null);
+    // The report never goes over the input.
+    let input = tmp("seq_input.json");
+    std::fs::copy(case, &input).unwrap();
+    let out = voussoir(&["sequence", input.to_str().unwrap(), "--json", input.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(2));
+    assert_eq!(std::fs::read(&input).unwrap(), std::fs::read(case).unwrap());
     // Bad orders are bad input.
     let out = voussoir(&["sequence", case, "--order", "D,M,S"]);
     assert_eq!(out.status.code(), Some(2));
