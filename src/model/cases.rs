@@ -98,21 +98,44 @@ pub fn fig3() -> [Scene; 3] {
 /// An "M" (grid units, 5 tall): a straight right leg, a left leg flared at its foot by
 /// `flare`, and a V between them reaching down to z = 1.5.
 fn m_letter(x0: f64, flare: f64) -> Block {
-    let outline = [
+    letter("M", x0, &m_outline(flare, 0.0))
+}
+
+/// The M's outline (grid units): left foot flared by `flare`, right leg starting at height
+/// `right_foot` (0: on the ground).
+fn m_outline(flare: f64, right_foot: f64) -> [[f64; 2]; 12] {
+    [
         [-flare, 0.0],
         [1.0, 0.0],
         [1.0, 3.0],
         [2.5, 1.5],
         [4.0, 3.0],
-        [4.0, 0.0],
-        [5.0, 0.0],
+        [4.0, right_foot],
+        [5.0, right_foot],
         [5.0, 5.0],
         [4.0, 5.0],
         [2.5, 3.5],
         [1.0, 5.0],
         [0.0, 5.0],
-    ];
-    letter("M", x0, &outline)
+    ]
+}
+
+/// The S's outline (grid units), its lower bar drawn out to the left from x = `bar_from`.
+fn s_outline(bar_from: f64) -> [[f64; 2]; 12] {
+    [
+        [bar_from, 0.0],
+        [3.0, 0.0],
+        [3.0, 3.0],
+        [1.0, 3.0],
+        [1.0, 4.0],
+        [3.0, 4.0],
+        [3.0, 5.0],
+        [0.0, 5.0],
+        [0.0, 2.0],
+        [2.0, 2.0],
+        [2.0, 1.0],
+        [bar_from, 1.0],
+    ]
 }
 
 /// Flare of the M's left foot (grid units) in figs. 4 and 5.
@@ -149,24 +172,7 @@ pub fn fig6() -> Scene {
         &[[1.0, 1.0], [1.6, 1.0], [2.0, 1.4], [2.0, 3.6], [1.6, 4.0], [1.0, 4.0]],
     );
     let m = m_letter(4.0, 0.0);
-    let s = letter(
-        "S",
-        10.0,
-        &[
-            [0.0, 0.0],
-            [3.0, 0.0],
-            [3.0, 3.0],
-            [1.0, 3.0],
-            [1.0, 4.0],
-            [3.0, 4.0],
-            [3.0, 5.0],
-            [0.0, 5.0],
-            [0.0, 2.0],
-            [2.0, 2.0],
-            [2.0, 1.0],
-            [0.0, 1.0],
-        ],
-    );
+    let s = letter("S", 10.0, &s_outline(0.0));
     let c = letter(
         "C",
         14.0,
@@ -191,36 +197,8 @@ pub fn fig6() -> Scene {
 pub fn fig6_sequence() -> Scene {
     let mut scene = fig6();
     scene.name = "fig6 (sequence): DMSC with the M's right foot on the S".into();
-    let m = [
-        [0.0, 0.0],
-        [1.0, 0.0],
-        [1.0, 3.0],
-        [2.5, 1.5],
-        [4.0, 3.0],
-        [4.0, 1.0],
-        [5.0, 1.0],
-        [5.0, 5.0],
-        [4.0, 5.0],
-        [2.5, 3.5],
-        [1.0, 5.0],
-        [0.0, 5.0],
-    ];
-    let s = [
-        [-2.2, 0.0],
-        [3.0, 0.0],
-        [3.0, 3.0],
-        [1.0, 3.0],
-        [1.0, 4.0],
-        [3.0, 4.0],
-        [3.0, 5.0],
-        [0.0, 5.0],
-        [0.0, 2.0],
-        [2.0, 2.0],
-        [2.0, 1.0],
-        [-2.2, 1.0],
-    ];
-    scene.blocks[1] = letter("M", 4.0, &m);
-    scene.blocks[2] = letter("S", 10.0, &s);
+    scene.blocks[1] = letter("M", 4.0, &m_outline(0.0, 1.0));
+    scene.blocks[2] = letter("S", 10.0, &s_outline(-2.2));
     scene.order = ["D", "M", "S", "C"].map(String::from).to_vec();
     scene
 }

@@ -11,7 +11,7 @@
 use super::{Drawing, PlotError};
 use crate::analysis::Analysis;
 use crate::viz::colors::{self, Rgb};
-use crate::viz::{DiagramMode, vertex_colors};
+use crate::viz::{DiagramMode, interface_triangles};
 use nalgebra::{Point3, Vector3};
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -123,19 +123,11 @@ impl DiagramPicture<'_> {
         }
         let mut faces = std::mem::take(&mut prims);
         faces.sort_by(|x, y| x.depth.total_cmp(&y.depth));
-        let s = &a.statics;
         // Few interfaces: finer gradients; many: coarser (the picture stays fast).
-        let levels = if s.interfaces.len() > 400 { 1 } else { 3 };
-        for r in &s.interfaces {
-            let geometry = &a.interfaces[r.index];
-            if r.vertices.len() < 3 {
-                continue;
-            }
-            let colours = vertex_colors(r, s.friction_coefficient, self.mode);
-            let pts: Vec<Point3<f64>> = r.vertices.iter().map(|v| Point3::from(v.position)).collect();
-            let p2: Vec<[f64; 2]> = pts.iter().map(|p| geometry.frame.to_2d(p)).collect();
-            for t in crate::geometry::polygon::triangulate_2d(&p2, &[]) {
-                subdivide(view, t.map(|k| (pts[k], colours[k])), levels, &mut prims);
+        let levels = if a.statics.interfaces.len() > 400 { 1 } else { 3 };
+        for (_, tris) in interface_triangles(a, self.mode) {
+            for t in tris {
+                subdivide(view, t.map(|(p, c)| (Point3::from(p), c)), levels, &mut prims);
             }
         }
         prims.sort_by(|x, y| x.depth.total_cmp(&y.depth));

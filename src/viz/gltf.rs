@@ -8,7 +8,6 @@
 use super::DiagramMode;
 use super::colors::Rgb;
 use crate::analysis::Analysis;
-use crate::geometry::polygon::triangulate_2d;
 use serde_json::{Value, json};
 
 fn y_up(p: [f64; 3]) -> [f32; 3] {
@@ -90,26 +89,10 @@ pub fn glb(analysis: &Analysis, mode: DiagramMode) -> Vec<u8> {
             .collect();
         b.mesh(&block.name, pos, None, if block.support { 1 } else { 0 });
     }
-    let s = &analysis.statics;
-    let mu = s.friction_coefficient;
-    for r in &s.interfaces {
-        let geometry = &analysis.interfaces[r.index];
-        let pts: Vec<[f64; 3]> = r.vertices.iter().map(|v| v.position).collect();
-        if pts.len() < 3 {
-            continue;
-        }
-        let colors = super::vertex_colors(r, mu, mode);
-        let frame = &geometry.frame;
-        let p2: Vec<[f64; 2]> = pts.iter().map(|p| frame.to_2d(&nalgebra::Point3::from(*p))).collect();
-        let mut pos = Vec::new();
-        let mut col = Vec::new();
-        for t in triangulate_2d(&p2, &[]) {
-            for k in t {
-                pos.push(y_up(pts[k]));
-                col.push(colors[k]);
-            }
-        }
-        b.mesh(&format!("{} | {}", r.a, r.b), pos, Some(col), 2);
+    for (label, tris) in super::interface_triangles(analysis, mode) {
+        let pos = tris.iter().flat_map(|t| t.map(|(p, _)| y_up(p))).collect();
+        let col = tris.iter().flat_map(|t| t.map(|(_, c)| c)).collect();
+        b.mesh(&label, pos, Some(col), 2);
     }
     // Materials: free blocks translucent stone, supports darker, interfaces white × vertex colour.
     let materials = json!([

@@ -7,6 +7,7 @@ pub mod gltf;
 
 pub use gltf::glb;
 
+use crate::analysis::Analysis;
 use crate::statics::InterfaceResult;
 use colors::Rgb;
 
@@ -36,4 +37,28 @@ pub fn vertex_colors(r: &InterfaceResult, mu: f64, mode: DiagramMode) -> Vec<Rgb
             .map(|v| colors::friction(v.friction_u.hypot(v.friction_v), mu * v.compression, threshold))
             .collect(),
     }
+}
+
+/// A triangle of force points: world position (m, z up) and colour.
+pub type ColouredTriangle = [([f64; 3], Rgb); 3];
+
+/// Every loaded interface of `analysis` with its `a | b` label, triangulated over its force
+/// points (in its own plane) and coloured by `mode`: what both exports draw.
+pub fn interface_triangles(analysis: &Analysis, mode: DiagramMode) -> Vec<(String, Vec<ColouredTriangle>)> {
+    let s = &analysis.statics;
+    s.interfaces
+        .iter()
+        .filter(|r| r.vertices.len() >= 3)
+        .map(|r| {
+            let frame = &analysis.interfaces[r.index].frame;
+            let colours = vertex_colors(r, s.friction_coefficient, mode);
+            let p2: Vec<[f64; 2]> =
+                r.vertices.iter().map(|v| frame.to_2d(&nalgebra::Point3::from(v.position))).collect();
+            let tris = crate::geometry::polygon::triangulate_2d(&p2, &[])
+                .into_iter()
+                .map(|t| t.map(|k| (r.vertices[k].position, colours[k])))
+                .collect();
+            (format!("{} | {}", r.a, r.b), tris)
+        })
+        .collect()
 }
