@@ -11,6 +11,8 @@ use std::collections::HashSet;
 /// Analyses prefixes of one resolved design.
 pub(crate) struct Stepper<'a> {
     resolved: &'a Scene,
+    /// The resolved design without blocks: every other field of a prefix comes from it.
+    empty: Scene,
     settings: AnalysisSettings,
     pipeline: Pipeline,
     /// Static checks run so far.
@@ -23,15 +25,13 @@ impl<'a> Stepper<'a> {
     pub fn new(resolved: &'a Scene, settings: &AnalysisSettings) -> Self {
         let mut settings = settings.clone();
         settings.statics.distribution = false;
-        Self { resolved, settings, pipeline: Pipeline::new(), checks: 0 }
+        let empty = Scene { blocks: Vec::new(), ..resolved.clone() };
+        Self { resolved, empty, settings, pipeline: Pipeline::new(), checks: 0 }
     }
 
     /// The design with only the `placed` free blocks, the `props` among them fixed.
     fn prefix(&self, placed: &HashSet<&str>, props: &HashSet<&str>) -> Scene {
-        let mut scene = Scene::new(self.resolved.name.clone(), Vec::new());
-        scene.material = self.resolved.material;
-        scene.gravity = self.resolved.gravity;
-        scene.ground = self.resolved.ground;
+        let mut scene = self.empty.clone();
         scene.blocks = self
             .resolved
             .blocks
