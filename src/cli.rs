@@ -34,6 +34,42 @@ pub enum Command {
     /// Export the analysed design without a window: glTF binary with the blocks and the
     /// interface polygons coloured by a diagram mode.
     Export(ExportArgs),
+    /// The interactive 3D viewer (built with `--features viewer`): diagrams, live cut editing,
+    /// drop test and sequence stepper side by side.
+    View(ViewArgs),
+}
+
+#[derive(Args, Debug)]
+pub struct ViewArgs {
+    /// Scene file or `builtin:…` (default: the embedded default scene).
+    pub scene: Option<String>,
+    /// Diagram at start: compression, friction or vectors (keys 1/2/3 switch).
+    #[arg(long, default_value = "compression")]
+    pub mode: String,
+    /// Friction mode: the "low friction" limit as a fraction of μ · compression (default 0.5).
+    #[arg(long, default_value_t = 0.5)]
+    pub threshold: f64,
+    /// Friction model: pyramid8 (default), cone or box4.
+    #[arg(long, default_value = "pyramid8")]
+    pub friction_model: FrictionModel,
+    /// Friction coefficient μ (default: the scene's).
+    #[arg(long)]
+    pub mu: Option<f64>,
+    /// Draw the blocks opaque (default translucent, so that the interfaces show).
+    #[arg(long)]
+    pub opaque: bool,
+    /// Where Ctrl+S saves the design (default `<input>.edited.json` beside the input).
+    #[arg(long)]
+    pub save: Option<PathBuf>,
+    /// Allow Ctrl+S to write over the input file.
+    #[arg(long)]
+    pub save_over_input: bool,
+    /// Window size, `WIDTHxHEIGHT` logical pixels.
+    #[arg(long, default_value = "1280x800")]
+    pub size: String,
+    /// No interaction: render, save a screenshot of the window here (PNG), exit.
+    #[arg(long)]
+    pub screenshot: Option<PathBuf>,
 }
 
 #[derive(Args, Debug)]
@@ -212,6 +248,7 @@ pub fn run(cli: Cli) -> i32 {
         Some(Command::Sweep(args)) => run_sweep(&args),
         Some(Command::Sequence(args)) => run_sequence(&args),
         Some(Command::Export(args)) => run_export(&args),
+        Some(Command::View(args)) => run_view(&args),
     };
     match result {
         Ok(code) => code,
@@ -357,15 +394,65 @@ fn refuse_overwrite(input: Option<&str>, out: &Path, option: &str) -> Result<(),
     Ok(())
 }
 
-fn run_export(args: &ExportArgs) -> Result<i32, BadInput> {
+fn diagram_mode(mode: &str, threshold: f64) -> Result<crate::viz::DiagramMode, BadInput> {
     use crate::viz::DiagramMode;
-    let mode = match args.mode.as_str() {
+    Ok(match mode {
         "compression" => DiagramMode::Compression,
         "vectors" => DiagramMode::Vectors,
-        "friction" if (0.0..=1.0).contains(&args.threshold) => DiagramMode::Friction { threshold: args.threshold },
-        "friction" => return Err(BadInput(format!("--threshold {} must be within [0, 1]", args.threshold))),
+        "friction" if (0.0..=1.0).contains(&threshold) => DiagramMode::Friction { threshold },
+        "friction" => return Err(BadInput(format!("--threshold {threshold} must be within [0, 1]"))),
         m => return Err(BadInput(format!("--mode {m}: expected compression, friction or vectors"))),
-    };
+    })
+}
+
+#[cfg(not(feature = "viewer"))]
+fn run_view(_: &ViewArgs) -> Result<i32, BadInput> {
+    Err(BadInput(
+        "this voussoir was built without the viewer: cargo run --release --features viewer -- view SCENE".into(),
+    ))
+}
+
+#[cfg(feature = "viewer")]
+fn run_view(args: &ViewArgs) -> Result<i32, BadInput> {
+    use crate::viewer::{Script, ScriptStep, ViewerOptions};
+    let mode = diagram_mode(&args.mode, args.threshold)?;
+    let size = args
+        .size
+        .split_once('x')
+        .and_then(|(w, h)| Some((w.parse::<u32>().ok()?, h.parse::<u32>().ok()?)))
+        .filter(|&(w, h)| (200..=10_000).contains(&w) && (150..=10_000).contains(&h))
+        .ok_or_else(|| BadInput(format!("--size {}: expected WIDTHxHEIGHT, e.g. 1280x800", args.size)))?;
+    let scene = load(args.scene.as_deref())?;
+    if let Some(out) = &args.screenshot {
+        refuse_overwrite(args.scene.as_deref(), out, "--screenshot")?;
+    }
+    let mut settings = AnalysisSettings::default();
+    settings.statics.friction_model = args.friction_model;
+    settings.statics.friction = args.mu;
+    // A design that cannot be analysed is reported here, not as an empty window.
+    crate::analysis::analyze(&scene, &settings)
+        .map_err(|e| BadInput(format!("{}: {e}", args.scene.as_deref().unwrap_or("default scene"))))?;
+    let mut options = ViewerOptions::new(scene);
+    options.input = args.scene.as_ref().filter(|s| !s.starts_with("builtin:")).map(PathBuf::from);
+    options.save_to = args.save.clone();
+    options.save_over_input = args.save_over_input;
+    options.mode = mode;
+    options.translucent = !args.opaque;
+    options.size = size;
+    options.settings = settings;
+    options.script = args
+        .screenshot
+        .as_ref()
+        .map(|out| Script { steps: vec![ScriptStep::Settle(5), ScriptStep::Shot(out.clone())], report: None });
+    let exit = crate::viewer::run(options);
+    if let Some(out) = &args.screenshot {
+        println!("screenshot written to {}", out.display());
+    }
+    Ok(if exit.is_success() { 0 } else { 1 })
+}
+
+fn run_export(args: &ExportArgs) -> Result<i32, BadInput> {
+    let mode = diagram_mode(&args.mode, args.threshold)?;
     let scene = load(Some(&args.scene))?;
     for (out, option) in [(&args.gltf, "--gltf"), (&args.png, "--png")] {
         if let Some(out) = out {

@@ -39,4 +39,6 @@ pub mod plot;
 pub mod sequence;
 pub mod statics;
 pub mod sweep;
+#[cfg(feature = "viewer")]
+pub mod viewer;
 pub mod viz;

@@ -322,3 +322,12 @@ fn export_writes_a_glb_and_refuses_bad_modes() {
     assert_eq!(out.status.code(), Some(2));
     assert_eq!(std::fs::read(&scene).unwrap(), before, "the input is never overwritten");
 }
+
+/// The headless build says how to get the viewer instead of failing obscurely.
+#[cfg(not(feature = "viewer"))]
+#[test]
+fn view_without_the_viewer_feature_says_how_to_build_it() {
+    let out = voussoir(&["view", "builtin:stack?n=2"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--features viewer"));
+}

@@ -209,10 +209,38 @@ fn sequence_plugin_steps_through_an_order() {
     let status = app.world().resource::<SequenceStatus>();
     assert_eq!(status.current, 4, "clamped at the last step");
     assert!(status.step().unwrap().stands, "the closed arch stands");
+    let a = status.analysis.as_ref().expect("the step's analysis");
+    assert_eq!(a.assembly.blocks.len(), 7, "five voussoirs and two springers");
+    assert!(a.statics.stands && a.statics.solver.residual < 1e-9 * a.statics.free_weight);
     assert_eq!(placed(&mut app), 5);
     app.world_mut().write_message(StepSequence(-2));
     app.update();
     assert_eq!(placed(&mut app), 3);
+    // The step shown is analysed on its own: its blocks and its verdict, forces included.
+    let status = app.world().resource::<SequenceStatus>();
+    let a = status.analysis.as_ref().expect("the step's analysis");
+    assert_eq!(a.assembly.blocks.len(), 3 + 2);
+    assert_eq!(a.statics.stands, status.step().unwrap().stands);
+    assert!(a.statics.interfaces.iter().any(|r| !r.vertices.is_empty()));
+}
+
+#[test]
+fn sequence_settings_add_the_drop_test_of_every_step() {
+    use voussoir::dynamics::DropSettings;
+    use voussoir::ecs::SequenceSettings;
+    use voussoir::sequence::OrderSpec;
+    let mut app = app();
+    app.insert_resource(SequenceSettings { dynamic: Some(DropSettings { duration: 0.5, ..Default::default() }) });
+    send(&mut app, Edit::Load(builtin("stack?n=3").unwrap()));
+    app.world_mut().write_message(StartSequence(OrderSpec::BottomUp));
+    app.update();
+    let status = app.world().resource::<SequenceStatus>();
+    let report = status.report.as_ref().unwrap();
+    assert_eq!(report.steps.len(), 3);
+    for step in &report.steps {
+        let drop = step.dynamic.as_ref().expect("a drop test per step");
+        assert!(step.stands && drop.stands, "a plain stack stands at every step: {step:?}");
+    }
 }
 
 #[test]

@@ -14,11 +14,16 @@ pub struct DiagramPlugin;
 
 impl Plugin for DiagramPlugin {
     fn build(&self, app: &mut App) {
-        app.add_message::<SetDiagram>()
-            .init_resource::<DiagramSettings>()
-            .add_systems(Update, (set_diagram, colour_interfaces).chain().after(VoussoirSet::Write));
+        app.add_message::<SetDiagram>().init_resource::<DiagramSettings>().add_systems(
+            Update,
+            (set_diagram, colour_interfaces).chain().in_set(DiagramSystems).after(VoussoirSet::Write),
+        );
     }
 }
+
+/// The systems that colour interfaces (a viewer draws after them).
+#[derive(SystemSet, Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct DiagramSystems;
 
 /// The diagram mode (default: compression–tension).
 #[derive(Resource, Clone, Copy, Debug, PartialEq)]

@@ -18,7 +18,7 @@ mod systems;
 
 pub use diagram::{DiagramPlugin, DiagramSettings, InterfaceColors, SetDiagram};
 pub use dynamics::{BlockPose, DropStatus, DynamicsPlugin, RunDropTest};
-pub use sequence::{Placed, SequencePlugin, SequenceStatus, StartSequence, StepSequence};
+pub use sequence::{Placed, SequencePlugin, SequenceSettings, SequenceStatus, StartSequence, StepSequence};
 
 use crate::analysis::{AnalysisSettings, Pipeline, Timings, Work};
 use crate::geometry::{Mesh, Point3};

@@ -1,10 +1,13 @@
 //! The sequence plugin: [`StartSequence`] checks every step of an order on the current design
 //! ([`crate::sequence::check`]); [`StepSequence`] moves through the steps, marking the blocks
-//! placed so far with [`Placed`] (what a viewer shows) and exposing the step's result in
-//! [`SequenceStatus`].
+//! placed so far with [`Placed`] (what a viewer shows) and exposing the step's result — and its
+//! full analysis, forces included — in [`SequenceStatus`]. [`SequenceSettings`] asks for the
+//! drop test of every step beside the statics.
 
 use super::{BlockIndex, Design, Settings, VoussoirSet};
-use crate::sequence::{OrderSpec, SequenceReport, Step, check};
+use crate::analysis::Analysis;
+use crate::dynamics::DropSettings;
+use crate::sequence::{OrderSpec, SequenceReport, Step, check, step_analysis};
 use bevy::app::{App, Plugin, Update};
 use bevy::ecs::prelude::*;
 
@@ -15,6 +18,7 @@ impl Plugin for SequencePlugin {
         app.add_message::<StartSequence>()
             .add_message::<StepSequence>()
             .init_resource::<SequenceStatus>()
+            .init_resource::<SequenceSettings>()
             .add_systems(Update, (start_sequence, step_sequence).chain().after(VoussoirSet::Write));
     }
 }
@@ -27,6 +31,13 @@ pub struct StartSequence(pub OrderSpec);
 #[derive(Message, Clone, Copy, Debug)]
 pub struct StepSequence(pub i64);
 
+/// How sequences are checked (default: statics only).
+#[derive(Resource, Clone, Debug, Default)]
+pub struct SequenceSettings {
+    /// Also drop-test every step with these settings.
+    pub dynamic: Option<DropSettings>,
+}
+
 /// Marks a block placed at the current step.
 #[derive(Component, Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Placed;
@@ -36,6 +47,8 @@ pub struct Placed;
 pub struct SequenceStatus {
     pub report: Option<SequenceReport>,
     pub current: usize,
+    /// The full analysis of the step shown (blocks placed so far, forces included).
+    pub analysis: Option<Analysis>,
     pub error: Option<String>,
 }
 
@@ -50,12 +63,13 @@ fn start_sequence(
     mut requests: MessageReader<StartSequence>,
     design: Res<Design>,
     settings: Res<Settings>,
+    sequence: Res<SequenceSettings>,
     mut status: ResMut<SequenceStatus>,
 ) {
     let Some(StartSequence(spec)) = requests.read().last() else { return };
     let Some(scene) = &design.0 else { return };
-    *status = match check(scene, spec, &settings.0, None, &|| {}) {
-        Ok(r) => SequenceStatus { report: Some(r), current: 0, error: None },
+    *status = match check(scene, spec, &settings.0, sequence.dynamic.as_ref(), &|| {}) {
+        Ok(r) => SequenceStatus { report: Some(r), ..Default::default() },
         Err(e) => SequenceStatus { error: Some(e.to_string()), ..Default::default() },
     };
 }
@@ -65,6 +79,8 @@ fn step_sequence(
     mut requests: MessageReader<StepSequence>,
     mut status: ResMut<SequenceStatus>,
     index: Res<BlockIndex>,
+    design: Res<Design>,
+    settings: Res<Settings>,
 ) {
     let moves: i64 = requests.read().map(|s| s.0).sum();
     if !status.is_changed() && moves == 0 {
@@ -72,7 +88,18 @@ fn step_sequence(
     }
     let Some(n) = status.report.as_ref().map(|r| r.steps.len()) else { return };
     let current = (status.current as i64 + moves).clamp(0, n as i64 - 1) as usize;
+    let moved = current != status.current || status.analysis.is_none();
     status.current = current;
+    let report = status.report.as_ref().expect("checked above");
+    if moved && let Some(scene) = &design.0 {
+        match step_analysis(scene, report, current, &settings.0) {
+            Ok(a) => status.analysis = Some(a),
+            Err(e) => {
+                status.analysis = None;
+                status.error = Some(e.to_string());
+            }
+        }
+    }
     let report = status.report.as_ref().expect("checked above");
     for (k, name) in report.order.iter().enumerate() {
         if let Some(&e) = index.0.get(name) {

@@ -162,6 +162,13 @@ impl Assembly {
         self.blocks.iter().filter(|b| !b.support).map(|b| b.mass() * g).sum()
     }
 
+    /// The bounding box of every block (empty without blocks).
+    pub fn aabb(&self) -> Aabb3 {
+        let mut bb = Aabb3::empty();
+        self.blocks.iter().for_each(|b| bb.merge(&b.mesh.aabb()));
+        bb
+    }
+
     pub fn supports(&self) -> impl Iterator<Item = BlockId> + '_ {
         self.blocks.iter().enumerate().filter(|(_, b)| b.support).map(|(i, _)| BlockId(i))
     }

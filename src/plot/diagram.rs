@@ -10,7 +10,7 @@
 
 use super::{Drawing, PlotError};
 use crate::analysis::Analysis;
-use crate::viz::colors::{self, Rgb};
+use crate::viz::colors::Rgb;
 use crate::viz::{DiagramMode, interface_triangles};
 use nalgebra::{Point3, Vector3};
 use plotters::coord::Shift;
@@ -226,20 +226,7 @@ impl DiagramPicture<'_> {
                 if k == 3 { if s.stands { RGBColor(30, 120, 50) } else { RGBColor(190, 20, 20) } } else { BLACK };
             root.draw(&Text::new(line.clone(), (x, 20 + 24 * k as i32), f.color(&colour)))?;
         }
-        let legend: Vec<(Rgb, &str)> = match self.mode {
-            DiagramMode::Friction { .. } => vec![
-                (colors::GREY, "no friction"),
-                (colors::YELLOW, "below the threshold"),
-                (colors::friction(0.99, 1.0, 0.0), "up to μ (orange)"),
-                (colors::RED, "exceeds μ"),
-            ],
-            _ => vec![
-                (colors::compression_tension(1.0, 1.0), "compression (max of face)"),
-                (colors::compression_tension(0.2, 1.0), "compression (20 %)"),
-                (colors::GREY, "no compression"),
-                (colors::compression_tension(-1.0, 1.0), "tension"),
-            ],
-        };
+        let legend = crate::viz::legend(self.mode);
         let y0 = 20 + 24 * lines.len() as i32 + 20;
         for (k, (c, label)) in legend.iter().enumerate() {
             let y = y0 + 26 * k as i32;

@@ -25,7 +25,8 @@ pub enum PlotError {
     Write { path: String, message: String },
 }
 
-static FONT: &[u8] = include_bytes!("../../assets/fonts/DejaVuSansMono.ttf");
+/// DejaVu Sans Mono (bundled with its licence): the pictures' and the viewer's text (it has μ, ·, —).
+pub static FONT: &[u8] = include_bytes!("../../assets/fonts/DejaVuSansMono.ttf");
 
 /// Registers the bundled font as "sans-serif" for every plotters backend (idempotent).
 pub fn register_font() {

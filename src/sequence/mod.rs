@@ -98,6 +98,23 @@ fn resolved(scene: &Scene, settings: &AnalysisSettings) -> Result<Scene, Sequenc
     Ok(resolve(scene, &settings.tolerances, &mut CutCache::new()).map_err(AnalysisError::from)?.0)
 }
 
+/// The full analysis of step `k` of `report` (a report of `scene`): the blocks of
+/// `report.order[..=k]` placed, that step's props fixed, with the force distribution (which
+/// the checks skip). What a viewer draws for the step.
+pub fn step_analysis(
+    scene: &Scene,
+    report: &SequenceReport,
+    k: usize,
+    settings: &AnalysisSettings,
+) -> Result<crate::analysis::Analysis, SequenceError> {
+    let resolved = resolved(scene, settings)?;
+    let k = k.min(report.order.len().saturating_sub(1));
+    let placed = report.order.iter().take(k + 1).map(String::as_str).collect();
+    let props = report.steps.get(k).map(|s| s.props.iter().map(String::as_str).collect()).unwrap_or_default();
+    let prefix = Stepper::new(&resolved, settings).prefix(&placed, &props);
+    Ok(crate::analysis::analyze(&prefix, settings)?)
+}
+
 /// Checks every prefix of `spec`'s order of `scene` (its cut history replayed first).
 pub fn check(
     scene: &Scene,

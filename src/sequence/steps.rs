@@ -30,7 +30,7 @@ impl<'a> Stepper<'a> {
     }
 
     /// The design with only the `placed` free blocks, the `props` among them fixed.
-    fn prefix(&self, placed: &HashSet<&str>, props: &HashSet<&str>) -> Scene {
+    pub(crate) fn prefix(&self, placed: &HashSet<&str>, props: &HashSet<&str>) -> Scene {
         let mut scene = self.empty.clone();
         scene.blocks = self
             .resolved

@@ -1,0 +1,343 @@
+//! What the viewer can be asked to do ([`ViewerAction`], from keys, buttons or a script) and
+//! the one system that does it. Design edits go to the ECS as [`EditDesign`] messages; the
+//! viewer keeps a mirror of the design it sent so that undo/redo are whole snapshots and
+//! several actions in one frame build on each other.
+
+use super::ViewerOptions;
+use crate::dynamics::DropSettings;
+use crate::ecs::{
+    DropStatus, EditDesign, PipelineState, RunDropTest, SequenceStatus, SetDiagram, StartSequence, StepSequence,
+    VoussoirSet,
+};
+use crate::model::Scene;
+use crate::model::cut::{Cut, CutShape};
+use crate::model::edit::{Edit, apply};
+use crate::sequence::OrderSpec;
+use crate::viz::DiagramMode;
+use bevy::prelude::*;
+use nalgebra::{Rotation3, Unit, Vector3};
+use std::path::PathBuf;
+
+pub struct ActionsPlugin;
+
+impl Plugin for ActionsPlugin {
+    fn build(&self, app: &mut App) {
+        app.add_message::<ViewerAction>()
+            .add_systems(Update, apply_actions.in_set(ActionSystems).before(VoussoirSet::Edit));
+    }
+}
+
+/// The system that applies [`ViewerAction`]s (whatever sends them runs before it).
+#[derive(SystemSet, Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct ActionSystems;
+
+/// Something the user (or a script) asks of the viewer.
+#[derive(Message, Clone, Debug, PartialEq)]
+pub enum ViewerAction {
+    SetMode(DiagramMode),
+    ToggleTranslucent,
+    ToggleMassCentres,
+    ToggleVertexArrows,
+    ToggleLabels,
+    /// Select a block by name (`None`: clear).
+    Select(Option<String>),
+    /// Cut the selected block with a plane through its centroid, across its longest extent.
+    AddCut,
+    /// Move the cut being edited along its normal by this fraction of its block's size.
+    ShiftCut(f64),
+    /// Turn the cut being edited: `yaw` about z, `tilt` about the horizontal line in the plane
+    /// (degrees).
+    TurnCut {
+        yaw: f64,
+        tilt: f64,
+    },
+    /// Drop the cut being edited from the history.
+    DeleteCut,
+    ToggleSupport,
+    RemoveBlock,
+    /// Put the most recently removed block back.
+    RestoreBlock,
+    Undo,
+    Redo,
+    Save,
+    DropTest,
+    /// Leave the drop-test view (the static diagram alone again).
+    ResetDrop,
+    /// Check the design's order (its `order`, else bottom-up) and show its first step.
+    StartSequence,
+    Step(i64),
+    ExitSequence,
+    /// Fit the camera to the design.
+    Frame,
+}
+
+/// The cut being edited: its place in the history and its plane.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ActiveCut {
+    pub index: usize,
+    pub target: String,
+    pub point: Vector3<f64>,
+    pub normal: Vector3<f64>,
+    /// The target block's bounding-box diagonal (m): the unit of shifts and the gizmo's size.
+    pub size: f64,
+}
+
+impl ActiveCut {
+    fn cut(&self) -> Cut {
+        let shape = CutShape::Plane { point: self.point.into(), normal: self.normal.into() };
+        Cut { shape, target: Some(self.target.clone()) }
+    }
+}
+
+/// What the viewer shows and remembers.
+#[derive(Resource, Debug)]
+pub struct ViewerState {
+    pub mode: DiagramMode,
+    pub translucent: bool,
+    pub mass_centres: bool,
+    pub vertex_arrows: bool,
+    pub labels: bool,
+    pub selected: Option<String>,
+    pub active_cut: Option<ActiveCut>,
+    /// The design as the viewer last sent it.
+    pub design: Scene,
+    pub undo: Vec<Scene>,
+    pub redo: Vec<Scene>,
+    pub save_path: PathBuf,
+    input: Option<PathBuf>,
+    save_over_input: bool,
+    /// The last note for the user (saved, nothing selected, …).
+    pub message: Option<String>,
+    pub drop_view: bool,
+    pub sequence_view: bool,
+    /// Set when the camera should fit the design at the next analysis.
+    pub frame_pending: bool,
+}
+
+impl ViewerState {
+    pub fn new(o: &ViewerOptions) -> Self {
+        Self {
+            mode: o.mode,
+            translucent: o.translucent,
+            mass_centres: true,
+            vertex_arrows: false,
+            labels: false,
+            selected: None,
+            active_cut: None,
+            design: o.scene.clone(),
+            undo: Vec::new(),
+            redo: Vec::new(),
+            save_path: o.save_path(),
+            input: o.input.clone(),
+            save_over_input: o.save_over_input,
+            message: None,
+            drop_view: false,
+            sequence_view: false,
+            frame_pending: true,
+        }
+    }
+
+    /// Applies `edit` to the mirror (with an undo snapshot) and returns it to send, or notes
+    /// why it cannot be applied.
+    fn edit(&mut self, edit: Edit) -> Option<EditDesign> {
+        let before = self.design.clone();
+        match apply(&mut self.design, &edit) {
+            Ok(()) => {
+                self.undo.push(before);
+                self.redo.clear();
+                Some(EditDesign(edit))
+            }
+            Err(e) => {
+                self.message = Some(e.to_string());
+                None
+            }
+        }
+    }
+
+    fn save(&mut self) {
+        if self.input.as_ref().is_some_and(|i| same_file(i, &self.save_path)) && !self.save_over_input {
+            self.message =
+                Some(format!("not saved: {} is the input (--save-over-input allows it)", self.save_path.display()));
+            return;
+        }
+        let text = crate::io::scene_json::scene_to_string(&self.design);
+        self.message = Some(match crate::io::write_atomic(&self.save_path, text.as_bytes()) {
+            Ok(()) => format!("saved {}", self.save_path.display()),
+            Err(e) => format!("not saved: {e}"),
+        });
+    }
+}
+
+fn same_file(a: &std::path::Path, b: &std::path::Path) -> bool {
+    match (a.canonicalize(), b.canonicalize()) {
+        (Ok(a), Ok(b)) => a == b,
+        _ => a == b,
+    }
+}
+
+/// The plane of a new cut through `name`: through its centroid, normal along its longest
+/// bounding-box extent (so that it halves the block).
+fn new_cut(state: &PipelineState, name: &str, index: usize) -> Option<ActiveCut> {
+    let a = state.analysis.as_ref()?;
+    let b = a.assembly.blocks.iter().find(|b| b.name == name)?;
+    let bb = b.mesh.aabb();
+    let extent = bb.max - bb.min;
+    let axis = extent.iamax();
+    let normal = Vector3::ith(axis, 1.0);
+    Some(ActiveCut { index, target: name.to_string(), point: b.mass.centroid.coords, normal, size: bb.diagonal() })
+}
+
+fn turned(normal: Vector3<f64>, yaw: f64, tilt: f64) -> Vector3<f64> {
+    let n = Rotation3::from_axis_angle(&Vector3::z_axis(), yaw.to_radians()) * normal;
+    let side = n.cross(&Vector3::z());
+    let axis = if side.norm() < 1e-9 { Vector3::x_axis() } else { Unit::new_normalize(side) };
+    (Rotation3::from_axis_angle(&axis, tilt.to_radians()) * n).normalize()
+}
+
+#[allow(clippy::too_many_arguments)]
+fn apply_actions(
+    mut actions: MessageReader<ViewerAction>,
+    mut state: ResMut<ViewerState>,
+    pipeline: Res<PipelineState>,
+    mut drop: ResMut<DropStatus>,
+    mut sequence: ResMut<SequenceStatus>,
+    mut edits: MessageWriter<EditDesign>,
+    mut diagram: MessageWriter<SetDiagram>,
+    mut drops: MessageWriter<RunDropTest>,
+    mut starts: MessageWriter<StartSequence>,
+    mut steps: MessageWriter<StepSequence>,
+) {
+    for action in actions.read() {
+        let s = &mut *state;
+        match action {
+            ViewerAction::SetMode(m) => {
+                s.mode = *m;
+                diagram.write(SetDiagram(*m));
+            }
+            ViewerAction::ToggleTranslucent => s.translucent = !s.translucent,
+            ViewerAction::ToggleMassCentres => s.mass_centres = !s.mass_centres,
+            ViewerAction::ToggleVertexArrows => s.vertex_arrows = !s.vertex_arrows,
+            ViewerAction::ToggleLabels => s.labels = !s.labels,
+            ViewerAction::Select(name) => s.selected = name.clone(),
+            ViewerAction::AddCut => {
+                let Some(name) = s.selected.clone() else {
+                    s.message = Some("select a block to cut (click it)".into());
+                    continue;
+                };
+                let Some(cut) = new_cut(&pipeline, &name, s.design.cuts.len()) else { continue };
+                if let Some(e) = s.edit(Edit::AddCut(cut.cut())) {
+                    edits.write(e);
+                    s.active_cut = Some(cut);
+                    s.selected = None;
+                }
+            }
+            ViewerAction::ShiftCut(_) | ViewerAction::TurnCut { .. } => {
+                let Some(mut cut) = s.active_cut.clone() else {
+                    s.message = Some("no cut being edited (C cuts the selected block)".into());
+                    continue;
+                };
+                match action {
+                    ViewerAction::ShiftCut(f) => cut.point += cut.normal * (f * cut.size),
+                    ViewerAction::TurnCut { yaw, tilt } => cut.normal = turned(cut.normal, *yaw, *tilt),
+                    _ => unreachable!(),
+                }
+                if let Some(e) = s.edit(Edit::MoveCut { index: cut.index, cut: cut.cut() }) {
+                    edits.write(e);
+                    s.active_cut = Some(cut);
+                }
+            }
+            ViewerAction::DeleteCut => {
+                if let Some(cut) = s.active_cut.take()
+                    && let Some(e) = s.edit(Edit::RemoveCut(cut.index))
+                {
+                    edits.write(e);
+                }
+            }
+            ViewerAction::ToggleSupport | ViewerAction::RemoveBlock => {
+                let Some(name) = s.selected.clone() else {
+                    s.message = Some("select a block first (click it)".into());
+                    continue;
+                };
+                let edit = if *action == ViewerAction::RemoveBlock {
+                    s.selected = None;
+                    Edit::RemoveBlock(name)
+                } else {
+                    Edit::ToggleSupport(name)
+                };
+                if let Some(e) = s.edit(edit) {
+                    edits.write(e);
+                }
+            }
+            ViewerAction::RestoreBlock => match s.design.removed.last().cloned() {
+                Some(name) => {
+                    if let Some(e) = s.edit(Edit::RestoreBlock(name)) {
+                        edits.write(e);
+                    }
+                }
+                None => s.message = Some("no removed block to restore".into()),
+            },
+            ViewerAction::Undo | ViewerAction::Redo => {
+                let (from, to) =
+                    if *action == ViewerAction::Undo { (&mut s.undo, &mut s.redo) } else { (&mut s.redo, &mut s.undo) };
+                let Some(scene) = from.pop() else {
+                    s.message = Some("nothing to undo or redo".into());
+                    continue;
+                };
+                to.push(std::mem::replace(&mut s.design, scene.clone()));
+                // A snapshot may predate the cut being edited: stop editing it.
+                s.active_cut = None;
+                edits.write(EditDesign(Edit::Load(scene)));
+            }
+            ViewerAction::Save => s.save(),
+            ViewerAction::DropTest => {
+                s.drop_view = true;
+                drops.write(RunDropTest(DropSettings::default()));
+            }
+            ViewerAction::ResetDrop => {
+                s.drop_view = false;
+                drop.running = None;
+                drop.result = None;
+                drop.agree = None;
+            }
+            ViewerAction::StartSequence => {
+                let spec = if s.design.order.is_empty() {
+                    OrderSpec::BottomUp
+                } else {
+                    OrderSpec::Given(s.design.order.clone())
+                };
+                s.sequence_view = true;
+                starts.write(StartSequence(spec));
+            }
+            ViewerAction::Step(k) => {
+                if !s.sequence_view {
+                    s.message = Some("no sequence shown (Q checks the assembly order)".into());
+                    continue;
+                }
+                steps.write(StepSequence(*k));
+            }
+            ViewerAction::ExitSequence => {
+                s.sequence_view = false;
+                *sequence = SequenceStatus::default();
+            }
+            ViewerAction::Frame => s.frame_pending = true,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::turned;
+    use nalgebra::Vector3;
+
+    #[test]
+    fn turning_keeps_the_normal_unit_and_turns_by_the_angle() {
+        let n = turned(Vector3::x(), 90.0, 0.0);
+        assert!((n - Vector3::y()).norm() < 1e-12);
+        let n = turned(Vector3::x(), 0.0, 30.0);
+        assert!((n.norm() - 1.0).abs() < 1e-12);
+        assert!((n.dot(&Vector3::x()) - 30f64.to_radians().cos()).abs() < 1e-12);
+        // A horizontal plane (vertical normal) tilts about x.
+        let n = turned(Vector3::z(), 0.0, 10.0);
+        assert!((n.dot(&Vector3::z()) - 10f64.to_radians().cos()).abs() < 1e-12);
+    }
+}

@@ -1,0 +1,168 @@
+//! Cameras: the main view (the static diagram) right of the side panel, a second view of the
+//! drop test beside it while one is shown (render layer 1, same pose), and a UI camera over the
+//! whole window. Orbit about a focus point with z up; the main camera has no tone mapping so
+//! that the diagram colours reach the screen as computed.
+
+use super::{PANEL_WIDTH, ViewerState};
+use crate::ecs::PipelineState;
+use bevy::camera::visibility::RenderLayers;
+use bevy::camera::{ClearColorConfig, Viewport};
+use bevy::core_pipeline::tonemapping::Tonemapping;
+use bevy::prelude::*;
+use bevy::window::PrimaryWindow;
+
+/// Render layer of the drop-test view.
+pub const PHYSICS_LAYER: usize = 1;
+
+pub struct CameraPlugin;
+
+impl Plugin for CameraPlugin {
+    fn build(&self, app: &mut App) {
+        app.add_systems(Startup, spawn_cameras).add_systems(
+            PostUpdate,
+            (frame_design, place_cameras, set_viewports).chain().before(TransformSystems::Propagate),
+        );
+    }
+}
+
+/// Orbit parameters of the main camera (the drop-test view copies them).
+#[derive(Component, Clone, Copy, Debug)]
+pub struct OrbitCamera {
+    pub focus: Vec3,
+    pub distance: f32,
+    /// Azimuth about z and elevation above the horizon, radians.
+    pub yaw: f32,
+    pub pitch: f32,
+}
+
+impl OrbitCamera {
+    pub fn transform(&self) -> Transform {
+        let dir = Vec3::new(self.pitch.cos() * self.yaw.cos(), self.pitch.cos() * self.yaw.sin(), self.pitch.sin());
+        Transform::from_translation(self.focus + self.distance * dir).looking_at(self.focus, Vec3::Z)
+    }
+
+    /// Turns by a mouse drag of `delta` logical pixels.
+    pub fn orbit(&mut self, delta: Vec2) {
+        self.yaw -= delta.x * 0.008;
+        self.pitch = (self.pitch + delta.y * 0.008).clamp(-1.5, 1.5);
+    }
+
+    /// Moves the focus by a drag of `delta` logical pixels in a view `height` pixels tall.
+    pub fn pan(&mut self, delta: Vec2, height: f32) {
+        let t = self.transform();
+        let scale = self.distance / height.max(1.0);
+        self.focus += (-delta.x * t.right().as_vec3() + delta.y * t.up().as_vec3()) * scale;
+    }
+
+    pub fn zoom(&mut self, steps: f32) {
+        self.distance = (self.distance * (1.0 - 0.1 * steps).clamp(0.5, 1.5)).max(1e-4);
+    }
+}
+
+#[derive(Component)]
+pub struct MainCamera;
+
+#[derive(Component)]
+pub struct PhysicsCamera;
+
+fn spawn_cameras(mut commands: Commands) {
+    let orbit = OrbitCamera { focus: Vec3::ZERO, distance: 10.0, yaw: -1.1, pitch: 0.45 };
+    commands.spawn((
+        Camera3d::default(),
+        Camera { order: 0, ..default() },
+        Tonemapping::None,
+        orbit,
+        orbit.transform(),
+        MainCamera,
+    ));
+    commands.spawn((
+        Camera3d::default(),
+        // Cameras on one window share its textures: only the first clears them.
+        Camera { order: 1, is_active: false, clear_color: ClearColorConfig::None, ..default() },
+        Tonemapping::None,
+        RenderLayers::layer(PHYSICS_LAYER),
+        orbit.transform(),
+        PhysicsCamera,
+    ));
+    // The UI over the whole window; it clears nothing, the 3D views are beneath it.
+    commands.spawn((
+        Camera2d,
+        Camera { order: 2, clear_color: ClearColorConfig::None, ..default() },
+        IsDefaultUiCamera,
+    ));
+}
+
+/// Fits the view to the design at the first analysis (and on request).
+fn frame_design(mut state: ResMut<ViewerState>, pipeline: Res<PipelineState>, mut cams: Query<&mut OrbitCamera>) {
+    if !state.frame_pending {
+        return;
+    }
+    let Some(a) = &pipeline.analysis else { return };
+    let bb = a.assembly.aabb();
+    if bb.is_empty() {
+        return;
+    }
+    state.frame_pending = false;
+    let c = bb.center();
+    for mut cam in &mut cams {
+        cam.focus = Vec3::new(c.x as f32, c.y as f32, c.z as f32);
+        cam.distance = (bb.diagonal() as f32 * 1.25).max(1e-3);
+    }
+}
+
+/// The two 3D views.
+type Views = Or<(With<MainCamera>, With<PhysicsCamera>)>;
+
+/// Both views from the orbit; a view narrower than it is tall steps back so that what fits a
+/// wide view still fits (the field of view is vertical).
+fn place_cameras(main: Query<&OrbitCamera, With<MainCamera>>, mut cams: Query<(&Camera, &mut Transform), Views>) {
+    let Ok(orbit) = main.single() else { return };
+    for (camera, mut transform) in &mut cams {
+        let aspect =
+            camera.viewport.as_ref().map_or(1.0, |v| v.physical_size.x as f32 / v.physical_size.y.max(1) as f32);
+        let t = OrbitCamera { distance: orbit.distance / aspect.clamp(0.2, 1.0), ..*orbit }.transform();
+        if *transform != t {
+            *transform = t;
+        }
+    }
+}
+
+/// The 3D views fill the window right of the panel: one, or two side by side while a drop test
+/// is shown.
+fn set_viewports(
+    window: Query<&Window, With<PrimaryWindow>>,
+    state: Res<ViewerState>,
+    mut main: Query<&mut Camera, (With<MainCamera>, Without<PhysicsCamera>)>,
+    mut physics: Query<&mut Camera, (With<PhysicsCamera>, Without<MainCamera>)>,
+) {
+    let Ok(window) = window.single() else { return };
+    let size = window.physical_size();
+    let panel = ((PANEL_WIDTH * window.scale_factor()) as u32).min(size.x.saturating_sub(2));
+    let width = size.x - panel;
+    let split = state.drop_view;
+    let main_width = if split { width / 2 } else { width };
+    let view = |x: u32, w: u32| Viewport {
+        physical_position: UVec2::new(x, 0),
+        physical_size: UVec2::new(w.max(1), size.y.max(1)),
+        ..default()
+    };
+    // Viewport has no PartialEq: compare what is set, so that cameras change only on resize.
+    let same = |a: &Option<Viewport>, b: &Viewport| {
+        a.as_ref().is_some_and(|a| a.physical_position == b.physical_position && a.physical_size == b.physical_size)
+    };
+    if let Ok(mut cam) = main.single_mut() {
+        let v = view(panel, main_width);
+        if !same(&cam.viewport, &v) {
+            cam.viewport = Some(v);
+        }
+    }
+    if let Ok(mut cam) = physics.single_mut() {
+        if cam.is_active != split {
+            cam.is_active = split;
+        }
+        let v = view(panel + main_width, width - main_width);
+        if split && !same(&cam.viewport, &v) {
+            cam.viewport = Some(v);
+        }
+    }
+}

@@ -1,0 +1,228 @@
+//! Scripted runs: a list of [`ScriptStep`]s (actions, waits, loads, screenshots) played in
+//! order, then a JSON report of what was on screen at every shot, then exit. The screenshots
+//! are the real window's pixels (bevy's screenshot of the primary window), written as PNG
+//! atomically. `voussoir view --screenshot` and the rendering test run through here.
+
+use super::actions::{ViewerAction, ViewerState};
+use super::camera::{MainCamera, PhysicsCamera};
+use crate::ecs::{DropStatus, EditDesign, InterfaceColors, PipelineState, SceneStatus, SequenceStatus};
+use crate::model::Scene;
+use crate::model::edit::Edit;
+use bevy::prelude::*;
+use bevy::render::render_resource::PipelineCache;
+use bevy::render::view::screenshot::{Screenshot, ScreenshotCaptured};
+use bevy::render::{Render, RenderApp};
+use serde_json::{Value, json};
+use std::path::PathBuf;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+
+/// One step of a script.
+#[derive(Clone, Debug)]
+pub enum ScriptStep {
+    Act(ViewerAction),
+    /// Replace the design (the viewer's undo history starts again).
+    Load(Scene),
+    /// Wait until the analysis, the colours, a running drop test and a requested sequence are
+    /// done, then this many frames more (for the renderer to catch up).
+    Settle(u32),
+    /// Screenshot of the window to this PNG path.
+    Shot(PathBuf),
+}
+
+/// A scripted run and where its report goes.
+#[derive(Clone, Debug, Default)]
+pub struct Script {
+    pub steps: Vec<ScriptStep>,
+    /// JSON report: one entry per shot (path, verdict, mode, counts, viewports, …).
+    pub report: Option<PathBuf>,
+}
+
+pub struct CapturePlugin(pub Option<Script>);
+
+impl Plugin for CapturePlugin {
+    fn build(&self, app: &mut App) {
+        if let Some(script) = &self.0 {
+            let ready = PipelinesReady::default();
+            app.insert_resource(Runner { script: script.clone(), ..default() })
+                .insert_resource(ready.clone())
+                .add_systems(Update, run_script.before(super::actions::ActionSystems));
+            if let Some(render) = app.get_sub_app_mut(RenderApp) {
+                render.insert_resource(ready).add_systems(Render, report_pipelines);
+            }
+        }
+    }
+}
+
+/// Whether the renderer has compiled every pipeline it was asked for (shaders compile in the
+/// background: until then new meshes are not drawn). Written in the render world.
+#[derive(Resource, Clone, Default)]
+struct PipelinesReady(Arc<AtomicBool>);
+
+fn report_pipelines(cache: Res<PipelineCache>, ready: Res<PipelinesReady>) {
+    ready.0.store(cache.waiting_pipelines().next().is_none(), Ordering::Relaxed);
+}
+
+/// Frames after which a script gives up (a stuck settle or screenshot).
+const MAX_FRAMES: u64 = 20_000;
+
+#[derive(Resource, Default)]
+struct Runner {
+    script: Script,
+    next: usize,
+    /// Frames still to wait, and the count to restart from when the renderer is busy.
+    wait: u32,
+    settle: u32,
+    settling: bool,
+    in_flight: bool,
+    frames: u64,
+    shots: Vec<Value>,
+    failed: Option<String>,
+}
+
+#[allow(clippy::too_many_arguments)]
+fn run_script(
+    mut commands: Commands,
+    mut runner: ResMut<Runner>,
+    ready: Res<PipelinesReady>,
+    mut state: ResMut<ViewerState>,
+    pipeline: Res<PipelineState>,
+    drop: Res<DropStatus>,
+    sequence: Res<SequenceStatus>,
+    coloured: Query<(), With<InterfaceColors>>,
+    mut actions: MessageWriter<ViewerAction>,
+    mut edits: MessageWriter<EditDesign>,
+    mut exit: MessageWriter<AppExit>,
+) {
+    runner.frames += 1;
+    if runner.frames > MAX_FRAMES {
+        runner.failed = Some(format!("script stuck at step {}", runner.next));
+    }
+    if let Some(why) = runner.failed.take() {
+        error!("{why}");
+        exit.write(AppExit::error());
+        return;
+    }
+    if runner.in_flight {
+        return;
+    }
+    if runner.settling {
+        let busy = pipeline.dirty
+            || drop.running.is_some()
+            || (state.sequence_view && sequence.error.is_none() && sequence.analysis.is_none())
+            || (pipeline.analysis.as_ref().is_some_and(|a| !a.statics.interfaces.is_empty()) && coloured.is_empty());
+        if busy {
+            return;
+        }
+        // Consecutive frames with every pipeline compiled: what was spawned is on screen.
+        if !ready.0.load(Ordering::Relaxed) {
+            runner.wait = runner.settle;
+            return;
+        }
+        if runner.wait > 0 {
+            runner.wait -= 1;
+            return;
+        }
+        runner.settling = false;
+    }
+    while let Some(step) = runner.script.steps.get(runner.next).cloned() {
+        runner.next += 1;
+        match step {
+            ScriptStep::Act(a) => {
+                actions.write(a);
+            }
+            ScriptStep::Load(scene) => {
+                state.design = scene.clone();
+                state.undo.clear();
+                state.redo.clear();
+                state.frame_pending = true;
+                edits.write(EditDesign(Edit::Load(scene)));
+            }
+            ScriptStep::Settle(frames) => {
+                runner.settling = true;
+                // The requests just sent are applied later this frame: look from the next one.
+                runner.wait = frames;
+                runner.settle = frames;
+                return;
+            }
+            ScriptStep::Shot(path) => {
+                runner.in_flight = true;
+                commands.spawn(Screenshot::primary_window()).observe(
+                    move |shot: On<ScreenshotCaptured>, mut runner: ResMut<Runner>, info: ShotInfo| {
+                        runner.in_flight = false;
+                        match write_png(&path, &shot.image) {
+                            Ok(size) => runner.shots.push(info.describe(&path, size)),
+                            Err(e) => runner.failed = Some(format!("screenshot {}: {e}", path.display())),
+                        }
+                    },
+                );
+                return;
+            }
+        }
+    }
+    if let Some(report) = &runner.script.report {
+        let text = serde_json::to_string_pretty(&json!({ "shots": runner.shots })).expect("plain JSON");
+        if let Err(e) = crate::io::write_atomic(report, text.as_bytes()) {
+            error!("report {}: {e}", report.display());
+            exit.write(AppExit::error());
+            return;
+        }
+    }
+    exit.write(AppExit::Success);
+}
+
+/// What was on screen when a shot was taken.
+#[derive(bevy::ecs::system::SystemParam)]
+struct ShotInfo<'w, 's> {
+    state: Res<'w, ViewerState>,
+    status: Res<'w, SceneStatus>,
+    pipeline: Res<'w, PipelineState>,
+    drop: Res<'w, DropStatus>,
+    sequence: Res<'w, SequenceStatus>,
+    main: Query<'w, 's, &'static Camera, With<MainCamera>>,
+    physics: Query<'w, 's, &'static Camera, With<PhysicsCamera>>,
+}
+
+impl ShotInfo<'_, '_> {
+    fn describe(&self, path: &std::path::Path, size: (u32, u32)) -> Value {
+        let rect = |c: &Camera| {
+            c.physical_viewport_rect().filter(|_| c.is_active).map(|r| [r.min.x, r.min.y, r.max.x, r.max.y])
+        };
+        let a = self.pipeline.analysis.as_ref();
+        json!({
+            "path": path.display().to_string(),
+            "size": [size.0, size.1],
+            "mode": format!("{:?}", self.state.mode),
+            "verdict": self.status.verdict.map(|v| format!("{v:?}")),
+            "stands": self.status.stands,
+            "error": self.status.error,
+            "blocks": a.map_or(0, |a| a.assembly.blocks.len()),
+            "interfaces": a.map_or(0, |a| a.interfaces.len()),
+            "cuts": self.state.design.cuts.len(),
+            "removed": self.state.design.removed.clone(),
+            "undo": self.state.undo.len(),
+            "redo": self.state.redo.len(),
+            "message": self.state.message,
+            "translucent": self.state.translucent,
+            "drop_stands": self.drop.result.as_ref().map(|r| r.stands),
+            "drop_agrees": self.drop.agree,
+            "sequence_step": self.sequence.step().filter(|_| self.state.sequence_view).map(|s| json!({
+                "index": self.sequence.current,
+                "placed": s.placed,
+                "stands": s.stands,
+                "drop_stands": s.dynamic.as_ref().map(|d| d.stands),
+            })),
+            "main_viewport": self.main.single().ok().and_then(rect),
+            "physics_viewport": self.physics.single().ok().and_then(rect),
+        })
+    }
+}
+
+/// The screenshot as an RGB PNG, written atomically; returns its size.
+fn write_png(path: &std::path::Path, image: &Image) -> Result<(u32, u32), String> {
+    let rgb = image.clone().try_into_dynamic().map_err(|e| e.to_string())?.to_rgb8();
+    let mut bytes = Vec::new();
+    rgb.write_to(&mut std::io::Cursor::new(&mut bytes), image::ImageFormat::Png).map_err(|e| e.to_string())?;
+    crate::io::write_atomic(path, &bytes).map_err(|e| e.to_string())?;
+    Ok(rgb.dimensions())
+}

@@ -1,0 +1,354 @@
+//! What is drawn: block meshes (world coordinates, flat shaded; translucent or opaque, supports
+//! dark, the selection highlighted), the ground, interface polygons coloured per force point
+//! (unlit, so the colours of [`crate::viz::colors`] reach the screen unchanged), the drop-test
+//! view's moving copies of the blocks, and the gizmos: force arrows, mass centres, the cut
+//! being edited.
+
+use super::ViewerState;
+use super::camera::PHYSICS_LAYER;
+use crate::ecs::{BlockMesh, BlockName, BlockPose, InterfaceColors, InterfaceForces, MassCentre, PipelineState};
+use crate::ecs::{DropStatus, Placed, SequenceStatus, Support, VoussoirSet};
+use crate::statics::InterfaceResult;
+use crate::viz::{ColouredTriangle, DiagramMode};
+use bevy::asset::RenderAssetUsages;
+use bevy::camera::visibility::RenderLayers;
+use bevy::mesh::PrimitiveTopology;
+use bevy::prelude::*;
+
+pub struct DrawPlugin;
+
+impl Plugin for DrawPlugin {
+    fn build(&self, app: &mut App) {
+        app.add_systems(Startup, setup).add_systems(
+            Update,
+            (mesh_blocks, style_blocks, mesh_interfaces, show_interfaces, step_interfaces, ground, ghosts, gizmos)
+                .chain()
+                .after(VoussoirSet::Write)
+                .after(crate::ecs::diagram::DiagramSystems),
+        );
+    }
+}
+
+/// The materials every block and interface uses (compared by handle, so restyling is cheap).
+#[derive(Resource)]
+pub struct Palette {
+    block: Handle<StandardMaterial>,
+    block_translucent: Handle<StandardMaterial>,
+    support: Handle<StandardMaterial>,
+    selected: Handle<StandardMaterial>,
+    ghost: Handle<StandardMaterial>,
+    interface: Handle<StandardMaterial>,
+}
+
+#[derive(Component)]
+struct Ground;
+
+/// A block's copy in the drop-test view.
+#[derive(Component)]
+struct Ghost(Entity);
+
+/// An interface polygon of the sequence step shown.
+#[derive(Component)]
+pub struct StepInterface;
+
+fn setup(mut commands: Commands, mut materials: ResMut<Assets<StandardMaterial>>) {
+    let lit = |c: Color| StandardMaterial { base_color: c, perceptual_roughness: 0.9, ..default() };
+    let translucent = |c: Color| StandardMaterial { alpha_mode: AlphaMode::Blend, ..lit(c) };
+    commands.insert_resource(Palette {
+        block: materials.add(lit(Color::srgb(0.80, 0.78, 0.74))),
+        block_translucent: materials.add(translucent(Color::srgba(0.85, 0.84, 0.82, 0.12))),
+        support: materials.add(lit(Color::srgb(0.28, 0.28, 0.30))),
+        selected: materials.add(translucent(Color::srgba(0.25, 0.85, 0.85, 0.5))),
+        ghost: materials.add(lit(Color::srgb(0.85, 0.65, 0.40))),
+        // Vertex colours times white, unlit, both sides; pulled towards the camera so that it
+        // wins over the block faces it lies on.
+        interface: materials.add(StandardMaterial {
+            base_color: Color::WHITE,
+            unlit: true,
+            cull_mode: None,
+            double_sided: true,
+            depth_bias: 1000.0,
+            ..default()
+        }),
+    });
+    let both = RenderLayers::from_layers(&[0, PHYSICS_LAYER]);
+    commands.spawn((
+        DirectionalLight { illuminance: 9000.0, ..default() },
+        Transform::from_xyz(0.4, -0.7, 1.0).looking_at(Vec3::ZERO, Vec3::Z),
+        both.clone(),
+    ));
+    commands.insert_resource(GlobalAmbientLight { brightness: 600.0, ..default() });
+}
+
+fn v3(p: [f64; 3]) -> [f32; 3] {
+    p.map(|x| x as f32)
+}
+
+fn vec(p: [f64; 3]) -> Vec3 {
+    Vec3::from_array(v3(p))
+}
+
+/// A flat-shaded triangle mesh of a block (world coordinates; kept in the main world for picking).
+fn block_mesh(m: &crate::geometry::Mesh) -> Mesh {
+    let mut positions = Vec::new();
+    let mut normals = Vec::new();
+    for (t, _) in m.triangles() {
+        let p = t.map(|k| Vec3::from_array(v3(m.vertices[k].coords.into())));
+        let n = (p[1] - p[0]).cross(p[2] - p[0]).normalize_or_zero();
+        positions.extend(p.map(|p| p.to_array()));
+        normals.extend([n.to_array(); 3]);
+    }
+    Mesh::new(PrimitiveTopology::TriangleList, RenderAssetUsages::default())
+        .with_inserted_attribute(Mesh::ATTRIBUTE_POSITION, positions)
+        .with_inserted_attribute(Mesh::ATTRIBUTE_NORMAL, normals)
+}
+
+/// Unlit triangles with a colour per corner (linear RGB).
+fn coloured_mesh(triangles: &[ColouredTriangle], normal: [f64; 3]) -> Mesh {
+    let positions: Vec<[f32; 3]> = triangles.iter().flat_map(|t| t.map(|(p, _)| v3(p))).collect();
+    let colours: Vec<[f32; 4]> = triangles.iter().flat_map(|t| t.map(|(_, c)| [c[0], c[1], c[2], 1.0])).collect();
+    let normals = vec![v3(normal); positions.len()];
+    Mesh::new(PrimitiveTopology::TriangleList, RenderAssetUsages::default())
+        .with_inserted_attribute(Mesh::ATTRIBUTE_POSITION, positions)
+        .with_inserted_attribute(Mesh::ATTRIBUTE_NORMAL, normals)
+        .with_inserted_attribute(Mesh::ATTRIBUTE_COLOR, colours)
+}
+
+fn mesh_blocks(
+    mut commands: Commands,
+    mut meshes: ResMut<Assets<Mesh>>,
+    palette: Res<Palette>,
+    changed: Query<(Entity, &BlockMesh), Changed<BlockMesh>>,
+) {
+    for (e, m) in &changed {
+        commands.entity(e).insert((
+            Mesh3d(meshes.add(block_mesh(&m.0))),
+            MeshMaterial3d(palette.block_translucent.clone()),
+            Transform::IDENTITY,
+            Visibility::Visible,
+        ));
+    }
+}
+
+/// What a block's style is computed from, and what it sets.
+type BlockStyle<'a> =
+    (&'a BlockName, Has<Support>, Has<Placed>, &'a mut MeshMaterial3d<StandardMaterial>, &'a mut Visibility);
+
+/// Material and visibility of every block from the state (set only where they differ).
+fn style_blocks(state: Res<ViewerState>, palette: Res<Palette>, mut blocks: Query<BlockStyle, Without<Ghost>>) {
+    for (name, support, placed, mut material, mut visibility) in &mut blocks {
+        let want = if state.selected.as_deref() == Some(name.0.as_str()) {
+            &palette.selected
+        } else if support {
+            &palette.support
+        } else if state.translucent {
+            &palette.block_translucent
+        } else {
+            &palette.block
+        };
+        if material.0 != *want {
+            material.0 = want.clone();
+        }
+        let shown = support || !state.sequence_view || placed;
+        let v = if shown { Visibility::Visible } else { Visibility::Hidden };
+        if *visibility != v {
+            *visibility = v;
+        }
+    }
+}
+
+fn mesh_interfaces(
+    mut commands: Commands,
+    mut meshes: ResMut<Assets<Mesh>>,
+    palette: Res<Palette>,
+    changed: Query<(Entity, &InterfaceForces, &InterfaceColors), Changed<InterfaceColors>>,
+) {
+    for (e, forces, colours) in &changed {
+        let tris = crate::viz::triangles(&forces.0, &colours.0);
+        commands.entity(e).insert((
+            Mesh3d(meshes.add(coloured_mesh(&tris, forces.0.normal))),
+            MeshMaterial3d(palette.interface.clone()),
+            Transform::IDENTITY,
+        ));
+    }
+}
+
+/// The design's interfaces are hidden while a sequence step shows its own.
+fn show_interfaces(state: Res<ViewerState>, mut interfaces: Query<&mut Visibility, With<InterfaceForces>>) {
+    let v = if state.sequence_view { Visibility::Hidden } else { Visibility::Visible };
+    for mut visibility in &mut interfaces {
+        if *visibility != v {
+            *visibility = v;
+        }
+    }
+}
+
+/// The interfaces of the sequence step shown, from its own analysis.
+fn step_interfaces(
+    mut commands: Commands,
+    mut meshes: ResMut<Assets<Mesh>>,
+    palette: Res<Palette>,
+    state: Res<ViewerState>,
+    sequence: Res<SequenceStatus>,
+    shown: Query<Entity, With<StepInterface>>,
+) {
+    if !sequence.is_changed() && !state.is_changed() {
+        return;
+    }
+    shown.iter().for_each(|e| commands.entity(e).despawn());
+    let (true, Some(a)) = (state.sequence_view, &sequence.analysis) else { return };
+    let mu = a.statics.friction_coefficient;
+    for r in &a.statics.interfaces {
+        let tris = crate::viz::triangles(r, &crate::viz::vertex_colors(r, mu, state.mode));
+        commands.spawn((
+            Mesh3d(meshes.add(coloured_mesh(&tris, r.normal))),
+            MeshMaterial3d(palette.interface.clone()),
+            StepInterface,
+        ));
+    }
+}
+
+/// A ground plane under the design (just below its lowest point), in both views.
+fn ground(
+    mut commands: Commands,
+    mut meshes: ResMut<Assets<Mesh>>,
+    mut materials: ResMut<Assets<StandardMaterial>>,
+    pipeline: Res<PipelineState>,
+    existing: Query<Entity, With<Ground>>,
+    mut generation: Local<u64>,
+) {
+    if *generation == pipeline.generation {
+        return;
+    }
+    *generation = pipeline.generation;
+    let Some(a) = &pipeline.analysis else { return };
+    let bb = a.assembly.aabb();
+    if bb.is_empty() {
+        return;
+    }
+    existing.iter().for_each(|e| commands.entity(e).despawn());
+    let d = bb.diagonal() as f32;
+    let c = bb.center();
+    let z = bb.min.z as f32 - 2e-3 * d;
+    commands.spawn((
+        Mesh3d(meshes.add(Plane3d::new(Vec3::Z, Vec2::splat(2.0 * d)).mesh())),
+        MeshMaterial3d(materials.add(StandardMaterial {
+            base_color: Color::srgb(0.21, 0.21, 0.20),
+            perceptual_roughness: 1.0,
+            ..default()
+        })),
+        Transform::from_xyz(c.x as f32, c.y as f32, z),
+        RenderLayers::from_layers(&[0, PHYSICS_LAYER]),
+        Ground,
+    ));
+}
+
+/// A block as its drop-test copy needs it.
+type GhostSource<'a> = (Entity, &'a Mesh3d, &'a MassCentre, Option<&'a BlockPose>, Has<Support>);
+
+/// The drop-test view: a copy of every block, moved by its [`BlockPose`] (a pose is the
+/// rotation about the centroid since the start and the centroid now).
+fn ghosts(
+    mut commands: Commands,
+    state: Res<ViewerState>,
+    drop: Res<DropStatus>,
+    palette: Res<Palette>,
+    blocks: Query<GhostSource, Without<Ghost>>,
+    mut ghosts: Query<(Entity, &Ghost, &mut Transform)>,
+) {
+    let show = state.drop_view && (drop.running.is_some() || drop.result.is_some());
+    if !show {
+        ghosts.iter().for_each(|(e, _, _)| commands.entity(e).despawn());
+        return;
+    }
+    let mut have = std::collections::HashSet::new();
+    for (e, ghost, mut transform) in &mut ghosts {
+        let Ok((_, _, mass, pose, _)) = blocks.get(ghost.0) else {
+            commands.entity(e).despawn();
+            continue;
+        };
+        have.insert(ghost.0);
+        let t = pose.map_or(Transform::IDENTITY, |p| pose_transform(mass.centroid.coords.into(), p));
+        if *transform != t {
+            *transform = t;
+        }
+    }
+    for (e, mesh, _, _, support) in &blocks {
+        if !have.contains(&e) {
+            let material = if support { palette.support.clone() } else { palette.ghost.clone() };
+            commands.spawn((
+                Mesh3d(mesh.0.clone()),
+                MeshMaterial3d(material),
+                Transform::IDENTITY,
+                RenderLayers::layer(PHYSICS_LAYER),
+                Ghost(e),
+            ));
+        }
+    }
+}
+
+/// x ↦ c + R (x − c₀): the mesh is in world coordinates at rest.
+fn pose_transform(c0: [f64; 3], pose: &BlockPose) -> Transform {
+    let [w, x, y, z] = pose.rotation.map(|v| v as f32);
+    let r = Quat::from_xyzw(x, y, z, w).normalize();
+    let c = vec(pose.centroid.coords.into());
+    Transform { translation: c - r * vec(c0), rotation: r, scale: Vec3::ONE }
+}
+
+/// The resultant force on b at its point of application, and every force point's force.
+fn vertex_force(r: &InterfaceResult, k: usize) -> Vec3 {
+    let v = &r.vertices[k];
+    (v.compression - v.tension) as f32 * vec(r.normal) + v.friction_u as f32 * vec(r.u) + v.friction_v as f32 * vec(r.v)
+}
+
+fn gizmos(
+    mut gizmos: Gizmos,
+    state: Res<ViewerState>,
+    pipeline: Res<PipelineState>,
+    sequence: Res<SequenceStatus>,
+    forces: Query<&InterfaceForces>,
+    masses: Query<(&MassCentre, &Visibility), With<BlockName>>,
+) {
+    let Some(a) = &pipeline.analysis else { return };
+    let size = a.assembly.aabb().diagonal() as f32;
+    let step = sequence.analysis.as_ref().filter(|_| state.sequence_view);
+    let interfaces: Vec<&InterfaceResult> = match step {
+        Some(s) => s.statics.interfaces.iter().collect(),
+        None => forces.iter().map(|f| &f.0).collect(),
+    };
+    if state.mode == DiagramMode::Vectors || state.vertex_arrows {
+        let biggest = interfaces.iter().map(|r| vec(r.resultant).length()).fold(0.0f32, f32::max);
+        let scale = if biggest > 0.0 { 0.25 * size / biggest } else { 0.0 };
+        for r in &interfaces {
+            if state.mode == DiagramMode::Vectors
+                && let Some(p) = r.resultant_point
+            {
+                let p = vec(p);
+                gizmos.arrow(p, p + vec(r.resultant) * scale, Color::srgb(0.1, 0.8, 0.25));
+            }
+            if state.vertex_arrows {
+                for k in 0..r.vertices.len() {
+                    let p = vec(r.vertices[k].position);
+                    gizmos.arrow(p, p + vertex_force(r, k) * scale, Color::srgb(0.55, 0.95, 0.6));
+                }
+            }
+        }
+    }
+    if state.mass_centres {
+        for (m, visibility) in &masses {
+            if *visibility != Visibility::Hidden {
+                let p = vec(m.centroid.coords.into());
+                gizmos.sphere(Isometry3d::from_translation(p), 0.006 * size, Color::WHITE);
+                gizmos.cross(Isometry3d::from_translation(p), 0.012 * size, Color::BLACK);
+            }
+        }
+    }
+    if let Some(cut) = &state.active_cut {
+        let n = Vec3::new(cut.normal.x as f32, cut.normal.y as f32, cut.normal.z as f32);
+        let p = Vec3::new(cut.point.x as f32, cut.point.y as f32, cut.point.z as f32);
+        let rotation = Quat::from_rotation_arc(Vec3::Z, n.normalize_or_zero());
+        let s = cut.size as f32 * 1.2;
+        gizmos.rect(Isometry3d::new(p, rotation), Vec2::splat(s), Color::srgb(0.2, 0.9, 0.9));
+        gizmos.arrow(p, p + n * 0.3 * s, Color::srgb(0.2, 0.9, 0.9));
+    }
+}

@@ -1,0 +1,324 @@
+//! The side panel: verdict first (coloured), the graded numbers, timings and counts, the drop
+//! test beside the statics, the sequence step, the edit state; the colour legend of the mode;
+//! buttons for everything the keys do; the keys. Optional force labels over the interfaces.
+
+use super::PANEL_WIDTH;
+use super::actions::{ViewerAction, ViewerState};
+use super::camera::MainCamera;
+use crate::ecs::{DropStatus, InterfaceForces, PipelineState, SceneStatus, SequenceStatus};
+use crate::statics::Verdict;
+use crate::viz::DiagramMode;
+use bevy::prelude::*;
+
+pub struct HudPlugin;
+
+impl Plugin for HudPlugin {
+    fn build(&self, app: &mut App) {
+        app.add_systems(Startup, spawn_panel)
+            .add_systems(Update, press_buttons.before(super::actions::ActionSystems))
+            .add_systems(Update, (write_texts, legend, labels));
+    }
+}
+
+/// A button that sends its action when pressed.
+#[derive(Component, Clone)]
+pub struct HudButton(pub ViewerAction);
+
+#[derive(Component, Clone, Copy, PartialEq, Eq)]
+enum Line {
+    Title,
+    Verdict,
+    Numbers,
+    Dynamics,
+    Sequence,
+    Edit,
+}
+
+#[derive(Component)]
+struct Legend;
+
+#[derive(Component)]
+struct Label;
+
+const KEYS: &str = "mouse: left click select · right drag orbit · shift+right / middle drag pan · wheel zoom\n\
+1/2/3 compression/friction/vectors · T translucent · M mass centres · V vertex arrows · L labels · F frame\n\
+C cut selected · PgUp/PgDn move cut · arrows turn cut · Backspace drop cut\n\
+G support · X remove · R restore · Ctrl+Z/Y undo/redo · Ctrl+S save\n\
+D drop test · Esc leave drop / sequence · Q sequence · ,/. step";
+
+fn font(size: f32) -> TextFont {
+    TextFont { font_size: FontSize::Px(size), ..default() }
+}
+
+fn button(label: &str, action: ViewerAction) -> impl Bundle {
+    (
+        Button,
+        HudButton(action),
+        Node { padding: UiRect::axes(px(6), px(3)), margin: UiRect::all(px(2)), ..default() },
+        BackgroundColor(Color::srgb(0.22, 0.22, 0.24)),
+        children![(Text::new(label), font(12.0), TextColor(Color::srgb(0.92, 0.92, 0.92)))],
+    )
+}
+
+fn row() -> Node {
+    Node { flex_direction: FlexDirection::Row, flex_wrap: FlexWrap::Wrap, ..default() }
+}
+
+fn spawn_panel(mut commands: Commands) {
+    let text = |line: Line, size: f32| (Text::new(""), font(size), TextColor(Color::srgb(0.9, 0.9, 0.9)), line);
+    let friction = DiagramMode::Friction { threshold: 0.5 };
+    commands
+        .spawn((
+            Node {
+                width: px(PANEL_WIDTH),
+                height: percent(100),
+                flex_direction: FlexDirection::Column,
+                padding: UiRect::all(px(10)),
+                row_gap: px(6),
+                overflow: Overflow::clip(),
+                ..default()
+            },
+            BackgroundColor(Color::srgb(0.07, 0.07, 0.08)),
+        ))
+        .with_children(|p| {
+            p.spawn(text(Line::Title, 15.0));
+            p.spawn(text(Line::Verdict, 22.0));
+            p.spawn(text(Line::Numbers, 12.0));
+            p.spawn(text(Line::Dynamics, 12.0));
+            p.spawn(text(Line::Sequence, 12.0));
+            p.spawn((
+                row(),
+                children![
+                    button("1 Compression", ViewerAction::SetMode(DiagramMode::Compression)),
+                    button("2 Friction", ViewerAction::SetMode(friction)),
+                    button("3 Vectors", ViewerAction::SetMode(DiagramMode::Vectors)),
+                ],
+            ));
+            p.spawn((Node { flex_direction: FlexDirection::Column, row_gap: px(2), ..default() }, Legend));
+            p.spawn((
+                row(),
+                children![
+                    button("T Translucent", ViewerAction::ToggleTranslucent),
+                    button("M Centres", ViewerAction::ToggleMassCentres),
+                    button("L Labels", ViewerAction::ToggleLabels),
+                ],
+            ));
+            p.spawn((
+                row(),
+                children![
+                    button("C Cut", ViewerAction::AddCut),
+                    button("G Support", ViewerAction::ToggleSupport),
+                    button("X Remove", ViewerAction::RemoveBlock),
+                    button("R Restore", ViewerAction::RestoreBlock),
+                ],
+            ));
+            p.spawn((
+                row(),
+                children![
+                    button("Undo", ViewerAction::Undo),
+                    button("Redo", ViewerAction::Redo),
+                    button("Save", ViewerAction::Save),
+                ],
+            ));
+            p.spawn((
+                row(),
+                children![
+                    button("D Drop test", ViewerAction::DropTest),
+                    button("Q Sequence", ViewerAction::StartSequence),
+                    button("<", ViewerAction::Step(-1)),
+                    button(">", ViewerAction::Step(1)),
+                    button("Esc", ViewerAction::ResetDrop),
+                ],
+            ));
+            p.spawn(text(Line::Edit, 12.0));
+            p.spawn((Text::new(KEYS), font(10.0), TextColor(Color::srgb(0.6, 0.6, 0.6))));
+        });
+}
+
+fn press_buttons(
+    buttons: Query<(&Interaction, &HudButton), Changed<Interaction>>,
+    mut actions: MessageWriter<ViewerAction>,
+) {
+    for (interaction, button) in &buttons {
+        if *interaction == Interaction::Pressed {
+            // Esc leaves whichever special view is open.
+            if button.0 == ViewerAction::ResetDrop {
+                actions.write(ViewerAction::ExitSequence);
+            }
+            actions.write(button.0.clone());
+        }
+    }
+}
+
+/// The verdict in words and its colour.
+pub fn verdict_text(v: Option<Verdict>) -> (&'static str, Color) {
+    match v {
+        Some(Verdict::Stands) => ("STANDS", Color::srgb(0.35, 0.85, 0.45)),
+        Some(Verdict::NeedsTension) => ("NEEDS TENSION", Color::srgb(0.95, 0.3, 0.25)),
+        Some(Verdict::NeedsFriction) => ("FRICTION EXCEEDED", Color::srgb(0.95, 0.5, 0.15)),
+        Some(Verdict::NeedsTensionAndFriction) => ("TENSION + FRICTION", Color::srgb(0.95, 0.3, 0.25)),
+        Some(Verdict::Unsupported) => ("UNSUPPORTED", Color::srgb(0.95, 0.3, 0.25)),
+        Some(Verdict::Unresolved) => ("SOLVER TROUBLE", Color::srgb(0.9, 0.8, 0.2)),
+        None => ("—", Color::srgb(0.7, 0.7, 0.7)),
+    }
+}
+
+fn write_texts(
+    state: Res<ViewerState>,
+    status: Res<SceneStatus>,
+    pipeline: Res<PipelineState>,
+    drop: Res<DropStatus>,
+    sequence: Res<SequenceStatus>,
+    mut texts: Query<(&Line, &mut Text, &mut TextColor)>,
+) {
+    let a = pipeline.analysis.as_ref();
+    for (line, mut text, mut colour) in &mut texts {
+        let value = match line {
+            Line::Title => {
+                let (b, i) = a.map_or((0, 0), |a| (a.assembly.blocks.len(), a.interfaces.len()));
+                format!("{}\n{b} blocks · {i} interfaces", state.design.name)
+            }
+            Line::Verdict => {
+                let (t, c) = verdict_text(status.verdict);
+                if colour.0 != c {
+                    colour.0 = c;
+                }
+                t.to_string()
+            }
+            Line::Numbers => {
+                let t = &status.timings;
+                let mut s = format!(
+                    "tension {:.2e} W · friction excess {:.2e} W\nmax friction utilisation {:.2} μ\nsolve {:.1} ms (detect {:.1}, assemble {:.1}, clarabel {:.1}; total {:.1})",
+                    status.tension_ratio,
+                    status.friction_excess_ratio,
+                    status.max_friction_utilization,
+                    1e3 * (t.assemble + t.solve),
+                    1e3 * t.detect,
+                    1e3 * t.assemble,
+                    1e3 * t.solve,
+                    1e3 * t.total
+                );
+                if let Some(e) = &status.error {
+                    s = format!("error: {e}");
+                }
+                s
+            }
+            Line::Dynamics => match (&drop.running, &drop.result) {
+                (Some(run), _) => format!(
+                    "drop test: {:.2} / {:.2} s simulated",
+                    run.steps_done() as f64 * run.dt(),
+                    run.total_steps() as f64 * run.dt()
+                ),
+                (None, Some(r)) => format!(
+                    "drop test: {} (drift {:.1e}, rotation {:.1e}) — {}",
+                    if r.stands { "stands" } else { "falls" },
+                    r.max_drift,
+                    r.max_rotation,
+                    match drop.agree {
+                        Some(true) => "agrees with the statics",
+                        Some(false) => "DISAGREES with the statics",
+                        None => "",
+                    }
+                ),
+                _ => drop.error.clone().unwrap_or_else(|| "drop test: not run (D)".into()),
+            },
+            Line::Sequence => match (&sequence.report, sequence.step()) {
+                (Some(r), Some(step)) => {
+                    let dynamic = step
+                        .dynamic
+                        .as_ref()
+                        .map_or(String::new(), |d| format!(" · drop: {}", if d.stands { "stands" } else { "falls" }));
+                    let mut s = format!(
+                        "sequence step {}/{}: + {}\nstatics: {}{dynamic}",
+                        sequence.current + 1,
+                        r.steps.len(),
+                        step.placed,
+                        verdict_text(Some(step.verdict)).0.to_lowercase()
+                    );
+                    if !step.offending.is_empty() {
+                        s += &format!("\noffending: {}", step.offending.join(", "));
+                    }
+                    s
+                }
+                _ => sequence.error.clone().map_or(String::new(), |e| format!("sequence: {e}")),
+            },
+            Line::Edit => {
+                let mut s = format!("selected: {}", state.selected.as_deref().unwrap_or("—"));
+                if let Some(c) = &state.active_cut {
+                    s += &format!(
+                        "\ncut #{} of {}: point ({:.3}, {:.3}, {:.3}) normal ({:.2}, {:.2}, {:.2})",
+                        c.index, c.target, c.point.x, c.point.y, c.point.z, c.normal.x, c.normal.y, c.normal.z
+                    );
+                }
+                s += &format!("\nundo {} · redo {}", state.undo.len(), state.redo.len());
+                if let Some(m) = &state.message {
+                    s += &format!("\n{m}");
+                }
+                s
+            }
+        };
+        if text.0 != value {
+            text.0 = value;
+        }
+    }
+}
+
+fn legend(
+    mut commands: Commands,
+    state: Res<ViewerState>,
+    panel: Query<Entity, With<Legend>>,
+    mut shown: Local<Option<DiagramMode>>,
+) {
+    if *shown == Some(state.mode) {
+        return;
+    }
+    let Ok(panel) = panel.single() else { return };
+    *shown = Some(state.mode);
+    commands.entity(panel).despawn_children();
+    let mut rows: Vec<(Color, &str)> =
+        crate::viz::legend(state.mode).into_iter().map(|(c, l)| (Color::linear_rgb(c[0], c[1], c[2]), l)).collect();
+    if state.mode == DiagramMode::Vectors {
+        rows.push((Color::srgb(0.1, 0.8, 0.25), "resultant force (length ∝ |F|)"));
+    }
+    commands.entity(panel).with_children(|p| {
+        for (c, label) in rows {
+            p.spawn((
+                Node { column_gap: px(6), ..row() },
+                children![
+                    (Node { width: px(18), height: px(12), ..default() }, BackgroundColor(c)),
+                    (Text::new(label), font(11.0), TextColor(Color::srgb(0.85, 0.85, 0.85))),
+                ],
+            ));
+        }
+    });
+}
+
+/// Force labels (kN or N) at the resultant points of the largest interface forces.
+fn labels(
+    mut commands: Commands,
+    state: Res<ViewerState>,
+    forces: Query<&InterfaceForces>,
+    camera: Query<(&Camera, &GlobalTransform), With<MainCamera>>,
+    shown: Query<Entity, With<Label>>,
+) {
+    shown.iter().for_each(|e| commands.entity(e).despawn());
+    if !state.labels || state.sequence_view {
+        return;
+    }
+    let Ok((camera, at)) = camera.single() else { return };
+    let mut list: Vec<&crate::statics::InterfaceResult> = forces.iter().map(|f| &f.0).collect();
+    list.sort_by(|a, b| b.normal_force.abs().total_cmp(&a.normal_force.abs()));
+    for r in list.into_iter().take(40) {
+        let Some(p) = r.resultant_point else { continue };
+        let Ok(xy) = camera.world_to_viewport(at, Vec3::new(p[0] as f32, p[1] as f32, p[2] as f32)) else { continue };
+        let n = r.normal_force;
+        let text = if n.abs() >= 1e3 { format!("{:.1} kN", n / 1e3) } else { format!("{n:.1} N") };
+        commands.spawn((
+            Text::new(text),
+            font(11.0),
+            TextColor(Color::WHITE),
+            Node { position_type: PositionType::Absolute, left: px(xy.x), top: px(xy.y), ..default() },
+            Label,
+        ));
+    }
+}

@@ -1,0 +1,251 @@
+//! The viewer rendered for real: one window (Xvfb and Mesa's software Vulkan in CI), one app,
+//! one script. The default scene and failing scenes are shot in each diagram mode and the
+//! pixels of the 3D view are classified by hue; editing, undo/redo, save, the drop test and the
+//! sequence stepper are driven through the same actions the keys and buttons send.
+//!
+//! Runs on the main thread (winit's event loop must), hence `harness = false`:
+//! `cargo test --features viewer --test viewer_render` (under `xvfb-run` without a display).
+
+use image::RgbImage;
+use serde_json::Value;
+use std::path::Path;
+use voussoir::model::builtin;
+use voussoir::viewer::{Script, ScriptStep, ViewerAction, ViewerOptions};
+use voussoir::viz::DiagramMode;
+
+/// Pixel counts of the 3D view by colour class.
+#[derive(Debug, Default)]
+struct Census {
+    total: usize,
+    blue: usize,
+    red: usize,
+    yellow: usize,
+    orange: usize,
+    green: usize,
+    sandstone: usize,
+}
+
+/// Hue (degrees), saturation and value of an sRGB pixel.
+fn hsv(p: [u8; 3]) -> (f32, f32, f32) {
+    let [r, g, b] = p.map(|c| c as f32 / 255.0);
+    let max = r.max(g).max(b);
+    let min = r.min(g).min(b);
+    let d = max - min;
+    let h = if d == 0.0 {
+        0.0
+    } else if max == r {
+        60.0 * (((g - b) / d).rem_euclid(6.0))
+    } else if max == g {
+        60.0 * ((b - r) / d + 2.0)
+    } else {
+        60.0 * ((r - g) / d + 4.0)
+    };
+    (h, if max > 0.0 { d / max } else { 0.0 }, max)
+}
+
+fn census(img: &RgbImage, rect: [u32; 4]) -> Census {
+    let mut c = Census::default();
+    for y in rect[1]..rect[3].min(img.height()) {
+        for x in rect[0]..rect[2].min(img.width()) {
+            let (h, s, v) = hsv(img.get_pixel(x, y).0);
+            c.total += 1;
+            // Tension's light end is pink (the gradient is per face): red and pink count.
+            if (h < 12.0 || h > 348.0) && s > 0.08 && v > 0.4 {
+                c.red += 1;
+                continue;
+            }
+            if s < 0.25 || v < 0.2 {
+                continue;
+            }
+            match h {
+                h if (200.0..=250.0).contains(&h) && s > 0.4 => c.blue += 1,
+                h if (45.0..=65.0).contains(&h) && s > 0.4 => c.yellow += 1,
+                h if (18.0..=40.0).contains(&h) && s > 0.6 => c.orange += 1,
+                h if (100.0..=150.0).contains(&h) && s > 0.5 => c.green += 1,
+                h if (20.0..=45.0).contains(&h) && s <= 0.6 => c.sandstone += 1,
+                _ => {}
+            }
+        }
+    }
+    c
+}
+
+fn shot(report: &Value, name: &str) -> Value {
+    report["shots"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|s| s["path"].as_str().unwrap().ends_with(&format!("{name}.png")))
+        .unwrap_or_else(|| panic!("no shot {name}"))
+        .clone()
+}
+
+fn rect(v: &Value) -> [u32; 4] {
+    let a: Vec<u32> = v.as_array().expect("a viewport").iter().map(|x| x.as_u64().unwrap() as u32).collect();
+    [a[0], a[1], a[2], a[3]]
+}
+
+fn picture(s: &Value, viewport: &str) -> Census {
+    let img = image::open(s["path"].as_str().unwrap()).expect("a PNG").to_rgb8();
+    census(&img, rect(&s[viewport]))
+}
+
+fn main() {
+    let dir = std::env::temp_dir().join(format!("voussoir-viewer-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = |name: &str| dir.join(format!("{name}.png"));
+    let friction = DiagramMode::Friction { threshold: 0.5 };
+    let default_scene = voussoir::cli::load(None).unwrap();
+    let saved = dir.join("saved.json");
+    use ScriptStep::*;
+    use ViewerAction as A;
+    let steps = vec![
+        Settle(5),
+        Shot(path("default_compression")),
+        Act(A::SetMode(friction)),
+        Settle(3),
+        Shot(path("default_friction")),
+        Act(A::SetMode(DiagramMode::Vectors)),
+        Settle(3),
+        Shot(path("default_vectors")),
+        // Thinner than Milankovitch's minimum (t/R ≈ 0.1075): needs tension.
+        Act(A::SetMode(DiagramMode::Compression)),
+        Load(builtin("arch?n=15&t=0.08").unwrap()),
+        Settle(5),
+        Shot(path("tension_compression")),
+        // tan 35° = 0.70 > μ = 0.5: slides, friction exceeded.
+        Act(A::SetMode(friction)),
+        Load(builtin("slope?angle=35&mu=0.5").unwrap()),
+        Settle(5),
+        Shot(path("sliding_friction")),
+        // Editing: cut the top cube of a stack, move the cut, undo, redo, undo, save.
+        Act(A::SetMode(DiagramMode::Compression)),
+        Load(builtin("stack?n=2").unwrap()),
+        Settle(3),
+        Act(A::Select(Some("box1".into()))),
+        Act(A::AddCut),
+        Settle(3),
+        Act(A::ShiftCut(0.1)),
+        Settle(3),
+        Act(A::Undo),
+        Act(A::Redo),
+        Act(A::Undo),
+        Act(A::Save),
+        Settle(3),
+        Shot(path("edited")),
+        Act(A::Select(Some("box0".into()))),
+        Act(A::RemoveBlock),
+        Settle(3),
+        Shot(path("removed")),
+        Act(A::RestoreBlock),
+        Settle(3),
+        Shot(path("restored")),
+        // The drop test beside the statics, then the sequence stepper, on the default arch.
+        Load(default_scene.clone()),
+        Act(A::DropTest),
+        Settle(3),
+        Shot(path("drop")),
+        Act(A::ResetDrop),
+        Act(A::StartSequence),
+        Settle(3),
+        Act(A::Step(8)),
+        Settle(3),
+        Shot(path("sequence")),
+    ];
+    let report_path = dir.join("report.json");
+    let mut options = ViewerOptions::new(default_scene);
+    options.size = (720, 450);
+    options.save_to = Some(saved.clone());
+    options.script = Some(Script { steps, report: Some(report_path.clone()) });
+    let exit = voussoir::viewer::run(options);
+    assert!(exit.is_success(), "the scripted session failed: {exit:?}");
+    let report: Value = serde_json::from_str(&std::fs::read_to_string(&report_path).unwrap()).unwrap();
+    check(&report, &saved);
+    // The line .ci/run sums, as the test harness prints it.
+    println!("test result: ok. 1 passed; 0 failed; 0 ignored; 0 measured; 0 filtered out (viewer_render)");
+    if std::env::var_os("VOUSSOIR_KEEP_SHOTS").is_none() {
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+}
+
+fn check(report: &Value, saved: &Path) {
+    // The default arch stands: blue compression, no red tension; 17 blocks, 16 interfaces.
+    let s = shot(report, "default_compression");
+    assert_eq!((s["blocks"].as_u64(), s["interfaces"].as_u64()), (Some(17), Some(16)), "{s}");
+    assert_eq!(s["verdict"], "Stands");
+    let c = picture(&s, "main_viewport");
+    println!("default, compression: {c:?}");
+    assert!(c.blue > c.total / 200, "blue compression is shown: {c:?}");
+    assert!(c.red < c.blue / 50, "no tension on a standing arch: {c:?}");
+    // Friction: at most 45 % of μ everywhere, below the 50 % threshold: yellow, nothing red.
+    let c = picture(&shot(report, "default_friction"), "main_viewport");
+    println!("default, friction: {c:?}");
+    assert!(c.yellow > c.total / 400, "low friction is yellow: {c:?}");
+    assert!(c.red < c.yellow / 50 && c.blue < c.yellow / 50, "{c:?}");
+    // Vectors: green resultant arrows over the blue compression.
+    let c = picture(&shot(report, "default_vectors"), "main_viewport");
+    println!("default, vectors: {c:?}");
+    assert!(c.green > 100 && c.blue > c.total / 200, "{c:?}");
+    // Too thin an arch needs tension: red appears.
+    let s = shot(report, "tension_compression");
+    assert_eq!(s["verdict"], "NeedsTension");
+    let c = picture(&s, "main_viewport");
+    println!("thin arch, compression: {c:?}");
+    assert!(c.red > 50, "tension is red: {c:?}");
+    // A block sliding down a slope: friction exceeded, red.
+    let s = shot(report, "sliding_friction");
+    assert_eq!(s["verdict"], "NeedsFriction");
+    let c = picture(&s, "main_viewport");
+    println!("slope, friction: {c:?}");
+    assert!(c.red > c.total / 200 && c.yellow < c.red / 10, "exceeded friction is red: {c:?}");
+
+    // Editing: cut box1 (4 blocks with the slab), the move undone, so the cut halves box1: the
+    // saved design has that one cut, through box1's centroid (0, 0, 1.5).
+    let s = shot(report, "edited");
+    assert_eq!((s["cuts"].as_u64(), s["blocks"].as_u64()), (Some(1), Some(4)), "{s}");
+    assert_eq!((s["undo"].as_u64(), s["redo"].as_u64()), (Some(1), Some(1)), "{s}");
+    let design: Value = serde_json::from_str(&std::fs::read_to_string(saved).expect("the design was saved")).unwrap();
+    let cut = &design["cuts"][0];
+    let point: Vec<f64> = cut["point"].as_array().expect("a plane cut").iter().map(|x| x.as_f64().unwrap()).collect();
+    let centroid = voussoir::analysis::analyze(&builtin("stack?n=2").unwrap(), &Default::default())
+        .unwrap()
+        .assembly
+        .blocks
+        .iter()
+        .find(|b| b.name == "box1")
+        .unwrap()
+        .mass
+        .centroid;
+    for k in 0..3 {
+        assert!((point[k] - centroid[k]).abs() < 1e-9, "cut through box1's centroid: {point:?} vs {centroid:?}");
+    }
+    let s = shot(report, "removed");
+    assert_eq!(s["removed"].as_array().unwrap().len(), 1);
+    assert_eq!(s["blocks"].as_u64(), Some(3));
+    let s = shot(report, "restored");
+    assert!(s["removed"].as_array().unwrap().is_empty());
+    assert_eq!(s["blocks"].as_u64(), Some(4));
+
+    // Drop test: a second view of the moving blocks, the verdicts side by side.
+    let s = shot(report, "drop");
+    assert_eq!(s["drop_stands"], Value::Bool(true), "{s}");
+    assert_eq!(s["drop_agrees"], Value::Bool(true));
+    let main = rect(&s["main_viewport"]);
+    let physics = rect(&s["physics_viewport"]);
+    assert!(physics[0] >= main[2], "the drop view is beside the static one: {main:?} {physics:?}");
+    let c = picture(&s, "physics_viewport");
+    println!("drop view: {c:?}");
+    assert!(c.sandstone > c.total / 100, "the blocks are drawn in the drop view: {c:?}");
+    assert!(c.blue == 0, "the drop view shows no diagram: {c:?}");
+    // Sequence: bottom-up, step 9 of 15 of the arch (v0–v4 on the right, v10–v14 on the
+    // left): the half arches lean in, needing tension (1.44 W by `voussoir sequence`).
+    let s = shot(report, "sequence");
+    let step = &s["sequence_step"];
+    assert_eq!(step["index"].as_u64(), Some(8), "{s}");
+    assert_eq!(step["placed"], "v4", "{s}");
+    assert_eq!(step["stands"], Value::Bool(false), "{s}");
+    assert!(step["drop_stands"].is_boolean());
+    let c = picture(&s, "main_viewport");
+    println!("sequence step 9: {c:?}");
+    assert!(c.red > 20, "the step's own diagram shows its tension: {c:?}");
+}
