@@ -41,6 +41,9 @@ pub enum ViewerAction {
     ToggleLabels,
     /// Select a block by name (`None`: clear).
     Select(Option<String>),
+    /// Click where this world point (m) appears in the view: selects the block the ray from
+    /// the camera meets first (what a left click does; scripts use it).
+    ClickToward([f32; 3]),
     /// Cut the selected block with a plane through its centroid, across its longest extent.
     AddCut,
     /// Move the cut being edited along its normal by this fraction of its block's size.
@@ -219,6 +222,8 @@ fn apply_actions(
             ViewerAction::ToggleVertexArrows => s.vertex_arrows = !s.vertex_arrows,
             ViewerAction::ToggleLabels => s.labels = !s.labels,
             ViewerAction::Select(name) => s.selected = name.clone(),
+            // Done by the picking system (it has the ray caster).
+            ViewerAction::ClickToward(_) => {}
             ViewerAction::AddCut => {
                 let Some(name) = s.selected.clone() else {
                     s.message = Some("select a block to cut (click it)".into());

@@ -1,7 +1,7 @@
 //! Keys and mouse → [`ViewerAction`]s and camera moves. Nothing here changes the design itself.
 
 use super::PANEL_WIDTH;
-use super::actions::ViewerAction;
+use super::actions::{ViewerAction, ViewerState};
 use super::camera::{MainCamera, OrbitCamera};
 use crate::ecs::BlockName;
 use crate::viz::DiagramMode;
@@ -103,7 +103,10 @@ fn mouse(
     }
 }
 
-/// A left click (without a drag) in the view selects the block under the cursor, or clears.
+/// A left click (without a drag) in the view selects the block under the cursor, or clears;
+/// so does a scripted [`ViewerAction::ClickToward`]. (It sets the selection itself: a system
+/// cannot both read and send the actions.)
+#[allow(clippy::too_many_arguments)]
 fn pick(
     buttons: Res<ButtonInput<MouseButton>>,
     window: Query<&Window, With<PrimaryWindow>>,
@@ -111,23 +114,32 @@ fn pick(
     blocks: Query<&BlockName>,
     mut ray_cast: MeshRayCast,
     mut pressed_at: Local<Option<Vec2>>,
-    mut actions: MessageWriter<ViewerAction>,
+    mut requests: MessageReader<ViewerAction>,
+    mut state: ResMut<ViewerState>,
 ) {
     let (Ok(window), Ok((camera, at))) = (window.single(), camera.single()) else { return };
+    let mut clicks: Vec<Vec2> = requests
+        .read()
+        .filter_map(|a| match a {
+            ViewerAction::ClickToward(p) => camera.world_to_viewport(at, Vec3::from_array(*p)).ok(),
+            _ => None,
+        })
+        .collect();
     if buttons.just_pressed(MouseButton::Left) {
         *pressed_at = in_view(window);
     }
-    if !buttons.just_released(MouseButton::Left) {
-        return;
+    if buttons.just_released(MouseButton::Left)
+        && let (Some(start), Some(end)) = (pressed_at.take(), in_view(window))
+        && start.distance(end) <= 4.0
+    {
+        clicks.push(end);
     }
-    let (Some(start), Some(end)) = (pressed_at.take(), in_view(window)) else { return };
-    if start.distance(end) > 4.0 {
-        return;
+    for xy in clicks {
+        let Ok(ray) = camera.viewport_to_world(at, xy) else { continue };
+        let filter = |e: Entity| blocks.contains(e);
+        let settings = MeshRayCastSettings::default().with_filter(&filter);
+        let hit = ray_cast.cast_ray(ray, &settings).first().map(|(e, _)| *e);
+        let name = hit.and_then(|e| blocks.get(e).ok()).map(|n| n.0.clone());
+        state.selected = name;
     }
-    let Ok(ray) = camera.viewport_to_world(at, end) else { return };
-    let filter = |e: Entity| blocks.contains(e);
-    let settings = MeshRayCastSettings::default().with_filter(&filter);
-    let hit = ray_cast.cast_ray(ray, &settings).first().map(|(e, _)| *e);
-    let name = hit.and_then(|e| blocks.get(e).ok()).map(|n| n.0.clone());
-    actions.write(ViewerAction::Select(name));
 }
