@@ -59,10 +59,10 @@ fn colour_interfaces(
     interfaces: Query<(Entity, &InterfaceForces, Has<InterfaceColors>)>,
 ) {
     let Some(a) = &state.analysis else { return };
-    let mu = a.statics.friction_coefficient;
+    let (mu, model) = (a.statics.friction_coefficient, a.statics.friction_model);
     for (entity, forces, coloured) in &interfaces {
         if !coloured || settings.is_changed() {
-            let colours = crate::viz::vertex_colors(&forces.0, mu, settings.0);
+            let colours = crate::viz::vertex_colors(&forces.0, mu, model, settings.0);
             commands.entity(entity).insert(InterfaceColors(colours));
         }
     }

@@ -106,7 +106,8 @@ fn frame_design(mut state: ResMut<ViewerState>, pipeline: Res<PipelineState>, mu
     let c = bb.center();
     for mut cam in &mut cams {
         cam.focus = Vec3::new(c.x as f32, c.y as f32, c.z as f32);
-        cam.distance = (bb.diagonal() as f32 * 1.25).max(1e-3);
+        // The bounding sphere (radius d/2) in a 45° vertical field of view: 0.5 d / sin 22.5°.
+        cam.distance = (bb.diagonal() as f32 * 1.3).max(1e-3);
     }
 }
 

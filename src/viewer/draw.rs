@@ -197,9 +197,9 @@ fn step_interfaces(
     }
     shown.iter().for_each(|e| commands.entity(e).despawn());
     let (true, Some(a)) = (state.sequence_view, &sequence.analysis) else { return };
-    let mu = a.statics.friction_coefficient;
+    let (mu, model) = (a.statics.friction_coefficient, a.statics.friction_model);
     for r in &a.statics.interfaces {
-        let tris = crate::viz::triangles(r, &crate::viz::vertex_colors(r, mu, state.mode));
+        let tris = crate::viz::triangles(r, &crate::viz::vertex_colors(r, mu, model, state.mode));
         commands.spawn((
             Mesh3d(meshes.add(coloured_mesh(&tris, r.normal))),
             MeshMaterial3d(palette.interface.clone()),
@@ -307,7 +307,7 @@ fn gizmos(
     pipeline: Res<PipelineState>,
     sequence: Res<SequenceStatus>,
     forces: Query<&InterfaceForces>,
-    masses: Query<(&MassCentre, &Visibility), With<BlockName>>,
+    masses: Query<(&MassCentre, &BlockMesh, &Visibility)>,
 ) {
     let Some(a) = &pipeline.analysis else { return };
     let size = a.assembly.aabb().diagonal() as f32;
@@ -335,11 +335,13 @@ fn gizmos(
         }
     }
     if state.mass_centres {
-        for (m, visibility) in &masses {
+        // Sized by the block (a vault of 400 stones would drown in scene-sized markers).
+        for (m, mesh, visibility) in &masses {
             if *visibility != Visibility::Hidden {
                 let p = vec(m.centroid.coords.into());
-                gizmos.sphere(Isometry3d::from_translation(p), 0.006 * size, Color::WHITE);
-                gizmos.cross(Isometry3d::from_translation(p), 0.012 * size, Color::BLACK);
+                let r = (0.04 * mesh.0.aabb().diagonal() as f32).min(0.01 * size);
+                gizmos.sphere(Isometry3d::from_translation(p), r, Color::WHITE);
+                gizmos.cross(Isometry3d::from_translation(p), 2.0 * r, Color::BLACK);
             }
         }
     }

@@ -8,7 +8,7 @@ pub mod gltf;
 pub use gltf::glb;
 
 use crate::analysis::Analysis;
-use crate::statics::InterfaceResult;
+use crate::statics::{FrictionModel, InterfaceResult};
 use colors::Rgb;
 
 /// Which diagram colours the interfaces.
@@ -22,20 +22,47 @@ pub enum DiagramMode {
     Vectors,
 }
 
-/// The colour of every force point of `r` (in `r.vertices` order) in `mode`; `mu` is the
-/// friction coefficient the statics used.
-pub fn vertex_colors(r: &InterfaceResult, mu: f64, mode: DiagramMode) -> Vec<Rgb> {
+/// The colour of every force point of `r` (in `r.vertices` order) in `mode`; `mu` and `model`
+/// are the friction coefficient and model the statics used.
+///
+/// Friction is measured as the model bounds it, so that red means beyond what the model allows
+/// (the 8-sided pyramid allows up to 8.2 % more than the cone on its diagonals): the cone
+/// |f_t|, the box max(|f_u|, |f_v|), the pyramid max(|f_u|, |f_v|, (|f_u| + |f_v|)/√2), each
+/// against μ·compression. Friction below 1e-6 of the face's largest friction or capacity is
+/// solver noise and shows grey.
+pub fn vertex_colors(r: &InterfaceResult, mu: f64, model: FrictionModel, mode: DiagramMode) -> Vec<Rgb> {
     match mode {
         DiagramMode::Compression | DiagramMode::Vectors => {
             let net: Vec<f64> = r.vertices.iter().map(|v| v.compression - v.tension).collect();
             let face_max = net.iter().fold(0.0f64, |m, x| m.max(x.abs()));
             net.iter().map(|&n| colors::compression_tension(n, face_max)).collect()
         }
-        DiagramMode::Friction { threshold } => r
-            .vertices
-            .iter()
-            .map(|v| colors::friction(v.friction_u.hypot(v.friction_v), mu * v.compression, threshold))
-            .collect(),
+        DiagramMode::Friction { threshold } => {
+            let measured: Vec<(f64, f64)> = r
+                .vertices
+                .iter()
+                .map(|v| (model_friction(model, v.friction_u, v.friction_v), mu * v.compression))
+                .collect();
+            let scale = measured.iter().fold(0.0f64, |m, &(f, c)| m.max(f).max(c));
+            measured
+                .iter()
+                .map(
+                    |&(f, c)| {
+                        if f <= colors::ZERO_SHARE * scale { colors::GREY } else { colors::friction(f, c, threshold) }
+                    },
+                )
+                .collect()
+        }
+    }
+}
+
+/// The friction of a force point as `model` bounds it (≤ μ·compression when within the model).
+pub fn model_friction(model: FrictionModel, fu: f64, fv: f64) -> f64 {
+    let (u, v) = (fu.abs(), fv.abs());
+    match model {
+        FrictionModel::Cone => u.hypot(v),
+        FrictionModel::Box4 => u.max(v),
+        FrictionModel::Pyramid8 => u.max(v).max((u + v) / std::f64::consts::SQRT_2),
     }
 }
 
@@ -67,7 +94,12 @@ pub fn interface_triangles(analysis: &Analysis, mode: DiagramMode) -> Vec<(Strin
     s.interfaces
         .iter()
         .filter(|r| r.vertices.len() >= 3)
-        .map(|r| (format!("{} | {}", r.a, r.b), triangles(r, &vertex_colors(r, s.friction_coefficient, mode))))
+        .map(|r| {
+            (
+                format!("{} | {}", r.a, r.b),
+                triangles(r, &vertex_colors(r, s.friction_coefficient, s.friction_model, mode)),
+            )
+        })
         .collect()
 }
 
@@ -84,4 +116,76 @@ pub fn triangles(r: &InterfaceResult, colours: &[Rgb]) -> Vec<ColouredTriangle> 
         .into_iter()
         .map(|t| t.map(|k| (r.vertices[k].position, colours[k])))
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::statics::VertexForce;
+
+    fn face(points: &[(f64, f64, f64)]) -> InterfaceResult {
+        let vertices = points
+            .iter()
+            .enumerate()
+            .map(|(k, &(compression, friction_u, friction_v))| VertexForce {
+                position: [k as f64, (k * k) as f64, 0.0],
+                compression,
+                tension: 0.0,
+                friction_u,
+                friction_v,
+                friction_excess: 0.0,
+            })
+            .collect();
+        InterfaceResult {
+            index: 0,
+            a: "a".into(),
+            b: "b".into(),
+            area: 1.0,
+            normal: [0.0, 0.0, 1.0],
+            u: [1.0, 0.0, 0.0],
+            v: [0.0, 1.0, 0.0],
+            vertices,
+            normal_force: 0.0,
+            compression: 0.0,
+            tension: 0.0,
+            friction: 0.0,
+            friction_excess: 0.0,
+            friction_utilization: 0.0,
+            resultant: [0.0; 3],
+            resultant_point: None,
+        }
+    }
+
+    #[test]
+    fn friction_is_red_only_beyond_what_the_model_allows() {
+        // 1.08 μc at 22.5°: inside the 8-sided pyramid (its corner is at 1/cos 22.5° = 1.0824)
+        // and inside the box (max(|f_u|, |f_v|) = 0.998 μc), beyond the cone.
+        let (mu, m, a) = (0.5, 1.08, 22.5f64.to_radians());
+        let r = face(&[(1.0, mu * m * a.cos(), mu * m * a.sin()), (1.0, 0.0, 0.0), (1.0, 0.0, 0.0)]);
+        let mode = DiagramMode::Friction { threshold: 0.5 };
+        let colour = |model| vertex_colors(&r, mu, model, mode)[0];
+        assert_eq!(colour(FrictionModel::Cone), colors::RED);
+        assert_ne!(colour(FrictionModel::Pyramid8), colors::RED);
+        assert_ne!(colour(FrictionModel::Box4), colors::RED);
+        assert!((model_friction(FrictionModel::Pyramid8, m * a.cos(), m * a.sin()) - 0.99779).abs() < 1e-5);
+        // On the diagonal the pyramid is the cone: 1.01 μc is beyond both.
+        let d = 1.01 * mu / 2f64.sqrt();
+        let r = face(&[(1.0, d, d), (1.0, 0.0, 0.0), (1.0, 0.0, 0.0)]);
+        assert_eq!(vertex_colors(&r, mu, FrictionModel::Pyramid8, mode)[0], colors::RED);
+    }
+
+    #[test]
+    fn solver_noise_is_no_friction() {
+        // A force point without compression whose friction is 1e-9 of the face's capacity:
+        // noise, grey — not "friction without compression" red.
+        let r = face(&[(0.0, 1e-9, 0.0), (2.0, 0.1, 0.0), (2.0, 0.0, 0.0)]);
+        let colours = vertex_colors(&r, 0.5, FrictionModel::Pyramid8, DiagramMode::Friction { threshold: 0.5 });
+        assert_eq!(colours[0], colors::GREY);
+        assert_eq!(colours[1], colors::YELLOW, "0.1 of a 1.0 capacity is low friction");
+        assert_eq!(colours[2], colors::GREY);
+        // Real friction without compression stays red.
+        let r = face(&[(0.0, 0.3, 0.0), (2.0, 0.1, 0.0), (2.0, 0.0, 0.0)]);
+        let colours = vertex_colors(&r, 0.5, FrictionModel::Pyramid8, DiagramMode::Friction { threshold: 0.5 });
+        assert_eq!(colours[0], colors::RED);
+    }
 }
