@@ -84,10 +84,13 @@ fn spawn_cameras(mut commands: Commands) {
         orbit.transform(),
         PhysicsCamera,
     ));
-    // The UI over the whole window; it clears nothing, the 3D views are beneath it.
+    // The UI over the whole window; it clears nothing, the 3D views are beneath it. No render
+    // layer: gizmos (layer 0) would otherwise be drawn again through its 2-D projection, as
+    // specks at the window's centre.
     commands.spawn((
         Camera2d,
         Camera { order: 2, clear_color: ClearColorConfig::None, ..default() },
+        RenderLayers::none(),
         IsDefaultUiCamera,
     ));
 }
