@@ -711,7 +711,11 @@ pub fn summary(analysis: &Analysis, worst: usize) -> String {
     );
     let _ = writeln!(o, "  minimum tension         {:.3e} W", s.tension_ratio);
     let _ = writeln!(o, "  minimum friction excess {:.3e} W", s.friction_excess_ratio);
-    let _ = writeln!(o, "  max friction use        {:.1} % of μ·compression", 100.0 * s.max_friction_utilization);
+    let _ = write!(o, "  max friction use        {:.1} % of μ·compression", 100.0 * s.max_friction_utilization);
+    let _ = match s.friction_model {
+        FrictionModel::Cone => writeln!(o),
+        m => writeln!(o, " (|f_t| as a circle; {m} allows up to {:.1} %)", 100.0 * m.max_utilization()),
+    };
     let _ = writeln!(
         o,
         "  solver: {:?}, {} iterations, residual {:.2e} W",

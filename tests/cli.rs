@@ -331,3 +331,18 @@ fn view_without_the_viewer_feature_says_how_to_build_it() {
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("--features viewer"));
 }
+
+#[test]
+fn friction_use_says_what_a_polyhedral_model_allows() {
+    // A 40° slope at μ = 0.9: the block needs |f_t| = tan 40° f_n ≈ 0.93 μ f_n.
+    let line = |model: &str| {
+        let out = voussoir(&["analyze", "builtin:slope?angle=40", "--mu", "0.9", "--friction-model", model]);
+        assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stderr));
+        let text = String::from_utf8_lossy(&out.stdout).to_string();
+        text.lines().find(|l| l.contains("max friction use")).expect("the line is printed").to_string()
+    };
+    let (pyramid, cone, boxed) = (line("pyramid8"), line("cone"), line("box4"));
+    assert!(pyramid.contains("93.2 %") && pyramid.contains("pyramid8 allows up to 108.2 %"), "{pyramid}");
+    assert!(cone.contains("93.2 %") && !cone.contains("allows"), "{cone}");
+    assert!(boxed.contains("box4 allows up to 141.4 %"), "{boxed}");
+}

@@ -17,6 +17,19 @@ pub enum FrictionModel {
     Box4,
 }
 
+impl FrictionModel {
+    /// The largest friction utilisation |f_t| / (μ f_n⁺) (measured as a circle, as reported)
+    /// the model allows: at the outer pyramid's corners 1/cos 22.5° = 1.082, at the box's √2,
+    /// on the cone 1.
+    pub fn max_utilization(self) -> f64 {
+        match self {
+            Self::Pyramid8 => 1.0 / std::f64::consts::FRAC_PI_8.cos(),
+            Self::Cone => 1.0,
+            Self::Box4 => std::f64::consts::SQRT_2,
+        }
+    }
+}
+
 impl std::str::FromStr for FrictionModel {
     type Err = String;
     fn from_str(s: &str) -> Result<Self, String> {
@@ -121,5 +134,31 @@ impl StaticsSettings {
             }
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::FrictionModel;
+
+    /// The largest |f_t| a model's rows allow in direction θ (μ f_n = 1), found from the rows
+    /// as assembled: |u|, |v| ≤ 1 (box and pyramid), |u ± v| ≤ √2 (pyramid), u² + v² ≤ 1 (cone).
+    fn reach(model: FrictionModel, theta: f64) -> f64 {
+        let (c, s) = (theta.cos().abs(), theta.sin().abs());
+        let r2 = std::f64::consts::SQRT_2;
+        match model {
+            FrictionModel::Cone => 1.0,
+            FrictionModel::Box4 => 1.0 / c.max(s),
+            FrictionModel::Pyramid8 => (1.0 / c.max(s)).min(r2 / (c + s)),
+        }
+    }
+
+    #[test]
+    fn max_utilization_is_the_farthest_corner_of_the_model() {
+        for model in [FrictionModel::Pyramid8, FrictionModel::Cone, FrictionModel::Box4] {
+            let far = (0..=7200).map(|k| reach(model, k as f64 * std::f64::consts::TAU / 7200.0)).fold(0.0, f64::max);
+            assert!((far - model.max_utilization()).abs() < 1e-9, "{model}: {far} vs {}", model.max_utilization());
+        }
+        assert!((FrictionModel::Pyramid8.max_utilization() - 1.0823922).abs() < 1e-7);
     }
 }

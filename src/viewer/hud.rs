@@ -188,10 +188,14 @@ fn write_texts(
             Line::Numbers => {
                 let t = &status.timings;
                 let mut s = format!(
-                    "tension {:.2e} W · friction excess {:.2e} W\nmax friction utilisation {:.2} μ\nsolve {:.1} ms (detect {:.1}, assemble {:.1}, clarabel {:.1}; total {:.1})",
+                    "tension {:.2e} W · friction excess {:.2e} W\nmax friction utilisation {:.2} μ{}\nsolve {:.1} ms (detect {:.1}, assemble {:.1}, clarabel {:.1}; total {:.1})",
                     status.tension_ratio,
                     status.friction_excess_ratio,
                     status.max_friction_utilization,
+                    // Utilisation is measured as a circle; the polyhedral models allow more.
+                    a.map(|a| a.statics.friction_model)
+                        .filter(|m| *m != crate::statics::FrictionModel::Cone)
+                        .map_or(String::new(), |m| format!(" (≤ {:.2} in {m})", m.max_utilization())),
                     1e3 * (t.assemble + t.solve),
                     1e3 * t.detect,
                     1e3 * t.assemble,
