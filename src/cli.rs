@@ -660,7 +660,10 @@ fn side_by_side(analysis: &Analysis, d: &crate::dynamics::DropResult) -> String 
         d.worst_block.as_ref().map(|b| format!(" (worst: {b})")).unwrap_or_default()
     );
     if d.max_volume_error > 0.0 {
-        o += &format!("  convex decomposition volume error up to {:.2} %\n", 100.0 * d.max_volume_error);
+        o += &format!(
+            "  colliders differ from the blocks by up to {:.2} % of a block's volume (hulls of curved or notched blocks, decompositions)\n",
+            100.0 * d.max_volume_error
+        );
     }
     o += &format!(
         "statics {} (tension {:.3e} W, friction excess {:.3e} W, utilisation {:.3}) | drop test {}: {}\n",

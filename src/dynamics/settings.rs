@@ -23,10 +23,18 @@ pub struct DropSettings {
     /// Initial horizontal speed given to every free block (+x), as a fraction of √(g·size) of
     /// the block. Default 0 (no perturbation).
     pub perturbation: f64,
-    /// A block whose convex hull exceeds its volume by at most this fraction collides as its
-    /// hull (real voussoirs are rarely exactly convex); beyond it, a convex decomposition.
-    /// Default 0.02. The volume error of either is reported.
+    /// A block whose convex hull (cut back to its joint planes) exceeds its volume by at most
+    /// this fraction collides as that hull. Beyond it — a curved voussoir, a notched block — it
+    /// still collides as its hull when the hull reaches into no other block (the excess is
+    /// where nothing is); otherwise as a convex decomposition. Default 0.02. The volume error
+    /// of either is reported.
     pub hull_tolerance: f64,
+    /// Solver contacts deeper than this fraction of the median block size are dropped for the
+    /// step: rapier's manifolds between many-sided hulls sometimes carry points reported far
+    /// deeper than the shapes overlap (0.79 m on the Armadillo where they touch), and their
+    /// impulses burst a vault open. Default 0.01 (1 cm on the Armadillo, whose vault then holds;
+    /// 0.025 let it burst; a standing stack's contacts sink by well under 1e-3).
+    pub max_contact_depth: f64,
     /// A block has moved when its centroid drifted more than this fraction of its size (the
     /// bounding-box diagonal). Default 0.02.
     pub drift_tolerance: f64,
@@ -46,6 +54,7 @@ impl Default for DropSettings {
             friction: None,
             perturbation: 0.0,
             hull_tolerance: 0.02,
+            max_contact_depth: 0.01,
             drift_tolerance: 0.02,
             rotation_tolerance: 0.05,
         }
@@ -74,6 +83,7 @@ impl DropSettings {
             ("contact_damping", self.contact_damping),
             ("drift_tolerance", self.drift_tolerance),
             ("rotation_tolerance", self.rotation_tolerance),
+            ("max_contact_depth", self.max_contact_depth),
         ] {
             if !(value > 0.0 && value.is_finite()) {
                 return Err(DropError::NotPositive { name, value });
