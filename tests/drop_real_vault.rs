@@ -1,25 +1,47 @@
-//! Regression: the Armadillo vault (399 blocks, curved voussoirs with warped joints) holds in the
-//! drop test. Before the joint-plane hulls and the deep-contact filter its colliders started
-//! out interpenetrating (up to 9 mm) and rapier's manifolds carried points reported 0.79 m deep;
-//! the vault burst open in the first step (median drift 12 block sizes after 2 s).
+//! Regression: real vaults hold in the drop test. The Armadillo (399 blocks, curved voussoirs,
+//! warped joints) burst open in the first step before session 5 (median drift 12 block sizes
+//! after 2 s): its joints' two triangulations made neighbouring colliders overlap by up to
+//! 9 mm, and rapier's manifolds carried points reported 0.79 m deep between touching hulls.
+//! The compas crossvault crept past the drift tolerance (3.9 % in 1 s).
 
 mod common;
 
 use common::*;
-use voussoir::dynamics::{DropSettings, drop_test};
+use voussoir::dynamics::{DropResult, DropSettings, drop_test};
 
-#[test]
-fn the_armadillo_holds_in_rapier() {
-    let mut scene = voussoir::io::load_scene(&shared("compas_cra/armadillo_cra.json")).expect("the Armadillo loads");
-    scene.material.friction = 0.84;
-    let asm = assembly(&scene);
-    let r = drop_test(&asm, &DropSettings { duration: 1.0, ..Default::default() }).expect("valid settings");
+fn drop(rel: &str, mu: f64) -> DropResult {
+    let mut scene = voussoir::io::load_scene(&shared(rel)).expect("the vault loads");
+    scene.material.friction = mu;
+    drop_test(&assembly(&scene), &DropSettings { duration: 1.0, ..Default::default() }).expect("valid settings")
+}
+
+fn median_drift(r: &DropResult) -> f64 {
     let mut drift: Vec<f64> = r.blocks.iter().map(|b| b.max_drift_ratio).collect();
     drift.sort_by(f64::total_cmp);
-    let median = drift[drift.len() / 2];
-    let beyond = r.blocks.iter().filter(|b| b.max_drift_ratio > 0.02 || b.max_rotation > 0.05).count();
-    println!("median drift {median:.4}, largest {:.4}, beyond the tolerances {beyond}", r.max_drift);
-    assert!(median < 0.01, "median drift {median} of a block's size");
-    assert!(r.max_drift < 0.1 && r.max_rotation < 0.1, "largest drift {} rotation {}", r.max_drift, r.max_rotation);
-    assert!(beyond <= 3, "{beyond} blocks beyond the tolerances");
+    drift[drift.len() / 2]
+}
+
+#[test]
+fn the_armadillo_stands_in_rapier_as_in_the_statics() {
+    let r = drop("compas_cra/armadillo_cra.json", 0.84);
+    println!(
+        "armadillo: median drift {:.4}, largest {:.4}, rotation {:.4}",
+        median_drift(&r),
+        r.max_drift,
+        r.max_rotation
+    );
+    assert!(r.stands, "largest drift {} (block {:?}), rotation {}", r.max_drift, r.worst_block, r.max_rotation);
+    assert!(median_drift(&r) < 0.005, "median drift {}", median_drift(&r));
+}
+
+#[test]
+fn the_compas_crossvault_stands_in_rapier_as_in_the_statics() {
+    let r = drop("compas_assembly/crossvault_assembly.json", 0.84);
+    println!(
+        "crossvault: median drift {:.4}, largest {:.4}, rotation {:.4}",
+        median_drift(&r),
+        r.max_drift,
+        r.max_rotation
+    );
+    assert!(r.stands, "largest drift {} (block {:?}), rotation {}", r.max_drift, r.worst_block, r.max_rotation);
 }

@@ -2,12 +2,13 @@
 //! statics' graded answer. rapier is touched only in this module ([`world`]).
 //!
 //! The assembly becomes rigid bodies at their volume centroids with the exact mass and inertia
-//! of [`crate::geometry::MassProperties`]. Colliders are convex hulls cut back to the planes of
-//! the block's detected joints (warped joints would otherwise start out interpenetrating); a
-//! block whose hull is more than 2 % larger than it *and* reaches into another block gets a
-//! convex decomposition (exact parts along its face planes, V-HACD beyond 16). The volume error
-//! of either is reported. Solver contacts deeper than 1 % of the median block size are dropped
-//! (rapier's manifolds between many-sided hulls can carry points reported far too deep). Supports and the
+//! of [`crate::geometry::MassProperties`]. Blocks collide as their convex hulls; where two
+//! hulls overlap at a joint (a warped joint triangulated differently on its two sides) both are
+//! cut back to the joint plane when that takes only a sliver; a block whose hull is more than
+//! 2 % larger than it *and* still reaches into another block gets a convex decomposition (exact
+//! parts along its face planes, V-HACD beyond 16). The volume error of either is reported.
+//! Solver contacts deeper than 1 % of the median block size are dropped (rapier's manifolds
+//! between many-sided hulls can carry points reported far too deep). Supports and the
 //! ground (a box under z = 0) are fixed. Restitution 0, sleeping off, friction μ combined with
 //! an explicit rule, rapier's length unit set to the median block size (its slop and
 //! prediction distances are absolute otherwise). rapier computes in f32: coordinates are taken

@@ -3,8 +3,8 @@
 use super::DropSettings;
 use crate::geometry::cut::{SplitResult, split};
 use crate::geometry::{Mesh, Plane, Point3, Vector3};
-use crate::interfaces::{Body, Interface};
-use crate::model::{Assembly, BlockId};
+use crate::interfaces::Body;
+use crate::model::Assembly;
 use rapier3d::math::{Matrix, Pose, Vector};
 use rapier3d::prelude::*;
 
@@ -52,9 +52,7 @@ impl Simulation {
         let offset = Vector3::new(c.x, c.y, 0.0);
         let mut bodies = Vec::with_capacity(assembly.blocks.len());
         let mut max_volume_error: f64 = 0.0;
-        let interfaces = crate::interfaces::detect(assembly);
-        let hulls: Vec<Option<(SharedShape, f64)>> =
-            (0..assembly.blocks.len()).map(|i| cut_back_hull(assembly, &interfaces, i)).collect();
+        let hulls = joint_hulls(assembly, 1e-3 * unit, settings.max_joint_cut);
         let overlapping = overlapping_hulls(assembly, &hulls, 1e-3 * unit);
         for (i, b) in assembly.blocks.iter().enumerate() {
             let centroid = b.mass.centroid;
@@ -173,43 +171,92 @@ impl Simulation {
     }
 }
 
-/// Block `i`'s convex hull (relative to its centroid) cut back to its side of the plane of every
-/// joint it has, and the hull's volume excess over the block (a fraction). Where a joint face is
-/// warped, the plain hull bulges past the joint plane by the warp (up to 9 mm on the Armadillo)
-/// and neighbours would start out interpenetrating; cut back, they meet on the plane. `None`
-/// when the points span no volume.
-fn cut_back_hull(assembly: &Assembly, interfaces: &[Interface], i: usize) -> Option<(SharedShape, f64)> {
+fn pose_of(assembly: &Assembly, i: usize) -> Pose {
+    Pose::from_translation(v32(assembly.blocks[i].mass.centroid.coords))
+}
+
+/// Block `i`'s convex hull, relative to its centroid, as a mesh.
+fn hull_mesh(assembly: &Assembly, i: usize) -> Option<Mesh> {
     use rapier3d::parry::transformation::try_convex_hull;
     let b = &assembly.blocks[i];
-    let c = b.mass.centroid;
-    let local: Vec<Vector> = b.mesh.vertices.iter().map(|p| v32(p - c)).collect();
+    let local: Vec<Vector> = b.mesh.vertices.iter().map(|p| v32(p - b.mass.centroid)).collect();
     let (vertices, triangles) = try_convex_hull(&local).ok()?;
-    let mut mesh = Mesh::new(
+    Some(Mesh::new(
         vertices.iter().map(|v| Point3::new(v.x as f64, v.y as f64, v.z as f64)).collect(),
         triangles.iter().map(|t| t.iter().map(|&k| k as usize).collect()).collect(),
-    );
-    let me = Body::Block(BlockId(i));
-    for f in interfaces.iter().filter(|f| f.a == me || f.b == me) {
-        let out = if f.a == me { f.frame.n } else { -f.frame.n };
-        let plane = Plane::from_point_normal(&Point3::from(f.frame.origin - c), &out);
-        // The block's own side is the negative one; a convex solid gives one piece a side.
-        if let SplitResult::Pair { negative, .. } = split(&mesh, &plane, 1e-9 * b.aabb.diagonal())
-            && let Some(piece) = negative.into_iter().next()
-        {
-            mesh = piece;
+    ))
+}
+
+fn shape_of(mesh: &Mesh) -> Option<SharedShape> {
+    let points: Vec<Vector> = mesh.vertices.iter().map(|p| Vector::new(p.x as f32, p.y as f32, p.z as f32)).collect();
+    SharedShape::convex_hull(&points)
+}
+
+/// Every block's collider hull (relative to its centroid) and its volume excess over the block
+/// (a fraction). Where a joint is warped (its two faces triangulated differently, as on the
+/// Armadillo) the two blocks' hulls bulge into each other by the warp — up to 9 mm — and would
+/// start out pushing apart: at such a joint, and only there, both hulls are cut back to the
+/// joint plane, each keeping its side, so that they meet on it. Joints whose hulls do not
+/// overlap by more than `depth` (m) are left alone (cutting a conforming but non-planar joint
+/// slices real material off: the compas crossvault then fell), and so is a cut that would take
+/// more than `keep` of the block's volume. `None` for a block whose points span no volume.
+fn joint_hulls(assembly: &Assembly, depth: f64, keep: f64) -> Vec<Option<(SharedShape, f64)>> {
+    let n = assembly.blocks.len();
+    let mut meshes: Vec<Option<Mesh>> = (0..n).map(|i| hull_mesh(assembly, i)).collect();
+    let plain: Vec<Option<SharedShape>> = meshes.iter().map(|m| m.as_ref().and_then(shape_of)).collect();
+    let overlap = |a: usize, b: usize| match (&plain[a], &plain[b]) {
+        (Some(sa), Some(sb)) => {
+            let c = rapier3d::parry::query::contact(
+                &pose_of(assembly, a),
+                sa.as_ref(),
+                &pose_of(assembly, b),
+                sb.as_ref(),
+                0.0,
+            );
+            matches!(c, Ok(Some(c)) if (c.dist as f64) < -depth)
+        }
+        _ => false,
+    };
+    for f in &crate::interfaces::detect(assembly) {
+        let (Body::Block(a), Body::Block(b)) = (f.a, f.b) else { continue };
+        if !overlap(a.0, b.0) {
+            continue;
+        }
+        for (k, out) in [(a.0, f.frame.n), (b.0, -f.frame.n)] {
+            let c = assembly.blocks[k].mass.centroid;
+            let plane = Plane::from_point_normal(&Point3::from(f.frame.origin - c), &out);
+            let eps = 1e-9 * assembly.blocks[k].aabb.diagonal();
+            // The block's own side is the negative one; a convex solid gives one piece a side.
+            // A cut taking more than a warp's sliver (`keep` of the block: the plane of a
+            // non-planar or notched joint runs through real material) is not made; the hulls
+            // then overlap and the blocks get convex decompositions instead.
+            if let Some(mesh) = meshes[k].as_mut()
+                && let SplitResult::Pair { negative, .. } = split(mesh, &plane, eps)
+                && let Some(piece) = negative.into_iter().next()
+                && crate::geometry::MassProperties::of_mesh(&piece).volume
+                    >= (1.0 - keep) * assembly.blocks[k].mass.volume
+            {
+                *mesh = piece;
+            }
         }
     }
-    let points: Vec<Vector> = mesh.vertices.iter().map(|p| Vector::new(p.x as f32, p.y as f32, p.z as f32)).collect();
-    let shape = SharedShape::convex_hull(&points)?;
-    let excess = (shape.mass_properties(1.0).mass() as f64 - b.mass.volume) / b.mass.volume;
-    Some((shape, excess))
+    meshes
+        .iter()
+        .enumerate()
+        .map(|(i, m)| {
+            let shape = shape_of(m.as_ref()?)?;
+            let v = assembly.blocks[i].mass.volume;
+            let excess = (shape.mass_properties(1.0).mass() as f64 - v) / v;
+            Some((shape, excess))
+        })
+        .collect()
 }
 
 /// For each block, whether its hull overlaps another block's hull by more than `depth` (m).
 fn overlapping_hulls(assembly: &Assembly, hulls: &[Option<(SharedShape, f64)>], depth: f64) -> Vec<bool> {
     let n = assembly.blocks.len();
     let mut out = vec![false; n];
-    let pose = |i: usize| Pose::from_translation(v32(assembly.blocks[i].mass.centroid.coords));
+    let pose = |i: usize| pose_of(assembly, i);
     for i in 0..n {
         for j in i + 1..n {
             let (Some((si, _)), Some((sj, _))) = (&hulls[i], &hulls[j]) else { continue };
