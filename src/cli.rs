@@ -665,6 +665,12 @@ fn side_by_side(analysis: &Analysis, d: &crate::dynamics::DropResult) -> String 
             100.0 * d.max_volume_error
         );
     }
+    if let Some([a, b]) = &d.initial_overlap_blocks {
+        o += &format!(
+            "  blocks {a} and {b} start overlapping by {:.2} % of a block's size (the input blocks overlap; rapier pushes them apart first, which counts as drift)\n",
+            100.0 * d.max_initial_overlap
+        );
+    }
     o += &format!(
         "statics {} (tension {:.3e} W, friction excess {:.3e} W, utilisation {:.3}) | drop test {}: {}\n",
         word(s.stands),

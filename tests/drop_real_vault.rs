@@ -45,3 +45,23 @@ fn the_compas_crossvault_stands_in_rapier_as_in_the_statics() {
     );
     assert!(r.stands, "largest drift {} (block {:?}), rotation {}", r.max_drift, r.worst_block, r.max_rotation);
 }
+
+#[test]
+fn overlapping_input_blocks_are_reported() {
+    // Two unit cubes on the ground, the second pushed 2 cm into the first.
+    let mut scene =
+        voussoir::model::Scene::new("overlap", vec![cube("a", [0.0, 0.0, 0.0], 1.0), cube("b", [0.98, 0.0, 0.0], 1.0)]);
+    scene.ground = true;
+    let r =
+        drop_test(&assembly(&scene), &DropSettings { duration: 0.05, ..Default::default() }).expect("valid settings");
+    let size = 3f64.sqrt();
+    assert!((r.max_initial_overlap - 0.02 / size).abs() < 1e-3 / size, "{}", r.max_initial_overlap);
+    assert_eq!(r.initial_overlap_blocks, Some(["a".to_string(), "b".to_string()]));
+    // Touching without overlap: nothing reported.
+    let mut scene =
+        voussoir::model::Scene::new("touch", vec![cube("a", [0.0, 0.0, 0.0], 1.0), cube("b", [1.0, 0.0, 0.0], 1.0)]);
+    scene.ground = true;
+    let r =
+        drop_test(&assembly(&scene), &DropSettings { duration: 0.05, ..Default::default() }).expect("valid settings");
+    assert_eq!((r.max_initial_overlap, r.initial_overlap_blocks), (0.0, None));
+}

@@ -17,6 +17,10 @@ pub struct Simulation {
     start: Vec<(Vector, rapier3d::math::Rotation)>,
     /// Largest relative volume error of a collider (a hull's excess or a decomposition's error).
     pub max_volume_error: f64,
+    /// The deepest overlap between two blocks' colliders at the start, as a fraction of the
+    /// smaller block's size, and the two blocks (`None`: no overlap beyond 1e-3 of the median
+    /// block size).
+    pub initial_overlap: Option<(f64, [String; 2])>,
     /// Solver contacts deeper than this (m) are dropped (see `DropSettings::max_contact_depth`).
     deep: DeepContacts,
 }
@@ -53,7 +57,13 @@ impl Simulation {
         let mut bodies = Vec::with_capacity(assembly.blocks.len());
         let mut max_volume_error: f64 = 0.0;
         let hulls = joint_hulls(assembly, 1e-3 * unit, settings.max_joint_cut);
-        let overlapping = overlapping_hulls(assembly, &hulls, 1e-3 * unit);
+        let overlaps = overlapping_hulls(assembly, &hulls, 1e-3 * unit);
+        let mut overlapping = vec![false; assembly.blocks.len()];
+        for &(i, j, _) in &overlaps {
+            overlapping[i] = true;
+            overlapping[j] = true;
+        }
+        let mut as_hulls = vec![false; assembly.blocks.len()];
         for (i, b) in assembly.blocks.iter().enumerate() {
             let centroid = b.mass.centroid;
             let local: Vec<Vector> = b.mesh.vertices.iter().map(|p| v32(p - centroid)).collect();
@@ -62,6 +72,7 @@ impl Simulation {
             // its hull. A hull reaching into another block (a notch with something in it) would
             // push that block away from the start: a convex decomposition then.
             let as_hull = hull_error <= settings.hull_tolerance || (hull_error.is_finite() && !overlapping[i]);
+            as_hulls[i] = as_hull;
             let builder = if let (true, Some((shape, _))) = (as_hull, &hulls[i]) {
                 max_volume_error = max_volume_error.max(hull_error.abs());
                 ColliderBuilder::new(shape.clone())
@@ -137,8 +148,21 @@ impl Simulation {
             world.insert(ground, collider);
         }
         let start = bodies.iter().map(|&h| (world.bodies[h].translation(), *world.bodies[h].rotation())).collect();
+        // Two blocks colliding as hulls that still overlap: the input blocks themselves overlap
+        // there (a decomposed block's hull overlaps by design; two supports never collide). Reported relative to the
+        // smaller block's size.
+        let initial_overlap = overlaps
+            .iter()
+            .filter(|&&(i, j, _)| as_hulls[i] && as_hulls[j])
+            // Two fixed bodies never collide.
+            .filter(|&&(i, j, _)| !(assembly.blocks[i].support && assembly.blocks[j].support))
+            .map(|&(i, j, d)| {
+                let size = assembly.blocks[i].aabb.diagonal().min(assembly.blocks[j].aabb.diagonal());
+                (d / size, [assembly.blocks[i].name.clone(), assembly.blocks[j].name.clone()])
+            })
+            .max_by(|a, b| a.0.total_cmp(&b.0));
         let deep = DeepContacts { depth: (settings.max_contact_depth * unit) as f32 };
-        Self { world, bodies, offset, start, max_volume_error, deep }
+        Self { world, bodies, offset, start, max_volume_error, initial_overlap, deep }
     }
 
     pub fn step(&mut self) {
@@ -252,10 +276,14 @@ fn joint_hulls(assembly: &Assembly, depth: f64, keep: f64) -> Vec<Option<(Shared
         .collect()
 }
 
-/// For each block, whether its hull overlaps another block's hull by more than `depth` (m).
-fn overlapping_hulls(assembly: &Assembly, hulls: &[Option<(SharedShape, f64)>], depth: f64) -> Vec<bool> {
+/// The pairs of blocks whose hulls overlap by more than `depth` (m), with the overlap (m).
+fn overlapping_hulls(
+    assembly: &Assembly,
+    hulls: &[Option<(SharedShape, f64)>],
+    depth: f64,
+) -> Vec<(usize, usize, f64)> {
     let n = assembly.blocks.len();
-    let mut out = vec![false; n];
+    let mut out = Vec::new();
     let pose = |i: usize| pose_of(assembly, i);
     for i in 0..n {
         for j in i + 1..n {
@@ -266,8 +294,7 @@ fn overlapping_hulls(assembly: &Assembly, hulls: &[Option<(SharedShape, f64)>], 
             if let Ok(Some(c)) = rapier3d::parry::query::contact(&pose(i), si.as_ref(), &pose(j), sj.as_ref(), 0.0)
                 && (c.dist as f64) < -depth
             {
-                out[i] = true;
-                out[j] = true;
+                out.push((i, j, -c.dist as f64));
             }
         }
     }
