@@ -1,5 +1,5 @@
 //! Dynamics: the rapier3d drop test of an assembly — the physics engine's yes/no beside the
-//! statics' graded answer. rapier is touched only in this module ([`world`]).
+//! statics' graded answer. rapier is touched only in this module ([`world`], [`colliders`]).
 //!
 //! The assembly becomes rigid bodies at their volume centroids with the exact mass and inertia
 //! of [`crate::geometry::MassProperties`]. Blocks collide as their convex hulls; where two
@@ -20,6 +20,7 @@
 //! tolerances for the whole run. Same input, same trajectory (rapier single-threaded).
 //! Units SI, z up.
 
+mod colliders;
 mod settings;
 mod world;
 

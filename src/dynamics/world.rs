@@ -1,11 +1,11 @@
-//! The only touchpoint of rapier3d: the assembly as a rapier world, stepped.
+//! The rapier world of the drop test (with [`super::colliders`], the only rapier touchpoint): the
+//! assembly as rigid bodies, stepped.
 
 use super::DropSettings;
-use crate::geometry::cut::{SplitResult, split};
-use crate::geometry::{Mesh, Plane, Point3, Vector3};
-use crate::interfaces::Body;
+use super::colliders::{Colliders, v32};
+use crate::geometry::{Point3, Vector3};
 use crate::model::Assembly;
-use rapier3d::math::{Matrix, Pose, Vector};
+use rapier3d::math::{Matrix, Vector};
 use rapier3d::prelude::*;
 
 /// A rapier world built from an assembly; bodies in block order.
@@ -23,10 +23,6 @@ pub struct Simulation {
     pub initial_overlap: Option<(f64, [String; 2])>,
     /// Solver contacts deeper than this (m) are dropped (see `DropSettings::max_contact_depth`).
     deep: DeepContacts,
-}
-
-fn v32(v: Vector3) -> Vector {
-    Vector::new(v.x as f32, v.y as f32, v.z as f32)
 }
 
 impl Simulation {
@@ -55,58 +51,10 @@ impl Simulation {
         let c = all.center();
         let offset = Vector3::new(c.x, c.y, 0.0);
         let mut bodies = Vec::with_capacity(assembly.blocks.len());
-        let mut max_volume_error: f64 = 0.0;
-        let hulls = joint_hulls(assembly, 1e-3 * unit, settings.max_joint_cut);
-        let overlaps = overlapping_hulls(assembly, &hulls, 1e-3 * unit);
-        let mut overlapping = vec![false; assembly.blocks.len()];
-        for &(i, j, _) in &overlaps {
-            overlapping[i] = true;
-            overlapping[j] = true;
-        }
-        let mut as_hulls = vec![false; assembly.blocks.len()];
-        for (i, b) in assembly.blocks.iter().enumerate() {
+        let shapes = Colliders::new(assembly, settings, unit);
+        let (max_volume_error, initial_overlap) = (shapes.max_volume_error, shapes.initial_overlap.clone());
+        for (b, builder) in assembly.blocks.iter().zip(shapes.builders) {
             let centroid = b.mass.centroid;
-            let local: Vec<Vector> = b.mesh.vertices.iter().map(|p| v32(p - centroid)).collect();
-            let hull_error = hulls[i].as_ref().map_or(f64::INFINITY, |h| h.1);
-            // A curved voussoir's hull only adds volume where no neighbour is: it collides as
-            // its hull. A hull reaching into another block (a notch with something in it) would
-            // push that block away from the start: a convex decomposition then.
-            let as_hull = hull_error <= settings.hull_tolerance || (hull_error.is_finite() && !overlapping[i]);
-            as_hulls[i] = as_hull;
-            let builder = if let (true, Some((shape, _))) = (as_hull, &hulls[i]) {
-                max_volume_error = max_volume_error.max(hull_error.abs());
-                ColliderBuilder::new(shape.clone())
-            } else {
-                // Exact parts by splitting along the block's own face planes; V-HACD only when
-                // that needs more than 16 parts.
-                let tol = 1e-3 * b.aabb.diagonal();
-                // Triangles are exactly planar (warped faces within the planarity tolerance are
-                // not), so the splits stay exact.
-                let triangles = b.mesh.triangles();
-                let tri = crate::geometry::Mesh::new(
-                    b.mesh.vertices.clone(),
-                    triangles.iter().map(|(t, _)| t.to_vec()).collect(),
-                );
-                let parts = match crate::geometry::convex::convex_parts(&tri, tol, 16) {
-                    Some(parts) => {
-                        let shapes: Vec<(Pose, SharedShape)> = parts
-                            .iter()
-                            .filter_map(|m| {
-                                let pts: Vec<Vector> = m.vertices.iter().map(|p| v32(p - centroid)).collect();
-                                SharedShape::convex_hull(&pts).map(|s| (Pose::IDENTITY, s))
-                            })
-                            .collect();
-                        ColliderBuilder::compound(shapes)
-                    }
-                    None => {
-                        let indices: Vec<[u32; 3]> = triangles.iter().map(|(t, _)| t.map(|k| k as u32)).collect();
-                        ColliderBuilder::convex_decomposition(&local, &indices)
-                    }
-                };
-                let v = parts.build().volume() as f64;
-                max_volume_error = max_volume_error.max((v - b.mass.volume).abs() / b.mass.volume);
-                parts
-            };
             let mass = b.mass() as f32;
             let i = b.mass.inertia * b.density;
             let inertia = Matrix::from_cols_array(&[
@@ -148,19 +96,6 @@ impl Simulation {
             world.insert(ground, collider);
         }
         let start = bodies.iter().map(|&h| (world.bodies[h].translation(), *world.bodies[h].rotation())).collect();
-        // Two blocks colliding as hulls that still overlap: the input blocks themselves overlap
-        // there (a decomposed block's hull overlaps by design; two supports never collide). Reported relative to the
-        // smaller block's size.
-        let initial_overlap = overlaps
-            .iter()
-            .filter(|&&(i, j, _)| as_hulls[i] && as_hulls[j])
-            // Two fixed bodies never collide.
-            .filter(|&&(i, j, _)| !(assembly.blocks[i].support && assembly.blocks[j].support))
-            .map(|&(i, j, d)| {
-                let size = assembly.blocks[i].aabb.diagonal().min(assembly.blocks[j].aabb.diagonal());
-                (d / size, [assembly.blocks[i].name.clone(), assembly.blocks[j].name.clone()])
-            })
-            .max_by(|a, b| a.0.total_cmp(&b.0));
         let deep = DeepContacts { depth: (settings.max_contact_depth * unit) as f32 };
         Self { world, bodies, offset, start, max_volume_error, initial_overlap, deep }
     }
@@ -193,112 +128,6 @@ impl Simulation {
     pub fn kinetic_energy(&self, i: usize) -> f64 {
         self.world.bodies[self.bodies[i]].kinetic_energy() as f64
     }
-}
-
-fn pose_of(assembly: &Assembly, i: usize) -> Pose {
-    Pose::from_translation(v32(assembly.blocks[i].mass.centroid.coords))
-}
-
-/// Block `i`'s convex hull, relative to its centroid, as a mesh.
-fn hull_mesh(assembly: &Assembly, i: usize) -> Option<Mesh> {
-    use rapier3d::parry::transformation::try_convex_hull;
-    let b = &assembly.blocks[i];
-    let local: Vec<Vector> = b.mesh.vertices.iter().map(|p| v32(p - b.mass.centroid)).collect();
-    let (vertices, triangles) = try_convex_hull(&local).ok()?;
-    Some(Mesh::new(
-        vertices.iter().map(|v| Point3::new(v.x as f64, v.y as f64, v.z as f64)).collect(),
-        triangles.iter().map(|t| t.iter().map(|&k| k as usize).collect()).collect(),
-    ))
-}
-
-fn shape_of(mesh: &Mesh) -> Option<SharedShape> {
-    let points: Vec<Vector> = mesh.vertices.iter().map(|p| Vector::new(p.x as f32, p.y as f32, p.z as f32)).collect();
-    SharedShape::convex_hull(&points)
-}
-
-/// Every block's collider hull (relative to its centroid) and its volume excess over the block
-/// (a fraction). Where a joint is warped (its two faces triangulated differently, as on the
-/// Armadillo) the two blocks' hulls bulge into each other by the warp — up to 9 mm — and would
-/// start out pushing apart: at such a joint, and only there, both hulls are cut back to the
-/// joint plane, each keeping its side, so that they meet on it. Joints whose hulls do not
-/// overlap by more than `depth` (m) are left alone (cutting a conforming but non-planar joint
-/// slices real material off: the compas crossvault then fell), and so is a cut that would take
-/// more than `keep` of the block's volume. `None` for a block whose points span no volume.
-fn joint_hulls(assembly: &Assembly, depth: f64, keep: f64) -> Vec<Option<(SharedShape, f64)>> {
-    let n = assembly.blocks.len();
-    let mut meshes: Vec<Option<Mesh>> = (0..n).map(|i| hull_mesh(assembly, i)).collect();
-    let plain: Vec<Option<SharedShape>> = meshes.iter().map(|m| m.as_ref().and_then(shape_of)).collect();
-    let overlap = |a: usize, b: usize| match (&plain[a], &plain[b]) {
-        (Some(sa), Some(sb)) => {
-            let c = rapier3d::parry::query::contact(
-                &pose_of(assembly, a),
-                sa.as_ref(),
-                &pose_of(assembly, b),
-                sb.as_ref(),
-                0.0,
-            );
-            matches!(c, Ok(Some(c)) if (c.dist as f64) < -depth)
-        }
-        _ => false,
-    };
-    for f in &crate::interfaces::detect(assembly) {
-        let (Body::Block(a), Body::Block(b)) = (f.a, f.b) else { continue };
-        if !overlap(a.0, b.0) {
-            continue;
-        }
-        for (k, out) in [(a.0, f.frame.n), (b.0, -f.frame.n)] {
-            let c = assembly.blocks[k].mass.centroid;
-            let plane = Plane::from_point_normal(&Point3::from(f.frame.origin - c), &out);
-            let eps = 1e-9 * assembly.blocks[k].aabb.diagonal();
-            // The block's own side is the negative one; a convex solid gives one piece a side.
-            // A cut taking more than a warp's sliver (`keep` of the block: the plane of a
-            // non-planar or notched joint runs through real material) is not made; the hulls
-            // then overlap and the blocks get convex decompositions instead.
-            if let Some(mesh) = meshes[k].as_mut()
-                && let SplitResult::Pair { negative, .. } = split(mesh, &plane, eps)
-                && let Some(piece) = negative.into_iter().next()
-                && crate::geometry::MassProperties::of_mesh(&piece).volume
-                    >= (1.0 - keep) * assembly.blocks[k].mass.volume
-            {
-                *mesh = piece;
-            }
-        }
-    }
-    meshes
-        .iter()
-        .enumerate()
-        .map(|(i, m)| {
-            let shape = shape_of(m.as_ref()?)?;
-            let v = assembly.blocks[i].mass.volume;
-            let excess = (shape.mass_properties(1.0).mass() as f64 - v) / v;
-            Some((shape, excess))
-        })
-        .collect()
-}
-
-/// The pairs of blocks whose hulls overlap by more than `depth` (m), with the overlap (m).
-fn overlapping_hulls(
-    assembly: &Assembly,
-    hulls: &[Option<(SharedShape, f64)>],
-    depth: f64,
-) -> Vec<(usize, usize, f64)> {
-    let n = assembly.blocks.len();
-    let mut out = Vec::new();
-    let pose = |i: usize| pose_of(assembly, i);
-    for i in 0..n {
-        for j in i + 1..n {
-            let (Some((si, _)), Some((sj, _))) = (&hulls[i], &hulls[j]) else { continue };
-            if !assembly.blocks[i].aabb.intersects(&assembly.blocks[j].aabb.loosened(depth)) {
-                continue;
-            }
-            if let Ok(Some(c)) = rapier3d::parry::query::contact(&pose(i), si.as_ref(), &pose(j), sj.as_ref(), 0.0)
-                && (c.dist as f64) < -depth
-            {
-                out.push((i, j, -c.dist as f64));
-            }
-        }
-    }
-    out
 }
 
 /// Drops solver contacts deeper than `depth` (m): rapier's manifolds between many-sided hulls
