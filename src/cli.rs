@@ -8,6 +8,21 @@ use crate::statics::{FrictionModel, Verdict};
 use clap::{Args, Parser, Subcommand};
 use std::path::{Path, PathBuf};
 
+// `print!`/`println!` panic when stdout is a closed pipe (`voussoir analyze … | head`); the
+// report is what matters then: write what can be written, still write the JSON and exit with
+// the verdict's code.
+macro_rules! print {
+    ($($t:tt)*) => { write_stdout(format_args!($($t)*)) };
+}
+macro_rules! println {
+    ($($t:tt)*) => { write_stdout(format_args!("{}\n", format_args!($($t)*))) };
+}
+
+fn write_stdout(args: std::fmt::Arguments) {
+    use std::io::Write;
+    let _ = std::io::stdout().lock().write_fmt(args);
+}
+
 /// The default scene of `voussoir` without arguments (embedded, so it runs from anywhere).
 pub const DEFAULT_SCENE: &str = include_str!("../assets/default.json");
 

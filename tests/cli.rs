@@ -346,3 +346,22 @@ fn friction_use_says_what_a_polyhedral_model_allows() {
     assert!(cone.contains("93.2 %") && !cone.contains("allows"), "{cone}");
     assert!(boxed.contains("box4 allows up to 141.4 %"), "{boxed}");
 }
+
+#[test]
+fn a_closed_stdout_is_no_panic_and_the_report_is_still_written() {
+    // `voussoir analyze … | head -1`: the reader goes away before the summary is printed.
+    let json = tmp("closed_pipe.json");
+    let _ = std::fs::remove_file(&json);
+    let mut child = Command::new(env!("CARGO_BIN_EXE_voussoir"))
+        .args(["analyze", "builtin:stack?n=3", "--json", json.to_str().unwrap()])
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("the binary runs");
+    drop(child.stdout.take());
+    let out = child.wait_with_output().expect("it ends");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    assert_eq!(out.status.code(), Some(0), "{stderr}");
+    assert!(json.exists(), "the JSON report is written");
+}
