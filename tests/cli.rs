@@ -365,3 +365,21 @@ fn a_closed_stdout_is_no_panic_and_the_report_is_still_written() {
     assert_eq!(out.status.code(), Some(0), "{stderr}");
     assert!(json.exists(), "the JSON report is written");
 }
+
+#[test]
+fn a_disagreement_says_whether_the_drop_test_came_to_rest() {
+    let verdict_line = |args: &[&str]| {
+        let out = voussoir(args);
+        let text = String::from_utf8_lossy(&out.stdout).to_string();
+        text.lines().find(|l| l.starts_with("statics ")).expect("the side-by-side line").to_string()
+    };
+    // The compas arch: its crown sags 4 % of a block in rapier within 0.1 s, then holds.
+    let settled = verdict_line(&["drop", &shared("compas_assembly/arch_assembly.json")]);
+    assert!(settled.contains("DISAGREE (the blocks moved past the tolerance, then came to rest"), "{settled}");
+    // A 15-voussoir arch just above its static limit: rapier lets it hinge and fall.
+    let moving = verdict_line(&["drop", "builtin:arch?n=15&t=0.115"]);
+    assert!(moving.contains("DISAGREE (still moving at the end"), "{moving}");
+    // Both agree on a stack that needs tension.
+    let agree = verdict_line(&["drop", &shared("compas_assembly/stack_assembly.json")]);
+    assert!(agree.ends_with("AGREE") && !agree.contains("DISAGREE"), "{agree}");
+}
