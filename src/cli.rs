@@ -693,29 +693,24 @@ fn side_by_side(analysis: &Analysis, d: &crate::dynamics::DropResult) -> String 
         s.friction_excess_ratio,
         s.max_friction_utilization,
         word(d.stands),
-        disagreement(s.stands, s.free_weight, d)
+        disagreement(s.stands, d)
     );
     o
 }
 
 /// AGREE, or DISAGREE with what the drop test's motion suggests.
-fn disagreement(statics_stand: bool, weight: f64, d: &crate::dynamics::DropResult) -> &'static str {
-    if statics_stand == d.stands {
-        return "AGREE";
-    }
-    if !statics_stand {
-        return "DISAGREE (the drop test held what the statics cannot: a margin within rapier's tolerances, or too short a run)";
-    }
-    // At rest at the end: kinetic energy below 1e-6 of the weight times the median block size.
-    let mut sizes: Vec<f64> =
-        d.blocks.iter().filter(|b| b.max_drift_ratio > 0.0).map(|b| b.max_drift / b.max_drift_ratio).collect();
-    sizes.sort_by(f64::total_cmp);
-    let size = sizes.get(sizes.len() / 2).copied().unwrap_or(0.0);
-    let energy: f64 = d.blocks.iter().map(|b| b.final_kinetic_energy).sum();
-    if energy <= 1e-6 * weight * size {
-        "DISAGREE (the blocks moved past the tolerance, then came to rest: rapier's soft contacts settling, or overlapping input — compare the margins)"
-    } else {
-        "DISAGREE (still moving at the end: a failure the statics miss, or rapier near a limit — compare the margins)"
+fn disagreement(statics_stand: bool, d: &crate::dynamics::DropResult) -> &'static str {
+    match (statics_stand == d.stands, statics_stand, d.at_rest) {
+        (true, _, _) => "AGREE",
+        (false, false, _) => {
+            "DISAGREE (the drop test held what the statics cannot: a margin within rapier's tolerances, or too short a run)"
+        }
+        (false, true, true) => {
+            "DISAGREE (the blocks moved past the tolerance, then came to rest: rapier's soft contacts settling, or overlapping input — compare the margins)"
+        }
+        (false, true, false) => {
+            "DISAGREE (still moving at the end: a failure the statics miss, or rapier near a limit — compare the margins)"
+        }
     }
 }
 

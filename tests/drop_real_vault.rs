@@ -32,6 +32,7 @@ fn the_armadillo_stands_in_rapier_as_in_the_statics() {
     );
     assert!(r.stands, "largest drift {} (block {:?}), rotation {}", r.max_drift, r.worst_block, r.max_rotation);
     assert!(median_drift(&r) < 0.005, "median drift {}", median_drift(&r));
+    assert!(r.at_rest, "the vault has settled after 1 s");
 }
 
 #[test]

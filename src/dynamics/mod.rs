@@ -68,6 +68,10 @@ pub struct DropResult {
     pub max_initial_overlap: f64,
     /// The two blocks of that overlap.
     pub initial_overlap_blocks: Option<[String; 2]>,
+    /// At rest at the end: the free blocks' kinetic energy is at most 1e-6 of their weight
+    /// times the median block size. A block beyond the tolerances that has come to rest
+    /// settled (soft contacts, overlapping input); one still moving is falling.
+    pub at_rest: bool,
     pub blocks: Vec<BlockMotion>,
 }
 
@@ -85,6 +89,8 @@ pub struct DropRun {
     /// Indices of the free blocks and their sizes (m).
     free: Vec<usize>,
     size: Vec<f64>,
+    /// Free weight (N) times the median free block size (m): the scale of `at_rest`.
+    energy_scale: f64,
     motions: Vec<BlockMotion>,
     steps: usize,
     total: usize,
@@ -97,7 +103,11 @@ impl DropRun {
         let start = Instant::now();
         let sim = Simulation::new(assembly, settings);
         let free: Vec<usize> = (0..assembly.blocks.len()).filter(|&i| !assembly.blocks[i].support).collect();
-        let size = free.iter().map(|&i| assembly.blocks[i].aabb.diagonal()).collect();
+        let size: Vec<f64> = free.iter().map(|&i| assembly.blocks[i].aabb.diagonal()).collect();
+        let mut sorted = size.clone();
+        sorted.sort_by(f64::total_cmp);
+        let weight: f64 = free.iter().map(|&i| assembly.blocks[i].mass() * assembly.gravity.norm()).sum();
+        let energy_scale = weight * sorted.get(sorted.len() / 2).copied().unwrap_or(0.0);
         let motions = free
             .iter()
             .map(|&i| BlockMotion {
@@ -111,7 +121,7 @@ impl DropRun {
             .collect();
         let total = (settings.duration / settings.dt).ceil() as usize;
         let wall = start.elapsed().as_secs_f64();
-        Ok(Self { sim, settings: settings.clone(), free, size, motions, steps: 0, total, wall })
+        Ok(Self { sim, settings: settings.clone(), free, size, energy_scale, motions, steps: 0, total, wall })
     }
 
     pub fn total_steps(&self) -> usize {
@@ -181,6 +191,7 @@ impl DropRun {
             max_volume_error: self.sim.max_volume_error,
             max_initial_overlap: self.sim.initial_overlap.as_ref().map_or(0.0, |o| o.0),
             initial_overlap_blocks: self.sim.initial_overlap.as_ref().map(|o| o.1.clone()),
+            at_rest: motions.iter().map(|m| m.final_kinetic_energy).sum::<f64>() <= 1e-6 * self.energy_scale,
             blocks: motions,
         }
     }
