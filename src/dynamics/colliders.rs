@@ -59,11 +59,10 @@ impl Colliders {
             builders.push(builder);
         }
         // Two blocks colliding as hulls that still overlap: the input blocks themselves overlap
-        // there (a decomposed block's hull overlaps by design; two supports never collide).
+        // there (a decomposed block's hull overlaps by design).
         let initial_overlap = overlaps
             .iter()
             .filter(|&&(i, j, _)| as_hulls[i] && as_hulls[j])
-            .filter(|&&(i, j, _)| !(assembly.blocks[i].support && assembly.blocks[j].support))
             .map(|&(i, j, d)| {
                 let size = assembly.blocks[i].aabb.diagonal().min(assembly.blocks[j].aabb.diagonal());
                 (d / size, [assembly.blocks[i].name.clone(), assembly.blocks[j].name.clone()])
@@ -102,8 +101,22 @@ fn convex_parts(assembly: &Assembly, i: usize) -> ColliderBuilder {
     }
 }
 
-fn pose_of(assembly: &Assembly, i: usize) -> Pose {
-    Pose::from_translation(v32(assembly.blocks[i].mass.centroid.coords))
+/// How far block `j`'s collider overlaps block `i`'s (m; ≤ 0 when apart), the two shapes
+/// placed at their centroids relative to `i`'s, in f64 before rapier's f32: a model far from
+/// the origin keeps its precision.
+fn overlap_depth(assembly: &Assembly, i: usize, a: &SharedShape, j: usize, b: &SharedShape) -> f64 {
+    let offset = assembly.blocks[j].mass.centroid - assembly.blocks[i].mass.centroid;
+    let c = rapier3d::parry::query::contact(
+        &Pose::IDENTITY,
+        a.as_ref(),
+        &Pose::from_translation(v32(offset)),
+        b.as_ref(),
+        0.0,
+    );
+    match c {
+        Ok(Some(c)) => -c.dist as f64,
+        _ => 0.0,
+    }
 }
 
 /// Block `i`'s convex hull, relative to its centroid, as a mesh.
@@ -136,18 +149,10 @@ fn joint_hulls(assembly: &Assembly, depth: f64, keep: f64) -> Vec<Option<(Shared
     let mut meshes: Vec<Option<Mesh>> = (0..n).map(|i| hull_mesh(assembly, i)).collect();
     let plain: Vec<Option<SharedShape>> = meshes.iter().map(|m| m.as_ref().and_then(shape_of)).collect();
     let overlap = |a: usize, b: usize| match (&plain[a], &plain[b]) {
-        (Some(sa), Some(sb)) => {
-            let c = rapier3d::parry::query::contact(
-                &pose_of(assembly, a),
-                sa.as_ref(),
-                &pose_of(assembly, b),
-                sb.as_ref(),
-                0.0,
-            );
-            matches!(c, Ok(Some(c)) if (c.dist as f64) < -depth)
-        }
+        (Some(sa), Some(sb)) => overlap_depth(assembly, a, sa, b, sb) > depth,
         _ => false,
     };
+    let mut cut = vec![false; n];
     for f in &crate::interfaces::detect(assembly) {
         let (Body::Block(a), Body::Block(b)) = (f.a, f.b) else { continue };
         if !overlap(a.0, b.0) {
@@ -168,6 +173,7 @@ fn joint_hulls(assembly: &Assembly, depth: f64, keep: f64) -> Vec<Option<(Shared
                     >= (1.0 - keep) * assembly.blocks[k].mass.volume
             {
                 *mesh = piece;
+                cut[k] = true;
             }
         }
     }
@@ -175,7 +181,8 @@ fn joint_hulls(assembly: &Assembly, depth: f64, keep: f64) -> Vec<Option<(Shared
         .iter()
         .enumerate()
         .map(|(i, m)| {
-            let shape = shape_of(m.as_ref()?)?;
+            // An uncut hull is the plain one.
+            let shape = if cut[i] { shape_of(m.as_ref()?)? } else { plain[i].clone()? };
             let v = assembly.blocks[i].mass.volume;
             let excess = (shape.mass_properties(1.0).mass() as f64 - v) / v;
             Some((shape, excess))
@@ -183,27 +190,20 @@ fn joint_hulls(assembly: &Assembly, depth: f64, keep: f64) -> Vec<Option<(Shared
         .collect()
 }
 
-/// The pairs of blocks whose hulls overlap by more than `depth` (m), with the overlap (m).
+/// The pairs of blocks whose hulls overlap by more than `depth` (m), with the overlap (m);
+/// the candidates from interface detection's broad phase (support pairs left out: two fixed
+/// bodies never collide).
 fn overlapping_hulls(
     assembly: &Assembly,
     hulls: &[Option<(SharedShape, f64)>],
     depth: f64,
 ) -> Vec<(usize, usize, f64)> {
-    let n = assembly.blocks.len();
-    let mut out = Vec::new();
-    let pose = |i: usize| pose_of(assembly, i);
-    for i in 0..n {
-        for j in i + 1..n {
-            let (Some((si, _)), Some((sj, _))) = (&hulls[i], &hulls[j]) else { continue };
-            if !assembly.blocks[i].aabb.intersects(&assembly.blocks[j].aabb.loosened(depth)) {
-                continue;
-            }
-            if let Ok(Some(c)) = rapier3d::parry::query::contact(&pose(i), si.as_ref(), &pose(j), sj.as_ref(), 0.0)
-                && (c.dist as f64) < -depth
-            {
-                out.push((i, j, -c.dist as f64));
-            }
-        }
-    }
-    out
+    crate::interfaces::broad::candidate_pairs(assembly)
+        .into_iter()
+        .filter_map(|(i, j)| {
+            let (Some((si, _)), Some((sj, _))) = (&hulls[i], &hulls[j]) else { return None };
+            let d = overlap_depth(assembly, i, si, j, sj);
+            (d > depth).then_some((i, j, d))
+        })
+        .collect()
 }

@@ -11,7 +11,7 @@
 //! face (pointing into b). A force f at an interface point acts on b as +f and on a as −f, so a
 //! positive normal component is compression. For the ground, a is the ground and n = +z.
 
-mod broad;
+pub(crate) mod broad;
 mod cache;
 pub(crate) mod overlap;
 
