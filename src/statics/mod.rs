@@ -32,6 +32,7 @@
 mod assemble;
 mod cache;
 mod components;
+mod ipm;
 mod result;
 mod settings;
 mod solve;
@@ -40,7 +41,7 @@ mod stages;
 pub use cache::{SolveStats, StaticsCache, analyze_cached};
 pub use components::{Component, components};
 pub use result::{InterfaceResult, SolverReport, SolverStatus, StaticsResult, Verdict, VertexForce};
-pub use settings::{FrictionModel, StaticsSettings};
+pub use settings::{Backend, FrictionModel, StaticsSettings};
 
 use crate::interfaces::Interface;
 use crate::model::Assembly;

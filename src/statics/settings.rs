@@ -90,6 +90,21 @@ pub struct StaticsSettings {
     /// last LP (an equilibrium with those minima): about a third of the time on failing designs
     /// where only the graded numbers matter (sequence checks, order search).
     pub distribution: bool,
+    /// Which interior-point solver runs the polyhedral problems (pyramid8, box4, μ = 0).
+    /// Default [`Backend::Structured`]; the cone model always runs on clarabel.
+    pub backend: Backend,
+}
+
+/// The interior-point solver of the polyhedral problems.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Backend {
+    /// clarabel's algorithm with the Newton system reduced to the equilibrium rows
+    /// (`statics::ipm`); falls back to clarabel for any problem of another shape.
+    #[default]
+    Structured,
+    /// clarabel with its general sparse LDL (QDLDL) on the whole KKT matrix.
+    Clarabel,
 }
 
 impl Default for StaticsSettings {
@@ -107,6 +122,7 @@ impl Default for StaticsSettings {
             parallel: true,
             split_components: true,
             distribution: true,
+            backend: Backend::Structured,
         }
     }
 }

@@ -2,7 +2,7 @@
 
 use super::assemble::{Cone, Problem};
 use super::result::SolverStatus;
-use super::settings::StaticsSettings;
+use super::settings::{Backend, StaticsSettings};
 use clarabel::algebra::CscMatrix;
 use clarabel::solver::{DefaultSettings, DefaultSolver, IPSolver, SolverStatus as ClStatus, SupportedConeT};
 use std::time::Instant;
@@ -54,8 +54,22 @@ fn csc_from_triplets(m: usize, n: usize, triplets: &[(usize, usize, f64)]) -> Cs
     CscMatrix::new(m, n, out_colptr, rowval, nzval)
 }
 
-/// Solves one problem with clarabel (verbose off, presolve on).
+/// Solves one problem: the structured interior-point method when the settings ask for it and
+/// the problem has its shape, else clarabel (verbose off, presolve on).
 pub fn run(p: &Problem, settings: &StaticsSettings, tol: f64) -> QpOutcome {
+    if settings.backend == Backend::Structured {
+        let t = Instant::now();
+        if let Some(o) = super::ipm::solve(p, tol, settings.max_iterations) {
+            return QpOutcome {
+                status: o.status,
+                x: o.x,
+                objective: o.objective,
+                iterations: o.iterations,
+                convert_seconds: 0.0,
+                solver_seconds: t.elapsed().as_secs_f64(),
+            };
+        }
+    }
     let t0 = Instant::now();
     let diag: Vec<(usize, usize, f64)> =
         p.p_diag.iter().enumerate().filter(|(_, v)| **v != 0.0).map(|(i, &v)| (i, i, v)).collect();
