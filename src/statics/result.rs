@@ -3,7 +3,7 @@
 
 use super::assemble::ForcePoint;
 use super::components::Component;
-use super::settings::{FrictionModel, StaticsSettings};
+use super::settings::{Backend, FrictionModel, StaticsSettings};
 use super::stages::ComponentOutcome;
 use crate::geometry::{Point3, Vector3};
 use crate::interfaces::Interface;
@@ -98,6 +98,9 @@ pub struct SolverReport {
     pub residual: f64,
     /// Messages of components that did not solve, naming their blocks.
     pub messages: Vec<String>,
+    /// The interior-point solver that ran: `clarabel` when any problem ran on clarabel (the
+    /// cone model, or the `clarabel` backend), else `structured`.
+    pub backend: Backend,
 }
 
 /// The answer of [`super::analyze`].
@@ -186,7 +189,13 @@ pub(super) fn collect(
         friction_model: settings.friction_model,
         components: comps.len(),
         interfaces: results,
-        solver: SolverReport { status, iterations, residual, messages },
+        solver: SolverReport {
+            status,
+            iterations,
+            residual,
+            messages,
+            backend: if outcomes.iter().any(|o| o.used_clarabel) { Backend::Clarabel } else { Backend::Structured },
+        },
         assemble_seconds: outcomes.iter().map(|o| o.assemble_seconds).sum(),
         solver_seconds: outcomes.iter().map(|o| o.solver_seconds).sum(),
     }

@@ -14,6 +14,8 @@ pub struct QpOutcome {
     pub x: Vec<f64>,
     pub objective: f64,
     pub iterations: u32,
+    /// Which solver ran it.
+    pub backend: Backend,
     /// Seconds converting to clarabel's matrices, and in clarabel (set-up and solve).
     pub convert_seconds: f64,
     pub solver_seconds: f64,
@@ -65,6 +67,7 @@ pub fn run(p: &Problem, settings: &StaticsSettings, tol: f64) -> QpOutcome {
                 x: o.x,
                 objective: o.objective,
                 iterations: o.iterations,
+                backend: Backend::Structured,
                 convert_seconds: 0.0,
                 solver_seconds: t.elapsed().as_secs_f64(),
             };
@@ -103,6 +106,7 @@ pub fn run(p: &Problem, settings: &StaticsSettings, tol: f64) -> QpOutcome {
                 x: vec![0.0; p.n],
                 objective: f64::NAN,
                 iterations: 0,
+                backend: Backend::Clarabel,
                 convert_seconds,
                 solver_seconds: t1.elapsed().as_secs_f64(),
             };
@@ -124,6 +128,7 @@ pub fn run(p: &Problem, settings: &StaticsSettings, tol: f64) -> QpOutcome {
         x: s.x.clone(),
         objective: s.obj_val,
         iterations: s.iterations,
+        backend: Backend::Clarabel,
         convert_seconds,
         solver_seconds: t1.elapsed().as_secs_f64(),
     }

@@ -29,6 +29,9 @@ pub struct ComponentOutcome {
     /// ‖equilibrium residual‖_∞, N.
     pub residual: f64,
     pub iterations: u32,
+    /// Whether any stage ran on clarabel (the cone model, or a problem the structured solver
+    /// does not take).
+    pub used_clarabel: bool,
     /// Free weight of the component and of its lightest block, N.
     pub weight: f64,
     pub lightest: f64,
@@ -45,7 +48,7 @@ fn failed(
     (weight, lightest): (f64, f64),
     residual: f64,
     iterations: u32,
-    times: (f64, f64),
+    times: (f64, f64, bool),
 ) -> ComponentOutcome {
     ComponentOutcome {
         status,
@@ -56,6 +59,7 @@ fn failed(
         min_excess: f64::NAN,
         residual,
         iterations,
+        used_clarabel: times.2,
         weight,
         lightest,
         assemble_seconds: times.0,
@@ -92,7 +96,7 @@ pub fn solve_component(
             weights,
             weight,
             0,
-            (0.0, 0.0),
+            (0.0, 0.0, false),
         );
     }
     if !comp.is_supported(assembly, interfaces) {
@@ -102,13 +106,13 @@ pub fn solve_component(
             weights,
             weight,
             0,
-            (0.0, 0.0),
+            (0.0, 0.0, false),
         );
     }
     let ok = |s: SolverStatus| matches!(s, SolverStatus::Solved | SolverStatus::AlmostSolved);
     // Iterations, assembly seconds and solver seconds over all stages.
-    let mut tally = (0u32, 0.0f64, 0.0f64);
-    let stage = |sys: &System, st: Stage, tally: &mut (u32, f64, f64)| {
+    let mut tally = (0u32, 0.0f64, 0.0f64, false);
+    let stage = |sys: &System, st: Stage, tally: &mut (u32, f64, f64, bool)| {
         let t = Instant::now();
         let p = problem(sys, st, settings);
         let built = t.elapsed().as_secs_f64();
@@ -122,9 +126,10 @@ pub fn solve_component(
         tally.0 += out.iterations;
         tally.1 += built + out.convert_seconds;
         tally.2 += out.solver_seconds;
+        tally.3 |= out.backend == super::settings::Backend::Clarabel;
         out
     };
-    let system = |relaxed: bool, tally: &mut (u32, f64, f64)| {
+    let system = |relaxed: bool, tally: &mut (u32, f64, f64, bool)| {
         let t = Instant::now();
         let sys = System::new(assembly, interfaces, comp, mu, settings.friction_model, relaxed);
         tally.1 += t.elapsed().as_secs_f64();
@@ -143,7 +148,7 @@ pub fn solve_component(
         if !ok(b1.status) {
             let msg = format!("the minimum-tension LP ended with status {:?}", b1.status);
             let residual = sys.residual(&b1.x) * sys.force_scale;
-            return failed(b1.status, msg, weights, residual, tally.0, (tally.1, tally.2));
+            return failed(b1.status, msg, weights, residual, tally.0, (tally.1, tally.2, tally.3));
         }
         let tension = b1.objective.max(0.0);
         let mut excess = 0.0;
@@ -153,7 +158,7 @@ pub fn solve_component(
             if !ok(b2.status) {
                 let msg = format!("the friction-excess LP ended with status {:?}", b2.status);
                 let residual = sys.residual(&b2.x) * sys.force_scale;
-                return failed(b2.status, msg, weights, residual, tally.0, (tally.1, tally.2));
+                return failed(b2.status, msg, weights, residual, tally.0, (tally.1, tally.2, tally.3));
             }
             excess = b2.objective.max(0.0);
             best = b2;
@@ -185,6 +190,7 @@ pub fn solve_component(
         min_excess: excess * fs,
         residual,
         iterations: tally.0,
+        used_clarabel: tally.3,
         weight,
         lightest,
         assemble_seconds: tally.1,

@@ -412,3 +412,81 @@ pub fn solve(p: &Problem, tol: f64, max_iter: u32) -> Option<IpmOutcome> {
     }
     Some(outcome(status, &v, iter))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::statics::assemble::Cone;
+
+    /// x0 + x1 (+ x2) = 1, x ≥ 0, x0 ≤ `cap0`, x1 ≤ `cap1`; x2 fixed to 0.3 by a singleton row
+    /// when `fixed`.
+    fn problem(q: [f64; 2], p: [f64; 2], cap0: f64, cap1: f64, fixed: bool) -> Problem {
+        let n = if fixed { 3 } else { 2 };
+        let mut a = vec![(0, 0, 1.0), (0, 1, 1.0)];
+        let mut b = vec![1.0];
+        if fixed {
+            a.push((0, 2, 1.0));
+            a.push((1, 2, 1.0));
+            b[0] = 1.3;
+            b.push(0.3);
+        }
+        let z = b.len();
+        for (k, (col, v, rhs)) in
+            [(0, -1.0, 0.0), (1, -1.0, 0.0), (0, 1.0, cap0), (1, 1.0, cap1)].into_iter().enumerate()
+        {
+            a.push((z + k, col, v));
+            b.push(rhs);
+        }
+        let mut p_diag = p.to_vec();
+        let mut qv = q.to_vec();
+        if fixed {
+            p_diag.push(0.0);
+            qv.push(5.0);
+        }
+        Problem { n, p_diag, q: qv, a, b, cones: vec![Cone::Zero(z), Cone::Nonnegative(4)] }
+    }
+
+    #[test]
+    fn lp_optimum_at_a_vertex() {
+        // min x0 + 2 x1 with x0 ≤ 0.6: x = (0.6, 0.4), objective 1.4.
+        let o = solve(&problem([1.0, 2.0], [0.0, 0.0], 0.6, 10.0, false), 1e-10, 100).unwrap();
+        assert_eq!(o.status, SolverStatus::Solved);
+        assert!((o.x[0] - 0.6).abs() < 1e-8 && (o.x[1] - 0.4).abs() < 1e-8, "{:?}", o.x);
+        assert!((o.objective - 1.4).abs() < 1e-8, "{}", o.objective);
+    }
+
+    #[test]
+    fn qp_optimum_in_the_interior() {
+        // min ½(x0² + 3 x1²) on x0 + x1 = 1: x = (0.75, 0.25).
+        let o = solve(&problem([0.0, 0.0], [1.0, 3.0], 10.0, 10.0, false), 1e-10, 100).unwrap();
+        assert_eq!(o.status, SolverStatus::Solved);
+        assert!((o.x[0] - 0.75).abs() < 1e-8 && (o.x[1] - 0.25).abs() < 1e-8, "{:?}", o.x);
+    }
+
+    #[test]
+    fn infeasible_problem_is_reported() {
+        // x0 + x1 = 1 with both ≤ 0.2.
+        let o = solve(&problem([1.0, 1.0], [0.0, 0.0], 0.2, 0.2, false), 1e-10, 100).unwrap();
+        assert_eq!(o.status, SolverStatus::Infeasible);
+    }
+
+    #[test]
+    fn singleton_rows_fix_their_variable() {
+        // x2 = 0.3 leaves x0 + x1 = 1 as before; the objective counts 5 x2 = 1.5.
+        let o = solve(&problem([1.0, 2.0], [0.0, 0.0], 0.6, 10.0, true), 1e-10, 100).unwrap();
+        assert_eq!(o.status, SolverStatus::Solved);
+        assert_eq!(o.x[2], 0.3);
+        assert!((o.x[0] - 0.6).abs() < 1e-8, "{:?}", o.x);
+        assert!((o.objective - 2.9).abs() < 1e-8, "{}", o.objective);
+    }
+
+    #[test]
+    fn second_order_cones_are_left_to_clarabel() {
+        let mut p = problem([1.0, 2.0], [0.0, 0.0], 0.6, 10.0, false);
+        p.cones.push(Cone::SecondOrder(2));
+        p.a.push((5, 0, -1.0));
+        p.a.push((6, 1, -1.0));
+        p.b.extend([0.0, 0.0]);
+        assert!(solve(&p, 1e-10, 100).is_none());
+    }
+}

@@ -6,9 +6,9 @@
 //! data, so that the KKT system can be reduced to the equality rows alone:
 //! - equality rows with one entry fix their variable (the pinned `c_n⁻ = 0` rows): the
 //!   variable leaves the problem;
-//! - inequality rows with many entries (the budgets Σ c_n⁻ ≤ T, Σ s ≤ F) become equality rows
-//!   with a slack variable `σ ≥ 0` of their own;
-//! - variables linked by the remaining inequality rows form groups (union–find).
+//! - variables linked by inequality rows form groups (union–find, shortest rows first);
+//!   a row that would make a group larger than [`MAX_GROUP`] (the budgets Σ c_n⁻ ≤ T,
+//!   Σ s ≤ F) becomes an equality row with a slack variable `σ ≥ 0` of its own.
 //!
 //! Returns `None` when the problem does not have that shape (second-order cones, a group of
 //! more than [`MAX_GROUP`] variables, an infeasible fixed row): the caller falls back to
@@ -134,7 +134,8 @@ impl Structured {
                 q.push(p.q[j]);
             }
         }
-        let (mut e_rows, mut b_e, mut g_rows, mut h) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+        let (mut e_rows, mut b_e) = (Vec::new(), Vec::new());
+        let mut ineq: Vec<(Row, f64)> = Vec::new();
         let tiny = 1e-12 * (1.0 + p.b.iter().fold(0.0f64, |a, v| a.max(v.abs())));
         for i in 0..m {
             if row_used[i] {
@@ -152,11 +153,41 @@ impl Structured {
             if i < zero_rows {
                 e_rows.push(row);
                 b_e.push(rhs);
-            } else if row.len() > MAX_LOCAL_ROW {
-                // Coupling inequality a x ≤ rhs → a x + σ = rhs, σ ≥ 0.
+            } else {
+                ineq.push((row, rhs));
+            }
+        }
+        // Groups: union–find over the inequality rows, shortest first. A row that would join
+        // groups into more than MAX_GROUP variables (a budget over many points) becomes a
+        // coupling row: a x ≤ rhs → a x + σ = rhs with σ ≥ 0 its own group.
+        let mut order: Vec<usize> = (0..ineq.len()).collect();
+        order.sort_by_key(|&k| ineq[k].0.len());
+        let n0 = p_diag.len();
+        let mut parent: Vec<usize> = (0..n0).collect();
+        let mut size = vec![1usize; n0];
+        let mut coupling = vec![false; ineq.len()];
+        for &k in &order {
+            let row = &ineq[k].0;
+            let mut roots: Vec<usize> = row.iter().map(|&(j, _)| find(&mut parent, j)).collect();
+            roots.sort_unstable();
+            roots.dedup();
+            let total: usize = roots.iter().map(|&r| size[r]).sum();
+            if row.len() > MAX_LOCAL_ROW || total > MAX_GROUP {
+                coupling[k] = true;
+                continue;
+            }
+            for &r in &roots[1..] {
+                parent[r] = roots[0];
+            }
+            size[roots[0]] = total;
+        }
+        let (mut g_rows, mut h) = (Vec::new(), Vec::new());
+        for (k, (row, rhs)) in ineq.into_iter().enumerate() {
+            if coupling[k] {
                 let sigma = p_diag.len();
                 p_diag.push(0.0);
                 q.push(0.0);
+                parent.push(sigma);
                 let mut row = row;
                 row.push((sigma, 1.0));
                 e_rows.push(row);
@@ -169,17 +200,6 @@ impl Structured {
             }
         }
         let n = p_diag.len();
-        // Groups: union–find over the inequality rows.
-        let mut parent: Vec<usize> = (0..n).collect();
-        for row in &g_rows {
-            let r0 = find(&mut parent, row[0].0);
-            for &(j, _) in &row[1..] {
-                let rj = find(&mut parent, j);
-                if rj != r0 {
-                    parent[rj] = r0;
-                }
-            }
-        }
         let mut group_of_root = vec![usize::MAX; n];
         let mut groups: Vec<Group> = Vec::new();
         for j in 0..n {
