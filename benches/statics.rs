@@ -1,6 +1,7 @@
 //! The equilibrium solve: the Armadillo full pipeline (load + validate + detect + solve), the
 //! dome, running-bond walls of 100 … 4000 bricks and semicircular arches of 10 … 1000
-//! voussoirs, for each friction model. Sizes can be narrowed with criterion's filter
+//! voussoirs, for each friction model (default backend: structured), and pyramid8 on clarabel
+//! (`pyramid8-clarabel`) for the ratio. Sizes can be narrowed with criterion's filter
 //! (`cargo bench --bench statics -- wall`).
 
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
@@ -11,7 +12,7 @@ use voussoir::analysis::{AnalysisSettings, analyze};
 use voussoir::interfaces::detect;
 use voussoir::io::load_scene;
 use voussoir::model::{Assembly, builtin};
-use voussoir::statics::{self, FrictionModel, StaticsSettings};
+use voussoir::statics::{self, Backend, FrictionModel, StaticsSettings};
 
 const MODELS: [FrictionModel; 3] = [FrictionModel::Pyramid8, FrictionModel::Cone, FrictionModel::Box4];
 
@@ -35,6 +36,18 @@ fn real_data(c: &mut Criterion) {
                 black_box(analyze(&scene, &s).unwrap())
             })
         });
+        if model == FrictionModel::Pyramid8 {
+            // The same on clarabel's general LDL: the structured backend's gain.
+            g.bench_function(BenchmarkId::new("armadillo_pipeline", "pyramid8-clarabel"), |b| {
+                b.iter(|| {
+                    let scene = load_scene(&shared("compas_cra/armadillo_cra.json")).unwrap();
+                    let mut s = AnalysisSettings { statics: settings(model), ..Default::default() };
+                    s.statics.friction = Some(0.84);
+                    s.statics.backend = Backend::Clarabel;
+                    black_box(analyze(&scene, &s).unwrap())
+                })
+            });
+        }
         let scene = load_scene(&shared("compas_assembly/dome_assembly.json")).unwrap();
         let asm = Assembly::new(&scene, &Default::default()).unwrap();
         let ifs = detect(&asm);
@@ -52,9 +65,16 @@ fn parametric(c: &mut Criterion, group: &str, specs: &[(usize, String)]) {
         for (size, spec) in specs {
             let asm = Assembly::new(&builtin(spec).unwrap(), &Default::default()).unwrap();
             let ifs = detect(&asm);
-            g.bench_with_input(BenchmarkId::new(model.to_string(), size), &(asm, ifs), |b, (asm, ifs)| {
+            let inputs = (asm, ifs);
+            g.bench_with_input(BenchmarkId::new(model.to_string(), size), &inputs, |b, (asm, ifs)| {
                 b.iter(|| black_box(statics::analyze(asm, ifs, &settings(model)).unwrap()))
             });
+            if model == FrictionModel::Pyramid8 {
+                let clarabel = StaticsSettings { backend: Backend::Clarabel, ..settings(model) };
+                g.bench_with_input(BenchmarkId::new("pyramid8-clarabel", size), &inputs, |b, (asm, ifs)| {
+                    b.iter(|| black_box(statics::analyze(asm, ifs, &clarabel).unwrap()))
+                });
+            }
         }
     }
     g.finish();

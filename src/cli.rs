@@ -4,7 +4,7 @@
 use crate::analysis::{Analysis, AnalysisSettings, analyze};
 use crate::io;
 use crate::model::{Scene, builtin};
-use crate::statics::{FrictionModel, Verdict};
+use crate::statics::{Backend, FrictionModel, Verdict};
 use clap::{Args, Parser, Subcommand};
 use std::path::{Path, PathBuf};
 
@@ -216,6 +216,11 @@ pub struct AnalyzeArgs {
     /// Friction model: pyramid8 (default), cone or box4.
     #[arg(long, default_value = "pyramid8")]
     pub friction_model: FrictionModel,
+    /// Interior-point solver of the polyhedral models: structured (default; the Newton
+    /// system reduced to the equilibrium rows) or clarabel (its general LDL), to cross-check.
+    /// The cone model always runs on clarabel.
+    #[arg(long, default_value = "structured")]
+    pub solver: Backend,
     /// Friction coefficient μ (default: the scene's).
     #[arg(long)]
     pub mu: Option<f64>,
@@ -320,6 +325,7 @@ fn run_analyze(args: &AnalyzeArgs) -> Result<i32, BadInput> {
     let mut scene = load(args.scene.as_deref())?;
     let mut settings = AnalysisSettings::default();
     settings.statics.friction_model = args.friction_model;
+    settings.statics.backend = args.solver;
     settings.statics.friction = args.mu;
     if let Some(c) = args.coplanar {
         settings.tolerances.coplanar = c;
@@ -758,7 +764,8 @@ pub fn summary(analysis: &Analysis, worst: usize) -> String {
     };
     let _ = writeln!(
         o,
-        "  solver: {:?}, {} iterations, residual {:.2e} W",
+        "  solver: {} — {:?}, {} iterations, residual {:.2e} W",
+        s.solver.backend,
         s.solver.status,
         s.solver.iterations,
         s.solver.residual / s.free_weight

@@ -28,6 +28,13 @@
 //! Units: the problem is solved non-dimensionally (lengths / model size, forces / the
 //! component's free weight) and scaled back to N and m. Each connected component of free
 //! blocks is solved on its own (components in parallel when there are several big ones).
+//!
+//! ## Solvers ([`Backend`])
+//! Every stage is one conic problem as plain data ([`assemble::Problem`]). The polyhedral
+//! models (pyramid8, box4, μ = 0) run on [`ipm`], clarabel's interior-point algorithm with
+//! the Newton system reduced to the equilibrium rows (default, `Backend::Structured`); the
+//! cone model, and anything of another shape, on clarabel itself (`solve.rs`, the one
+//! clarabel call). `Backend::Clarabel` runs everything on clarabel, to cross-check.
 
 mod assemble;
 mod cache;

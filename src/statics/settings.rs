@@ -52,6 +52,26 @@ impl std::fmt::Display for FrictionModel {
     }
 }
 
+impl std::str::FromStr for Backend {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s {
+            "structured" => Ok(Self::Structured),
+            "clarabel" => Ok(Self::Clarabel),
+            _ => Err(format!("unknown solver '{s}' (structured or clarabel)")),
+        }
+    }
+}
+
+impl std::fmt::Display for Backend {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Self::Structured => "structured",
+            Self::Clarabel => "clarabel",
+        })
+    }
+}
+
 /// Settings of [`super::analyze`].
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default)]

@@ -188,7 +188,7 @@ fn write_texts(
             Line::Numbers => {
                 let t = &status.timings;
                 let mut s = format!(
-                    "tension {:.2e} W · friction excess {:.2e} W\nmax friction utilisation {:.2} μ{}\nsolve {:.1} ms (detect {:.1}, assemble {:.1}, clarabel {:.1}; total {:.1})",
+                    "tension {:.2e} W · friction excess {:.2e} W\nmax friction utilisation {:.2} μ{}\nsolve {:.1} ms (detect {:.1}, assemble {:.1}, interior point {:.1}; total {:.1})",
                     status.tension_ratio,
                     status.friction_excess_ratio,
                     status.max_friction_utilization,

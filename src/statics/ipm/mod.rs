@@ -12,6 +12,9 @@
 //! Problems of another shape (second-order cones, large groups) return `None` and go to
 //! clarabel, which stays the reference and the solver of the cone model.
 
+// Numerical kernels index several parallel arrays with one loop variable.
+#![allow(clippy::needless_range_loop)]
+
 mod kkt;
 mod structure;
 
@@ -266,17 +269,18 @@ pub fn solve(p: &Problem, tol: f64, max_iter: u32) -> Option<IpmOutcome> {
             status = Some(s);
             break;
         }
-        if let (Some((_, pi)), true) = (&prev, iter > 1) {
-            if info.res_dual > pi.res_dual || info.res_primal > pi.res_primal {
-                let stalled =
-                    info.ktratio < f64::EPSILON * 100.0 && (pi.gap_abs < full.gap_abs || pi.gap_rel < full.gap_rel);
-                let blowing = info.ktratio < 1.0
-                    && ((info.res_dual > full.feas * 100.0 && info.res_dual > pi.res_dual * 100.0)
-                        || (info.res_primal > full.feas * 100.0 && info.res_primal > pi.res_primal * 100.0));
-                if stalled || blowing {
-                    status = Some(SolverStatus::InsufficientProgress);
-                    break;
-                }
+        if let (Some((_, pi)), true) = (&prev, iter > 1)
+            && (info.res_dual > pi.res_dual || info.res_primal > pi.res_primal)
+        {
+            // clarabel's insufficient-progress tests.
+            let stalled =
+                info.ktratio < f64::EPSILON * 100.0 && (pi.gap_abs < full.gap_abs || pi.gap_rel < full.gap_rel);
+            let blowing = info.ktratio < 1.0
+                && ((info.res_dual > full.feas * 100.0 && info.res_dual > pi.res_dual * 100.0)
+                    || (info.res_primal > full.feas * 100.0 && info.res_primal > pi.res_primal * 100.0));
+            if stalled || blowing {
+                status = Some(SolverStatus::InsufficientProgress);
+                break;
             }
         }
         if iter >= max_iter {
@@ -395,20 +399,19 @@ pub fn solve(p: &Problem, tol: f64, max_iter: u32) -> Option<IpmOutcome> {
     let mut status = status.unwrap_or(SolverStatus::NumericalError);
     // Like clarabel: on insufficient progress go back to the last iterate; on trouble or the
     // iteration limit, accept the reduced tolerances.
-    if status == SolverStatus::InsufficientProgress {
-        if let Some((pv, pi)) = prev.take() {
-            v = pv;
-            last_info = pi;
-        }
+    if status == SolverStatus::InsufficientProgress
+        && let Some((pv, pi)) = prev.take()
+    {
+        v = pv;
+        last_info = pi;
     }
     if matches!(status, SolverStatus::InsufficientProgress | SolverStatus::NumericalError | SolverStatus::MaxIterations)
+        && let Some(s) = convergence(&last_info, &Tolerances::reduced(), true)
     {
-        if let Some(s) = convergence(&last_info, &Tolerances::reduced(), true) {
-            status = match s {
-                SolverStatus::Solved => SolverStatus::AlmostSolved,
-                other => other,
-            };
-        }
+        status = match s {
+            SolverStatus::Solved => SolverStatus::AlmostSolved,
+            other => other,
+        };
     }
     Some(outcome(status, &v, iter))
 }
