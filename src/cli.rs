@@ -216,9 +216,8 @@ pub struct AnalyzeArgs {
     /// Friction model: pyramid8 (default), cone or box4.
     #[arg(long, default_value = "pyramid8")]
     pub friction_model: FrictionModel,
-    /// Interior-point solver of the polyhedral models: structured (default; the Newton
-    /// system reduced to the equilibrium rows) or clarabel (its general LDL), to cross-check.
-    /// The cone model always runs on clarabel.
+    /// Interior-point solver: structured (default; the Newton system reduced to the
+    /// equilibrium rows) or clarabel (its general LDL), to cross-check.
     #[arg(long, default_value = "structured")]
     pub solver: Backend,
     /// Friction coefficient μ (default: the scene's).

@@ -1,6 +1,6 @@
 //! Invariant: the structured interior-point backend (default) and clarabel give the same
 //! answer — verdict, exact minimum tension and friction excess, and the force distribution —
-//! on standing and failing designs, for every polyhedral model and with μ = 0.
+//! on standing and failing designs, for every friction model (the cone too) and with μ = 0.
 
 mod common;
 use common::*;
@@ -42,7 +42,7 @@ fn compare(spec: &str, model: FrictionModel, mu: Option<f64>) -> (StaticsResult,
 
 #[test]
 fn standing_designs_agree() {
-    for model in [FrictionModel::Pyramid8, FrictionModel::Box4] {
+    for model in [FrictionModel::Pyramid8, FrictionModel::Box4, FrictionModel::Cone] {
         let (s, _) = compare("wall?courses=6&bricks=6", model, None);
         assert!(s.stands);
         let (s, _) = compare("arch?n=40&t=0.115", model, None);
@@ -53,7 +53,7 @@ fn standing_designs_agree() {
 
 #[test]
 fn failing_designs_agree_on_the_graded_numbers() {
-    for model in [FrictionModel::Pyramid8, FrictionModel::Box4] {
+    for model in [FrictionModel::Pyramid8, FrictionModel::Box4, FrictionModel::Cone] {
         // Needs tension (the 40-voussoir arch at t/R 0.100), slides (35° slope at μ 0.5),
         // overhangs (harmonic stack beyond H_n/2).
         let (s, _) = compare("arch?n=40&t=0.10", model, None);
@@ -75,12 +75,15 @@ fn frictionless_problems_agree() {
 }
 
 #[test]
-fn the_cone_model_runs_on_clarabel_either_way() {
-    // Second-order cones are not the structured solver's shape: both settings give clarabel's
-    // answer, bit for bit.
-    let s = solve("arch?n=20&t=0.12", FrictionModel::Cone, None, Backend::Structured);
-    let c = solve("arch?n=20&t=0.12", FrictionModel::Cone, None, Backend::Clarabel);
-    assert_eq!(s.solver.backend, Backend::Clarabel);
-    assert_eq!(s.tension_ratio, c.tension_ratio);
-    assert_eq!(s.solver.iterations, c.solver.iterations);
+fn the_cone_model_meets_its_closed_form_on_both_backends() {
+    // A 30° slope at μ = 0.5: the cone's exact friction excess per unit weight is
+    // sin θ − μ cos θ (the block slides; no tension is needed), on either backend.
+    let theta = 30f64.to_radians();
+    let exact = theta.sin() - 0.5 * theta.cos();
+    for backend in [Backend::Structured, Backend::Clarabel] {
+        let r = solve("slope?angle=30", FrictionModel::Cone, Some(0.5), backend);
+        assert_eq!(r.solver.backend, backend);
+        assert!(r.tension_ratio < 1e-8, "{backend:?}: {}", r.tension_ratio);
+        assert_close(r.friction_excess_ratio, exact, 1e-6, &format!("{backend:?}: friction excess"));
+    }
 }

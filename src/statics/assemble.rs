@@ -2,6 +2,7 @@
 //! the row and variable order documented in the module above. No solver types here.
 
 use super::components::Component;
+use super::problem::{Budget, Contact, ContactProblem, Geometry, Side};
 use super::settings::{FrictionModel, StaticsSettings};
 use crate::geometry::{Point3, Vector3};
 use crate::interfaces::{Body, Interface};
@@ -91,6 +92,8 @@ pub struct System {
     pub eq_rhs: Vec<f64>,
     /// Force scale: the component's free weight, N (lengths are scaled by the model size).
     pub force_scale: f64,
+    /// The same rows in contact form (what the stages' problems are made of).
+    pub geometry: Geometry,
 }
 
 impl System {
@@ -165,7 +168,23 @@ impl System {
                 eq_rhs[6 * i + k] = -w[k];
             }
         }
-        Self { points, layout, mu, model, eq, eq_rhs, force_scale }
+        let geometry = contact_geometry(assembly, interfaces, comp, &local, eq_rhs.clone());
+        Self { points, layout, mu, model, eq, eq_rhs, force_scale, geometry }
+    }
+
+    /// `x` of a stage's problem (its own variables) in this system's layout (the variables a
+    /// stage leaves out are 0; the budgets' slacks are dropped).
+    pub fn stage_values(&self, cp: &ContactProblem, x: &[f64]) -> Vec<f64> {
+        let c = cp.per_point();
+        let mut out = vec![0.0; self.n()];
+        for i in 0..self.points.len() {
+            for (k, &v) in cp.vars.iter().enumerate() {
+                if let Some(col) = self.col(i, v) {
+                    out[col] = x[i * c + k];
+                }
+            }
+        }
+        out
     }
 
     fn residual_vector(&self, x: &[f64]) -> Vec<f64> {
@@ -239,6 +258,47 @@ impl System {
     }
 }
 
+/// The contact form of a component's rows (module docs of [`super::problem`]).
+fn contact_geometry(
+    assembly: &Assembly,
+    interfaces: &[Interface],
+    comp: &Component,
+    local: &HashMap<BlockId, usize>,
+    rhs: Vec<f64>,
+) -> Geometry {
+    let l = assembly.scale;
+    let mut contacts = Vec::with_capacity(comp.interfaces.len());
+    let mut rho = Vec::new();
+    for &k in &comp.interfaces {
+        let itf = &interfaces[k];
+        let f = &itf.frame;
+        let o = itf.frame.origin.coords / l;
+        let start = rho.len();
+        for p in &itf.polygon {
+            let d = p.coords / l - o;
+            rho.push([d.dot(&f.n), d.dot(&f.u), d.dot(&f.v)]);
+        }
+        let cols = [f.n, f.u, f.v];
+        let side = |body: Body, sign: f64| -> Option<Side> {
+            let Body::Block(id) = body else { return None };
+            let &block = local.get(&id)?;
+            let arm: Vector3 = o - assembly.block(id).mass.centroid.coords / l;
+            let mut psi = [[0.0; 6]; 6];
+            for (c, col) in cols.iter().enumerate() {
+                let m = arm.cross(col);
+                for r in 0..3 {
+                    psi[r][c] = sign * col[r];
+                    psi[3 + r][c] = sign * m[r];
+                    psi[3 + r][3 + c] = sign * col[r];
+                }
+            }
+            Some(Side { block, psi })
+        };
+        contacts.push(Contact { points: start..rho.len(), sides: [side(itf.a, -1.0), side(itf.b, 1.0)] });
+    }
+    Geometry { blocks: comp.blocks.len(), rhs, contacts, rho }
+}
+
 /// A minimum tension (relative to the component's weight) at or below this is zero: the
 /// minimum-tension LP is solved to 1e-10, so smaller values are its round-off.
 pub const PINNED_TENSION: f64 = 1e-10;
@@ -256,116 +316,49 @@ pub enum Stage {
     Distribution { tension: f64, excess: f64 },
 }
 
-/// The full problem of one stage over `sys` (strict stage ⇔ strict layout).
-pub fn problem(sys: &System, stage: Stage, settings: &StaticsSettings) -> Problem {
-    let n = sys.n();
-    let np = sys.points.len();
+/// The problem of one stage over `sys` (strict stage ⇔ strict layout) in contact form.
+///
+/// When the minimum tension is zero (to what the LP resolves), the later stages leave c_n⁻
+/// out altogether instead of a budget Σ c_n⁻ ≤ ~0: an inequality budget at zero leaves the
+/// interior-point method no interior (the friction-excess LP then took 60–200 iterations on
+/// partial vaults instead of ~20). Budgets are loosened by 1e-6 (relative) and 1e-9 W
+/// (absolute): the optimum of the previous stage stays strictly feasible.
+pub fn contact_problem<'a>(sys: &'a System, stage: Stage, settings: &StaticsSettings) -> ContactProblem<'a> {
     let lay = sys.layout;
-    let mut p_diag = vec![0.0; n];
-    let mut q = vec![0.0; n];
-    let set = |v: &mut Vec<f64>, i: usize, var: Var, value: f64| {
-        if let Some(c) = sys.col(i, var) {
-            v[c] = value;
-        }
-    };
-    for i in 0..np {
-        match stage {
-            Stage::Tension => set(&mut q, i, Var::CnNeg, 1.0),
-            Stage::FrictionExcess { .. } => set(&mut q, i, Var::Slack, 1.0),
-            Stage::Strict | Stage::Distribution { .. } => {
-                // ½ xᵀPx: the diagonal holds 2w.
-                set(&mut p_diag, i, Var::CnPos, 2.0 * settings.w_compression);
-                set(&mut p_diag, i, Var::CnNeg, 2.0 * settings.w_tension);
-                set(&mut p_diag, i, Var::Cu, 2.0 * settings.w_friction);
-                set(&mut p_diag, i, Var::Cv, 2.0 * settings.w_friction);
-                set(&mut p_diag, i, Var::Slack, 2.0 * settings.w_slack);
-            }
-        }
-    }
-    let mut a = sys.eq.clone();
-    let mut b = sys.eq_rhs.clone();
-    // When the minimum tension is zero (to what the LP resolves), the later stages pin every
-    // c_n⁻ to 0 by equality rows instead of a budget Σ c_n⁻ ≤ ~0: an inequality budget at zero
-    // leaves the interior-point method no interior (the friction-excess LP then took 60–200
-    // iterations on partial vaults instead of ~20).
     let pinned = match stage {
         Stage::FrictionExcess { tension } | Stage::Distribution { tension, .. } => tension <= PINNED_TENSION,
         _ => false,
     };
-    if pinned {
-        for i in 0..np {
-            if let Some(col) = sys.col(i, Var::CnNeg) {
-                a.push((b.len(), col, 1.0));
-                b.push(0.0);
-            }
+    let vars: Vec<Var> = [Var::CnPos, Var::CnNeg, Var::Cu, Var::Cv, Var::Slack]
+        .into_iter()
+        .filter(|&v| lay.offset(v).is_some() && !(pinned && v == Var::CnNeg))
+        .collect();
+    let weight = |v: Var| -> f64 {
+        2.0 * match v {
+            Var::CnPos => settings.w_compression,
+            Var::CnNeg => settings.w_tension,
+            Var::Cu | Var::Cv => settings.w_friction,
+            Var::Slack => settings.w_slack,
         }
-    }
-    let mut cones = vec![Cone::Zero(b.len())];
-    let nonneg_start = b.len();
-    let push_row = |a: &mut Vec<(usize, usize, f64)>, b: &mut Vec<f64>, entries: &[(Option<usize>, f64)], rhs: f64| {
-        let row = b.len();
-        for &(col, v) in entries {
-            if let Some(col) = col {
-                a.push((row, col, v));
-            }
-        }
-        b.push(rhs);
     };
-    // Sign rows −x ≤ 0. With friction in the strict layout, c_n⁺ ≥ 0 follows from the friction
-    // rows (|c_u| ≤ μ c_n⁺), so the row is left out.
-    for i in 0..np {
-        if lay.relaxed || !lay.friction {
-            push_row(&mut a, &mut b, &[(sys.col(i, Var::CnPos), -1.0)], 0.0);
-        }
-        if lay.relaxed && !pinned {
-            push_row(&mut a, &mut b, &[(sys.col(i, Var::CnNeg), -1.0)], 0.0);
-        }
-        if lay.relaxed && lay.friction {
-            push_row(&mut a, &mut b, &[(sys.col(i, Var::Slack), -1.0)], 0.0);
-        }
-    }
-    // Budgets, loosened by 1e-6 (relative) and 1e-9 W (absolute): the optimum of the previous
-    // stage stays strictly feasible, and the interior-point method keeps room to move (a
-    // budget at exactly the minimum leaves a degenerate feasible set).
+    let (p, q): (Vec<f64>, Vec<f64>) = vars
+        .iter()
+        .map(|&v| match stage {
+            Stage::Tension => (0.0, (v == Var::CnNeg) as u8 as f64),
+            Stage::FrictionExcess { .. } => (0.0, (v == Var::Slack) as u8 as f64),
+            Stage::Strict | Stage::Distribution { .. } => (weight(v), 0.0),
+        })
+        .unzip();
     let budget = |value: f64| value * (1.0 + 1e-6) + 1e-9;
-    let tension_budget = match stage {
-        Stage::FrictionExcess { tension } | Stage::Distribution { tension, .. } if !pinned => Some(budget(tension)),
-        _ => None,
-    };
-    if let Some(t) = tension_budget {
-        let entries: Vec<(Option<usize>, f64)> = (0..np).map(|i| (sys.col(i, Var::CnNeg), 1.0)).collect();
-        push_row(&mut a, &mut b, &entries, t);
+    let mut budgets = Vec::new();
+    match stage {
+        Stage::FrictionExcess { tension } | Stage::Distribution { tension, .. } if !pinned => {
+            budgets.push(Budget { var: Var::CnNeg, limit: budget(tension) });
+        }
+        _ => {}
     }
     if let (Stage::Distribution { excess, .. }, true) = (stage, lay.friction) {
-        let entries: Vec<(Option<usize>, f64)> = (0..np).map(|i| (sys.col(i, Var::Slack), 1.0)).collect();
-        push_row(&mut a, &mut b, &entries, budget(excess));
+        budgets.push(Budget { var: Var::Slack, limit: budget(excess) });
     }
-    if lay.friction && sys.model != FrictionModel::Cone {
-        let mu = sys.mu;
-        let r2 = std::f64::consts::SQRT_2;
-        for i in 0..np {
-            let (cn, cu, cv, s) =
-                (sys.col(i, Var::CnPos), sys.col(i, Var::Cu), sys.col(i, Var::Cv), sys.col(i, Var::Slack));
-            for (du, dv) in [(1.0, 0.0), (-1.0, 0.0), (0.0, 1.0), (0.0, -1.0)] {
-                let (eu, ev) = (if du != 0.0 { cu } else { None }, if dv != 0.0 { cv } else { None });
-                push_row(&mut a, &mut b, &[(eu, du), (ev, dv), (cn, -mu), (s, -1.0)], 0.0);
-            }
-            if sys.model == FrictionModel::Pyramid8 {
-                for (du, dv) in [(1.0, 1.0), (1.0, -1.0), (-1.0, 1.0), (-1.0, -1.0)] {
-                    push_row(&mut a, &mut b, &[(cu, du), (cv, dv), (cn, -r2 * mu), (s, -r2)], 0.0);
-                }
-            }
-        }
-    }
-    cones.push(Cone::Nonnegative(b.len() - nonneg_start));
-    if lay.friction && sys.model == FrictionModel::Cone {
-        for i in 0..np {
-            // s = b − A x = (μ c_n⁺ + s, c_u, c_v) ∈ SOC(3).
-            push_row(&mut a, &mut b, &[(sys.col(i, Var::CnPos), -sys.mu), (sys.col(i, Var::Slack), -1.0)], 0.0);
-            push_row(&mut a, &mut b, &[(sys.col(i, Var::Cu), -1.0)], 0.0);
-            push_row(&mut a, &mut b, &[(sys.col(i, Var::Cv), -1.0)], 0.0);
-            cones.push(Cone::SecondOrder(3));
-        }
-    }
-    Problem { n, p_diag, q, a, b, cones }
+    ContactProblem { geometry: &sys.geometry, vars, model: sys.model, mu: sys.mu, p, q, budgets }
 }

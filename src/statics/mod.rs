@@ -7,15 +7,15 @@
 //! layout `[c_n⁺, c_u, c_v]` has no tension and no slack. When μ = 0 the strict layout has no
 //! friction columns (`[c_n⁺]` only); the relaxed one keeps them with capacity `0 + s`.
 //!
-//! ## Rows, in this order (clarabel: `A x + s = b`, cones in row order)
-//! 1. Zero cone, 6 per free block: Σ forces + weight = 0 (x, y, z) and Σ moments about the
+//! ## Rows (the contact form of [`problem`]: module docs there)
+//! 1. Equality, 6 per free block: Σ forces + weight = 0 (x, y, z) and Σ moments about the
 //!    block's volume centroid = 0 (x, y, z). A vertex force f acts on b as +f and on a as −f.
-//! 2. Non-negative cone, per vertex: the sign rows `c_n⁺ ≥ 0` (left out in the strict layout
-//!    with friction, where the friction rows imply it), `c_n⁻ ≥ 0`, `s ≥ 0`; then the budget rows
-//!    `Σ c_n⁻ ≤ T`, `Σ s ≤ F`; then for the pyramid models, per vertex, `±c_u − μc_n⁺ − s ≤ 0`,
-//!    `±c_v − μc_n⁺ − s ≤ 0` (box4 and pyramid8) and `±c_u ± c_v − √2(μc_n⁺ + s) ≤ 0`
-//!    (pyramid8 only).
-//! 3. Second-order cones (cone model), 3 rows per vertex: `‖(c_u, c_v)‖ ≤ μc_n⁺ + s`.
+//! 2. Per vertex: the sign rows `c_n⁺ ≥ 0` (left out in the strict layout with friction,
+//!    where the friction rows imply it), `c_n⁻ ≥ 0`, `s ≥ 0`; for the pyramid models
+//!    `±c_u − μc_n⁺ − s ≤ 0`, `±c_v − μc_n⁺ − s ≤ 0` (box4 and pyramid8) and
+//!    `±c_u ± c_v − √2(μc_n⁺ + s) ≤ 0` (pyramid8 only); for the cone model one second-order
+//!    cone `‖(c_u, c_v)‖ ≤ μc_n⁺ + s`.
+//! 3. Budgets `Σ c_n⁻ ≤ T`, `Σ s ≤ F` in the later stages.
 //!
 //! ## Stages (the verdict does not depend on the penalty weights)
 //! 1. Strict QP: minimise w_c Σ(c_n⁺)² + w_f Σ(c_u² + c_v²) with no tension and friction
@@ -30,16 +30,16 @@
 //! blocks is solved on its own (components in parallel when there are several big ones).
 //!
 //! ## Solvers ([`Backend`])
-//! Every stage is one conic problem as plain data ([`assemble::Problem`]). The polyhedral
-//! models (pyramid8, box4, μ = 0) run on [`ipm`], clarabel's interior-point algorithm with
-//! the Newton system reduced to the equilibrium rows (default, `Backend::Structured`); the
-//! cone model, and anything of another shape, on clarabel itself (`solve.rs`, the one
-//! clarabel call). `Backend::Clarabel` runs everything on clarabel, to cross-check.
+//! Every stage is one conic problem as plain data ([`problem::ContactProblem`]). By default
+//! it runs on [`ipm`], clarabel's interior-point algorithm with the Newton system reduced to
+//! the equilibrium rows (`Backend::Structured`); `Backend::Clarabel` runs the same data on
+//! clarabel itself (`solve.rs`, the one clarabel call), to cross-check.
 
 mod assemble;
 mod cache;
 mod components;
 mod ipm;
+mod problem;
 mod result;
 mod settings;
 mod solve;

@@ -99,7 +99,8 @@ pub struct SolverReport {
     /// Messages of components that did not solve, naming their blocks.
     pub messages: Vec<String>,
     /// The interior-point solver that ran: `clarabel` when any problem ran on clarabel (the
-    /// cone model, or the `clarabel` backend), else `structured`.
+    /// `clarabel` backend, or a problem the structured solver does not take), else
+    /// `structured`.
     pub backend: Backend,
 }
 

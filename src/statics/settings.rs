@@ -110,12 +110,11 @@ pub struct StaticsSettings {
     /// last LP (an equilibrium with those minima): about a third of the time on failing designs
     /// where only the graded numbers matter (sequence checks, order search).
     pub distribution: bool,
-    /// Which interior-point solver runs the polyhedral problems (pyramid8, box4, μ = 0).
-    /// Default [`Backend::Structured`]; the cone model always runs on clarabel.
+    /// Which interior-point solver runs the problems. Default [`Backend::Structured`].
     pub backend: Backend,
 }
 
-/// The interior-point solver of the polyhedral problems.
+/// The interior-point solver of the equilibrium problems.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Backend {

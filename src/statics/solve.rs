@@ -1,6 +1,8 @@
-//! The only clarabel touchpoint: a plain-data [`Problem`] in, a plain-data [`QpOutcome`] out.
+//! The only clarabel touchpoint: a plain-data [`ContactProblem`] in, a plain-data
+//! [`QpOutcome`] out (x in the problem's own variables).
 
-use super::assemble::{Cone, Problem};
+use super::assemble::Cone;
+use super::problem::ContactProblem;
 use super::result::SolverStatus;
 use super::settings::{Backend, StaticsSettings};
 use clarabel::algebra::CscMatrix;
@@ -58,10 +60,10 @@ fn csc_from_triplets(m: usize, n: usize, triplets: &[(usize, usize, f64)]) -> Cs
 
 /// Solves one problem: the structured interior-point method when the settings ask for it and
 /// the problem has its shape, else clarabel (verbose off, presolve on).
-pub fn run(p: &Problem, settings: &StaticsSettings, tol: f64) -> QpOutcome {
+pub fn run(cp: &ContactProblem, settings: &StaticsSettings, tol: f64) -> QpOutcome {
     if settings.backend == Backend::Structured {
         let t = Instant::now();
-        if let Some(o) = super::ipm::solve(p, tol, settings.max_iterations) {
+        if let Some(o) = super::ipm::solve(cp, tol, settings.max_iterations) {
             return QpOutcome {
                 status: o.status,
                 x: o.x,
@@ -74,6 +76,7 @@ pub fn run(p: &Problem, settings: &StaticsSettings, tol: f64) -> QpOutcome {
         }
     }
     let t0 = Instant::now();
+    let p = &cp.to_conic();
     let diag: Vec<(usize, usize, f64)> =
         p.p_diag.iter().enumerate().filter(|(_, v)| **v != 0.0).map(|(i, &v)| (i, i, v)).collect();
     let pm = csc_from_triplets(p.n, p.n, &diag);

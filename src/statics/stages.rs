@@ -2,7 +2,7 @@
 //! and when it has no solution the exact minimum-tension and minimum-excess LPs and the
 //! distribution QP; and the solve of all components, on two threads when it pays.
 
-use super::assemble::{Stage, System, Var, problem};
+use super::assemble::{Stage, System, Var, contact_problem};
 use super::components::Component;
 use super::result::SolverStatus;
 use super::settings::StaticsSettings;
@@ -29,8 +29,8 @@ pub struct ComponentOutcome {
     /// ‖equilibrium residual‖_∞, N.
     pub residual: f64,
     pub iterations: u32,
-    /// Whether any stage ran on clarabel (the cone model, or a problem the structured solver
-    /// does not take).
+    /// Whether any stage ran on clarabel (the clarabel backend, or a problem the structured
+    /// solver does not take).
     pub used_clarabel: bool,
     /// Free weight of the component and of its lightest block, N.
     pub weight: f64,
@@ -114,7 +114,7 @@ pub fn solve_component(
     let mut tally = (0u32, 0.0f64, 0.0f64, false);
     let stage = |sys: &System, st: Stage, tally: &mut (u32, f64, f64, bool)| {
         let t = Instant::now();
-        let p = problem(sys, st, settings);
+        let cp = contact_problem(sys, st, settings);
         let built = t.elapsed().as_secs_f64();
         // The LPs decide the verdict: solve them to 1e-10 so that their optimum resolves a
         // tension or friction excess of 1e-8 W (see `StaticsSettings::stand_tolerance`).
@@ -122,7 +122,8 @@ pub fn solve_component(
             Stage::Tension | Stage::FrictionExcess { .. } => settings.solver_tolerance.min(LP_TOLERANCE),
             _ => settings.solver_tolerance,
         };
-        let out = run(&p, settings, tol);
+        let mut out = run(&cp, settings, tol);
+        out.x = sys.stage_values(&cp, &out.x);
         tally.0 += out.iterations;
         tally.1 += built + out.convert_seconds;
         tally.2 += out.solver_seconds;

@@ -1,20 +1,23 @@
-//! The interior-point Newton system, reduced to the equality rows.
+//! The interior-point Newton system of a [`ContactProblem`], reduced to the equality rows.
 //!
-//! KKT system (the same as clarabel's, static regularisation ε):
+//! KKT system (clarabel's, with a static regularisation ε on the x and equality blocks):
 //! ```text
-//! [ P + εI      Eᵀ        Gᵀ       ] [x  ]   [rx  ]
-//! [ E          −εI        0        ] [z_E] = [rz_E]
-//! [ G           0     −(D + εI)    ] [z_G]   [rz_G]      D = diag(s/z) of the inequality rows
+//! [ P + εI   Eᵀ    Gᵀ  ] [x  ]   [rx ]
+//! [ E       −εI    0   ] [z_E] = [r_E]
+//! [ G        0    −Hs  ] [z_G]   [r_G]      Hs = WᵀW: s/z per non-negative row, η²(2wwᵀ − J) per SOC
 //! ```
-//! Eliminating z_G (diagonal) and then x (block diagonal: H_g = P_g + εI + G_gᵀ(D+ε)⁻¹G_g per
-//! group of a few variables) leaves the normal equations on the equality rows,
-//! `S z_E = E H⁻¹ r̃x − rz_E` with `S = E H⁻¹ Eᵀ + εI` — 6 rows per block, sparse like the
-//! block contact graph, positive definite. S is factorised by faer's supernodal sparse
-//! Cholesky (symbolic analysis and AMD ordering once per problem); each group's H by a dense
-//! Cholesky. Iterative refinement against the unregularised system removes what ε and
-//! round-off leave.
+//! Eliminating z_G and then x (block diagonal: `H_p = P + εI + G_pᵀ Hs_p⁻¹ G_p`, C×C per force
+//! point) leaves `S z_E = E H⁻¹ r̃x − r_E`, `S = E H⁻¹ Eᵀ + εI`: 6 rows per block plus one per
+//! budget, sparse like the contact graph, positive definite. The points of an interface share
+//! the rows of its two blocks, so their contributions are summed in the interface's own frame
+//! first — `K = Σ_p T_p N H_p⁻¹ Nᵀ T_pᵀ`, a 6×6 wrench matrix — and mapped to the blocks once
+//! (`Ψ_a K Ψ_bᵀ`). S is factorised by faer's supernodal sparse Cholesky (AMD ordering and
+//! symbolic analysis once per problem). Iterative refinement against the unregularised
+//! system removes what ε and round-off leave.
 
-use super::structure::{MAX_GROUP, Structured};
+use super::cones::Scaling;
+use super::shape::Shape;
+use crate::statics::problem::wrench;
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::cholesky::llt::factor::LltRegularization;
 use faer::sparse::linalg::SupernodalThreshold;
@@ -25,201 +28,216 @@ use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, MatMut, Par, Side};
 
 /// Regularisation of H and S. The elimination is exact (H is positive definite: every
-/// variable sits in an inequality row, and P ≥ 0), so this only guards round-off; clarabel
-/// needs 1e-8 for its LDL without pivoting, which here would cost extra refinement steps.
+/// variable sits in an inequality row), so this only guards round-off.
 const EPS: f64 = 1e-13;
 
-/// Group data in flat arrays (offsets per group): the columns, inequality rows and equality
-/// rows a group touches, E and G restricted to them (row-major), and after each
-/// factorisation H⁻¹ and B = E_loc H⁻¹.
-#[derive(Default)]
-struct Groups {
-    cols: Flat<usize>,
-    g_rows: Flat<usize>,
-    e_rows: Flat<usize>,
-    e_loc: Flat<f64>,
-    g_loc: Flat<f64>,
-    h_inv: Flat<f64>,
-    b: Flat<f64>,
+type Mat6 = [[f64; 6]; 6];
+
+/// Where a contact's blocks sit in S's values: the start of each column's run of the
+/// off-diagonal 6×6 block (rows of the larger block index, columns of the smaller).
+#[derive(Clone, Copy)]
+struct ContactSlots {
+    off: [usize; 6],
 }
 
-/// Concatenated slices.
-struct Flat<T> {
-    off: Vec<usize>,
-    data: Vec<T>,
-}
-
-impl<T> Default for Flat<T> {
-    fn default() -> Self {
-        Self { off: vec![0], data: Vec::new() }
-    }
-}
-
-impl<T: Copy> Flat<T> {
-    fn push(&mut self, items: &[T]) {
-        self.data.extend_from_slice(items);
-        self.off.push(self.data.len());
-    }
-    fn get(&self, g: usize) -> &[T] {
-        &self.data[self.off[g]..self.off[g + 1]]
-    }
-    fn get_mut(&mut self, g: usize) -> &mut [T] {
-        &mut self.data[self.off[g]..self.off[g + 1]]
-    }
-}
-
-/// Consecutive groups with the same equality rows (the points of one interface): their S
-/// contributions are summed densely and scattered once.
-struct Cluster {
-    groups: std::ops::Range<usize>,
-    /// Index into S's values of each lower-triangle pair (a ≥ b) of the rows.
-    scatter: Vec<usize>,
-}
-
-pub struct Kkt {
-    g: Groups,
-    clusters: Vec<Cluster>,
-    n: usize,
+pub struct Kkt<const C: usize> {
+    /// H_p⁻¹ per point (symmetric, full).
+    hinv: Vec<[[f64; C]; C]>,
+    /// H_σ⁻¹ per budget slack.
+    hinv_sigma: Vec<f64>,
+    slots: Vec<Option<ContactSlots>>,
     m_e: usize,
     /// S lower triangle in CSC.
     col_ptr: Vec<usize>,
     row_idx: Vec<usize>,
-    diag_at: Vec<usize>,
     values: Vec<f64>,
     symbolic: SymbolicCholesky<usize>,
     l_values: Vec<f64>,
     buffer: MemBuffer,
-    /// Current inequality scaling D (s/z) and its inverse.
-    d: Vec<f64>,
-    d_inv: Vec<f64>,
+    /// Work: the right-hand side of S, r̃x per point.
+    rhs_s: Vec<f64>,
+    rt: Vec<[f64; C]>,
+    /// Refinement work.
+    work: [Vec<f64>; 6],
 }
 
-/// Dense Cholesky in place (row-major lower); false if not positive definite.
-fn chol(a: &mut [f64], c: usize) -> bool {
-    for j in 0..c {
-        let mut d = a[j * c + j];
+/// Solves `h y = r` for a symmetric positive definite `h` by Cholesky; returns H⁻¹ in `inv`.
+fn invert<const C: usize>(h: &[[f64; C]; C], inv: &mut [[f64; C]; C]) -> bool {
+    let mut l = [[0.0f64; C]; C];
+    for j in 0..C {
+        let mut d = h[j][j];
         for k in 0..j {
-            d -= a[j * c + k] * a[j * c + k];
+            d -= l[j][k] * l[j][k];
         }
         if d <= 0.0 || !d.is_finite() {
             return false;
         }
         let d = d.sqrt();
-        a[j * c + j] = d;
-        for i in j + 1..c {
-            let mut v = a[i * c + j];
+        l[j][j] = d;
+        let dinv = 1.0 / d;
+        for i in j + 1..C {
+            let mut v = h[i][j];
             for k in 0..j {
-                v -= a[i * c + k] * a[j * c + k];
+                v -= l[i][k] * l[j][k];
             }
-            a[i * c + j] = v / d;
+            l[i][j] = v * dinv;
         }
-        for k in j + 1..c {
-            a[j * c + k] = 0.0;
+    }
+    // L⁻¹ (lower), then H⁻¹ = L⁻ᵀ L⁻¹.
+    let mut li = [[0.0f64; C]; C];
+    for j in 0..C {
+        li[j][j] = 1.0 / l[j][j];
+        for i in j + 1..C {
+            let mut v = 0.0;
+            for k in j..i {
+                v -= l[i][k] * li[k][j];
+            }
+            li[i][j] = v / l[i][i];
+        }
+    }
+    for i in 0..C {
+        for j in 0..=i {
+            let mut v = 0.0;
+            for k in i..C {
+                v += li[k][i] * li[k][j];
+            }
+            inv[i][j] = v;
+            inv[j][i] = v;
         }
     }
     true
 }
 
-/// Solves L Lᵀ y = y in place.
-fn chol_solve(l: &[f64], c: usize, y: &mut [f64]) {
-    for i in 0..c {
-        let mut v = y[i];
-        for k in 0..i {
-            v -= l[i * c + k] * y[k];
+fn mat_vec<const C: usize>(m: &[[f64; C]; C], v: &[f64; C]) -> [f64; C] {
+    let mut out = [0.0; C];
+    for i in 0..C {
+        let mut s = 0.0;
+        for j in 0..C {
+            s += m[i][j] * v[j];
         }
-        y[i] = v / l[i * c + i];
+        out[i] = s;
     }
-    for i in (0..c).rev() {
-        let mut v = y[i];
-        for k in i + 1..c {
-            v -= l[k * c + i] * y[k];
+    out
+}
+
+fn psi_mul(psi: &Mat6, w: &[f64; 6], out: &mut [f64]) {
+    for r in 0..6 {
+        let mut s = 0.0;
+        for c in 0..6 {
+            s += psi[r][c] * w[c];
         }
-        y[i] = v / l[i * c + i];
+        out[r] += s;
     }
 }
 
-impl Kkt {
-    pub fn new(s: &Structured) -> Option<Self> {
-        let m_e = s.e_rows.len();
-        // E by columns.
-        let mut e_cols: Vec<Vec<(usize, f64)>> = vec![Vec::new(); s.n];
-        for (i, row) in s.e_rows.iter().enumerate() {
-            for &(j, v) in row {
-                e_cols[j].push((i, v));
-            }
+fn psi_t_mul(psi: &Mat6, z: &[f64], out: &mut [f64; 6]) {
+    for c in 0..6 {
+        let mut s = 0.0;
+        for r in 0..6 {
+            s += psi[r][c] * z[r];
         }
-        let mut g = Groups::default();
-        let mut pattern: Vec<Vec<usize>> = (0..m_e).map(|i| vec![i]).collect();
-        let mut clusters: Vec<Cluster> = Vec::new();
-        for (k, grp) in s.groups.iter().enumerate() {
-            let c = grp.cols.len();
-            let mut rows: Vec<usize> = grp.cols.iter().flat_map(|&j| e_cols[j].iter().map(|e| e.0)).collect();
-            rows.sort_unstable();
-            rows.dedup();
-            let r = rows.len();
-            let mut e_loc = vec![0.0; r * c];
-            for (lc, &j) in grp.cols.iter().enumerate() {
-                for &(i, v) in &e_cols[j] {
-                    let lr = rows.binary_search(&i).expect("row collected above");
-                    e_loc[lr * c + lc] += v;
-                }
-            }
-            let mut g_loc = vec![0.0; grp.g_rows.len() * c];
-            for (kk, &gr) in grp.g_rows.iter().enumerate() {
-                for &(j, v) in &s.g_rows[gr] {
-                    let lc = grp.cols.binary_search(&j).expect("a group holds its rows' columns");
-                    g_loc[kk * c + lc] += v;
-                }
-            }
-            let same = k > 0 && g.e_rows.get(k - 1) == &rows[..];
-            if same {
-                clusters.last_mut().expect("a previous group").groups.end = k + 1;
-            } else {
-                for a in 0..r {
-                    for b in 0..=a {
-                        pattern[rows[b]].push(rows[a]);
-                    }
-                }
-                clusters.push(Cluster { groups: k..k + 1, scatter: Vec::new() });
-            }
-            g.cols.push(&grp.cols);
-            g.g_rows.push(&grp.g_rows);
-            g.e_rows.push(&rows);
-            g.e_loc.push(&e_loc);
-            g.g_loc.push(&g_loc);
-            g.h_inv.push(&vec![0.0; c * c]);
-            g.b.push(&e_loc);
+        out[c] += s;
+    }
+}
+
+/// `Nᵀ (U_top + U_bot × ρ)`: a contact's block motions seen by one point's variables.
+fn point_motion<const C: usize>(sh: &Shape<C>, u: &[f64; 6], rho: &[f64; 3]) -> [f64; C] {
+    let g = [
+        u[0] + u[4] * rho[2] - u[5] * rho[1],
+        u[1] + u[5] * rho[0] - u[3] * rho[2],
+        u[2] + u[3] * rho[1] - u[4] * rho[0],
+    ];
+    let mut t = [0.0; C];
+    for k in 0..C {
+        t[k] = sh.fmap[0][k] * g[0] + sh.fmap[1][k] * g[1] + sh.fmap[2][k] * g[2];
+    }
+    t
+}
+
+fn point_force<const C: usize>(sh: &Shape<C>, x: &[f64; C]) -> [f64; 3] {
+    let mut f = [0.0; 3];
+    for (i, fi) in f.iter_mut().enumerate() {
+        for k in 0..C {
+            *fi += sh.fmap[i][k] * x[k];
         }
-        let mut col_ptr = vec![0usize; m_e + 1];
+    }
+    f
+}
+
+fn as_point<const C: usize>(v: &[f64], p: usize) -> [f64; C] {
+    let mut out = [0.0; C];
+    out.copy_from_slice(&v[p * C..(p + 1) * C]);
+    out
+}
+
+impl<const C: usize> Kkt<C> {
+    pub fn new(sh: &Shape<C>) -> Option<Self> {
+        let nb = sh.blocks;
+        let nk = sh.budget_vars.len();
+        let m_e = 6 * nb + nk;
+        // Pattern: dense 6×6 diagonal blocks, an off-diagonal block per pair of blocks that
+        // share an interface, budget rows against every block and each other.
+        let mut pairs: Vec<(usize, usize)> = sh
+            .contacts
+            .iter()
+            .filter_map(|c| match (&c.sides[0], &c.sides[1]) {
+                (Some(a), Some(b)) if a.block != b.block => Some((a.block.max(b.block), a.block.min(b.block))),
+                _ => None,
+            })
+            .collect();
+        pairs.sort_unstable();
+        pairs.dedup();
+        // Rows below the diagonal block, per block column: the larger blocks it pairs with.
+        let mut below: Vec<Vec<usize>> = vec![Vec::new(); nb];
+        for &(i, j) in &pairs {
+            below[j].push(i);
+        }
+        let mut col_ptr = Vec::with_capacity(m_e + 1);
         let mut row_idx = Vec::new();
-        for (j, col) in pattern.iter_mut().enumerate() {
-            col.sort_unstable();
-            col.dedup();
-            row_idx.extend_from_slice(col);
-            col_ptr[j + 1] = row_idx.len();
-        }
-        let find = |i: usize, j: usize| -> usize {
-            col_ptr[j] + row_idx[col_ptr[j]..col_ptr[j + 1]].binary_search(&i).expect("entry in the pattern")
-        };
-        for cl in clusters.iter_mut() {
-            let rows = g.e_rows.get(cl.groups.start);
-            let r = rows.len();
-            let mut scatter = Vec::with_capacity(r * (r + 1) / 2);
-            for a in 0..r {
-                for b in 0..=a {
-                    scatter.push(find(rows[a], rows[b]));
+        col_ptr.push(0);
+        for j in 0..nb {
+            for c in 0..6 {
+                for r in c..6 {
+                    row_idx.push(6 * j + r);
                 }
+                for &i in &below[j] {
+                    row_idx.extend(6 * i..6 * i + 6);
+                }
+                row_idx.extend(6 * nb..m_e);
+                col_ptr.push(row_idx.len());
             }
-            cl.scatter = scatter;
         }
-        let diag_at: Vec<usize> = (0..m_e).map(|i| find(i, i)).collect();
+        for k in 0..nk {
+            row_idx.extend(6 * nb + k..m_e);
+            col_ptr.push(row_idx.len());
+        }
+        let slots = sh
+            .contacts
+            .iter()
+            .map(|c| match (&c.sides[0], &c.sides[1]) {
+                (Some(a), Some(b)) if a.block != b.block => {
+                    let (i, j) = (a.block.max(b.block), a.block.min(b.block));
+                    let at = below[j].binary_search(&i).ok()?;
+                    let mut off = [0usize; 6];
+                    for (c, o) in off.iter_mut().enumerate() {
+                        // Column 6j + c: its diagonal-block run (6 − c rows), then 6 rows per
+                        // pair before this one.
+                        *o = col_ptr[6 * j + c] + (6 - c) + 6 * at;
+                    }
+                    Some(ContactSlots { off })
+                }
+                _ => None,
+            })
+            .collect();
         let sym = SymbolicSparseColMatRef::new_checked(m_e, m_e, &col_ptr, None, &row_idx);
         let symbolic = factorize_symbolic_cholesky(
             sym,
             Side::Lower,
             SymmetricOrdering::Amd,
             CholeskySymbolicParams {
-                supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL,
+                // faer's choice: supernodal where the fill makes dense blocks pay (vaults,
+                // walls), simplicial for chains (an arch of 1000: 3× faster than supernodal).
+                supernodal_flop_ratio_threshold: SupernodalThreshold::AUTO,
                 ..Default::default()
             },
         )
@@ -230,105 +248,238 @@ impl Kkt {
         let buffer = MemBuffer::new(req);
         let l_values = vec![0.0; symbolic.len_val()];
         let values = vec![0.0; row_idx.len()];
-        let mg = s.g_rows.len();
+        let n = sh.n();
+        let mg = sh.m_g();
         Some(Self {
-            g,
-            clusters,
-            n: s.n,
+            hinv: vec![[[0.0; C]; C]; sh.points()],
+            hinv_sigma: vec![0.0; nk],
+            slots,
             m_e,
             col_ptr,
             row_idx,
-            diag_at,
             values,
             symbolic,
             l_values,
             buffer,
-            d: vec![0.0; mg],
-            d_inv: vec![0.0; mg],
+            rhs_s: vec![0.0; m_e],
+            rt: vec![[0.0; C]; sh.points()],
+            work: [vec![0.0; n], vec![0.0; m_e], vec![0.0; mg], vec![0.0; n], vec![0.0; m_e], vec![0.0; mg]],
         })
     }
 
-    /// Factorises the system for the scaling `d` (s/z per inequality row) and diagonal `p`.
-    pub fn factor(&mut self, p: &[f64], d: &[f64]) -> bool {
-        self.d.copy_from_slice(d);
-        for (di, &dv) in self.d_inv.iter_mut().zip(d) {
-            *di = 1.0 / dv;
-        }
-        self.values.iter_mut().for_each(|v| *v = 0.0);
-        let g = &mut self.g;
-        let mut acc = Vec::new();
-        let mut h = [0.0f64; MAX_GROUP * MAX_GROUP];
-        for cl in &self.clusters {
-            let r = g.e_rows.get(cl.groups.start).len();
-            acc.clear();
-            acc.resize(r * (r + 1) / 2, 0.0);
-            for k in cl.groups.clone() {
-                let cols = g.cols.get(k);
-                let c = cols.len();
-                let h = &mut h[..c * c];
-                h.iter_mut().for_each(|v| *v = 0.0);
-                for (lc, &j) in cols.iter().enumerate() {
-                    h[lc * c + lc] = p[j] + EPS;
+    /// Adds `m` (a 6×6 block of S at block rows `i`, block columns `j`) into the values.
+    fn scatter(&mut self, i: usize, j: usize, m: &Mat6, slots: Option<ContactSlots>) {
+        if i == j {
+            for c in 0..6 {
+                let base = self.col_ptr[6 * j + c];
+                for r in c..6 {
+                    self.values[base + r - c] += m[r][c];
                 }
-                let g_loc = g.g_loc.get(k);
-                for (kk, &gr) in g.g_rows.get(k).iter().enumerate() {
-                    let inv = self.d_inv[gr];
-                    let row = &g_loc[kk * c..(kk + 1) * c];
-                    for a in 0..c {
-                        let ra = row[a] * inv;
-                        if ra == 0.0 {
-                            continue;
-                        }
-                        for b in 0..=a {
-                            h[a * c + b] += ra * row[b];
+            }
+        } else if i > j {
+            let s = slots.expect("an off-diagonal block has slots");
+            for c in 0..6 {
+                for r in 0..6 {
+                    self.values[s.off[c] + r] += m[r][c];
+                }
+            }
+        } else {
+            let s = slots.expect("an off-diagonal block has slots");
+            for c in 0..6 {
+                for r in 0..6 {
+                    self.values[s.off[c] + r] += m[c][r];
+                }
+            }
+        }
+    }
+
+    /// Factorises the system for the current scaling.
+    pub fn factor(&mut self, sh: &Shape<C>, sc: &Scaling) -> bool {
+        self.values.iter_mut().for_each(|v| *v = 0.0);
+        let nb = sh.blocks;
+        let nk = sh.budget_vars.len();
+        let mp = sh.m_p;
+        let mut bb = [[0.0f64; 2]; 2];
+        for (ci, contact) in sh.contacts.iter().enumerate() {
+            let mut k6 = [[0.0f64; 6]; 6];
+            let mut v = [[0.0f64; 6]; 2];
+            for p in contact.points.clone() {
+                let mut h = [[0.0f64; C]; C];
+                for k in 0..C {
+                    h[k][k] = sh.p[k] + EPS;
+                }
+                let dinv = &sc.dinv[p * mp..p * mp + sh.nonneg.len()];
+                for (r, g) in sh.nonneg.iter().enumerate() {
+                    let w = dinv[r];
+                    for a in 0..C {
+                        let ga = g[a] * w;
+                        if ga != 0.0 {
+                            for b in 0..=a {
+                                h[a][b] += ga * g[b];
+                            }
                         }
                     }
                 }
-                if !chol(h, c) {
+                if let Some(soc) = &sh.soc {
+                    // Gᵀ Hs⁻¹ G = MᵀM with M = W⁻¹ G: a Gram matrix, positive semidefinite
+                    // whatever the rounding.
+                    let mut mm = [[0.0f64; C]; 3];
+                    for k in 0..C {
+                        let col = sc.winv_mul(p, &[soc[0][k], soc[1][k], soc[2][k]]);
+                        for i in 0..3 {
+                            mm[i][k] = col[i];
+                        }
+                    }
+                    for a in 0..C {
+                        for b in 0..=a {
+                            h[a][b] += mm[0][a] * mm[0][b] + mm[1][a] * mm[1][b] + mm[2][a] * mm[2][b];
+                        }
+                    }
+                }
+                for a in 0..C {
+                    for b in 0..a {
+                        h[b][a] = h[a][b];
+                    }
+                }
+                let hinv = &mut self.hinv[p];
+                if !invert(&h, hinv) {
                     return false;
                 }
-                // H⁻¹ column by column from the factor.
-                let h_inv = g.h_inv.get_mut(k);
-                for col in 0..c {
-                    let mut e = [0.0f64; MAX_GROUP];
-                    e[col] = 1.0;
-                    chol_solve(h, c, &mut e[..c]);
-                    for row in 0..c {
-                        h_inv[row * c + col] = e[row];
+                // Y = N H⁻¹ Nᵀ (local force covariance), then K += T Y Tᵀ.
+                let mut nh = [[0.0f64; C]; 3];
+                for i in 0..3 {
+                    for k in 0..C {
+                        let mut s = 0.0;
+                        for l in 0..C {
+                            s += sh.fmap[i][l] * hinv[l][k];
+                        }
+                        nh[i][k] = s;
                     }
                 }
-                // B = E_loc H⁻¹, and S += B E_locᵀ (lower triangle).
-                let e_loc = g.e_loc.get(k);
-                let b = &mut g.b.data[g.b.off[k]..g.b.off[k + 1]];
-                for a in 0..r {
-                    for col in 0..c {
-                        let mut v = 0.0;
-                        for i in 0..c {
-                            v += e_loc[a * c + i] * h_inv[i * c + col];
+                let mut y = [[0.0f64; 3]; 3];
+                for i in 0..3 {
+                    for j in 0..=i {
+                        let mut s = 0.0;
+                        for k in 0..C {
+                            s += nh[i][k] * sh.fmap[j][k];
                         }
-                        b[a * c + col] = v;
+                        y[i][j] = s;
+                        y[j][i] = s;
                     }
                 }
-                let mut idx = 0;
-                for a in 0..r {
-                    let ba = &b[a * c..(a + 1) * c];
-                    for bb in 0..=a {
-                        let eb = &e_loc[bb * c..(bb + 1) * c];
-                        let mut v = 0.0;
-                        for i in 0..c {
-                            v += ba[i] * eb[i];
-                        }
-                        acc[idx] += v;
-                        idx += 1;
+                let rho = &sh.rho[p];
+                // R Y with R = [ρ]×.
+                let mut ry = [[0.0f64; 3]; 3];
+                for j in 0..3 {
+                    ry[0][j] = rho[1] * y[2][j] - rho[2] * y[1][j];
+                    ry[1][j] = rho[2] * y[0][j] - rho[0] * y[2][j];
+                    ry[2][j] = rho[0] * y[1][j] - rho[1] * y[0][j];
+                }
+                for i in 0..3 {
+                    for j in 0..=i {
+                        k6[i][j] += y[i][j];
+                    }
+                    for j in 0..3 {
+                        k6[3 + i][j] += ry[i][j];
+                    }
+                }
+                // R Y Rᵀ: row i of (R Y) crossed with ρ.
+                for i in 0..3 {
+                    let r = &ry[i];
+                    let rr =
+                        [r[1] * rho[2] - r[2] * rho[1], r[2] * rho[0] - r[0] * rho[2], r[0] * rho[1] - r[1] * rho[0]];
+                    for j in 0..=i {
+                        k6[3 + i][3 + j] -= rr[j];
+                    }
+                }
+                for (kb, &col) in sh.budget_vars.iter().enumerate() {
+                    let mut u = [0.0; 3];
+                    for i in 0..3 {
+                        u[i] = nh[i][col];
+                    }
+                    let w = wrench(rho, &u);
+                    for i in 0..6 {
+                        v[kb][i] += w[i];
+                    }
+                    for (kb2, &col2) in sh.budget_vars.iter().enumerate().take(kb + 1) {
+                        bb[kb][kb2] += hinv[col][col2];
                     }
                 }
             }
-            for (&at, &v) in cl.scatter.iter().zip(&acc) {
-                self.values[at] += v;
+            for i in 0..6 {
+                for j in 0..i {
+                    k6[j][i] = k6[i][j];
+                }
+            }
+            let sides = &contact.sides;
+            let mut m = [[[0.0f64; 6]; 6]; 2];
+            for (s, side) in sides.iter().enumerate() {
+                let Some(side) = side else { continue };
+                // M = Ψ K, then S_jj += M Ψᵀ.
+                for r in 0..6 {
+                    for c in 0..6 {
+                        let mut acc = 0.0;
+                        for k in 0..6 {
+                            acc += side.psi[r][k] * k6[k][c];
+                        }
+                        m[s][r][c] = acc;
+                    }
+                }
+                let mut d = [[0.0f64; 6]; 6];
+                for r in 0..6 {
+                    for c in 0..=r {
+                        let mut acc = 0.0;
+                        for k in 0..6 {
+                            acc += m[s][r][k] * side.psi[c][k];
+                        }
+                        d[r][c] = acc;
+                    }
+                }
+                self.scatter(side.block, side.block, &d, None);
+                for kb in 0..nk {
+                    let mut w = [0.0; 6];
+                    psi_mul(&side.psi, &v[kb], &mut w);
+                    for (c, wc) in w.iter().enumerate() {
+                        let at = self.col_ptr[6 * side.block + c + 1] - nk + kb;
+                        self.values[at] += wc;
+                    }
+                }
+            }
+            if let (Some(a), Some(b)) = (&sides[0], &sides[1])
+                && a.block != b.block
+            {
+                // S_ab = Ψ_a K Ψ_bᵀ.
+                let mut o = [[0.0f64; 6]; 6];
+                for r in 0..6 {
+                    for c in 0..6 {
+                        let mut acc = 0.0;
+                        for k in 0..6 {
+                            acc += m[0][r][k] * b.psi[c][k];
+                        }
+                        o[r][c] = acc;
+                    }
+                }
+                let slots = self.slots[ci];
+                self.scatter(a.block, b.block, &o, slots);
             }
         }
-        for &k in &self.diag_at {
-            self.values[k] += EPS;
+        for kb in 0..nk {
+            let d_inv = sc.dinv[sh.points() * mp + kb];
+            // σ: P = 0, one row −σ ≤ 0: H_σ = ε + z/s.
+            let h = EPS + d_inv;
+            self.hinv_sigma[kb] = 1.0 / h;
+            bb[kb][kb] += 1.0 / h;
+        }
+        for kb in 0..nk {
+            for kb2 in 0..=kb {
+                // Column 6nb + kb2, row 6nb + kb.
+                let at = self.col_ptr[6 * nb + kb2] + (kb - kb2);
+                self.values[at] += bb[kb][kb2];
+            }
+        }
+        for j in 0..self.m_e {
+            let at = self.col_ptr[j];
+            self.values[at] += EPS;
         }
         let mat = SparseColMatRef::new(
             SymbolicSparseColMatRef::new_checked(self.m_e, self.m_e, &self.col_ptr, None, &self.row_idx),
@@ -348,160 +499,185 @@ impl Kkt {
             .is_ok()
     }
 
-    /// One solve of the regularised system: (rx, rz_E, rz_G) → (x, z_E, z_G).
-    fn solve_reg(&mut self, rx: &[f64], rz: &[f64], x: &mut [f64], z: &mut [f64]) {
-        let m_e = self.m_e;
-        let (rz_e, rz_g) = rz.split_at(m_e);
-        let g = &self.g;
-        // r̃x = rx + Gᵀ D⁻¹ rz_G (kept in x), and the right side E H⁻¹ r̃x − rz_E = B r̃x − rz_E.
-        let mut rhs_s: Vec<f64> = rz_e.iter().map(|v| -v).collect();
-        let mut rt = [0.0f64; MAX_GROUP];
-        for k in 0..g.cols.off.len() - 1 {
-            let cols = g.cols.get(k);
-            let c = cols.len();
-            for (lc, &j) in cols.iter().enumerate() {
-                rt[lc] = rx[j];
-            }
-            let g_loc = g.g_loc.get(k);
-            for (kk, &gr) in g.g_rows.get(k).iter().enumerate() {
-                let f = rz_g[gr] * self.d_inv[gr];
-                for lc in 0..c {
-                    rt[lc] += g_loc[kk * c + lc] * f;
+    /// One solve of the regularised system: (rx, r_E, r_G) → (x, z_E, z_G).
+    #[allow(clippy::too_many_arguments)]
+    fn solve_reg(
+        &mut self,
+        sh: &Shape<C>,
+        sc: &Scaling,
+        rx: &[f64],
+        re: &[f64],
+        rg: &[f64],
+        x: &mut [f64],
+        ze: &mut [f64],
+        zg: &mut [f64],
+    ) {
+        let nb = sh.blocks;
+        let mp = sh.m_p;
+        let nn = sh.nonneg.len();
+        let np = sh.points();
+        for (o, r) in self.rhs_s.iter_mut().zip(re) {
+            *o = -r;
+        }
+        // r̃x = rx + Gᵀ Hs⁻¹ r_G; S's right side E H⁻¹ r̃x − r_E.
+        for contact in sh.contacts {
+            let mut w6 = [0.0f64; 6];
+            for p in contact.points.clone() {
+                let mut rt: [f64; C] = as_point(rx, p);
+                let rgp = &rg[p * mp..(p + 1) * mp];
+                let dinv = &sc.dinv[p * mp..p * mp + nn];
+                for (r, g) in sh.nonneg.iter().enumerate() {
+                    let f = rgp[r] * dinv[r];
+                    for k in 0..C {
+                        rt[k] += g[k] * f;
+                    }
+                }
+                if let Some(soc) = &sh.soc {
+                    let f = sc.hs_inv_mul(p, &[rgp[nn], rgp[nn + 1], rgp[nn + 2]]);
+                    for i in 0..3 {
+                        for k in 0..C {
+                            rt[k] += soc[i][k] * f[i];
+                        }
+                    }
+                }
+                self.rt[p] = rt;
+                let w = mat_vec(&self.hinv[p], &rt);
+                let f = point_force(sh, &w);
+                let wr = wrench(&sh.rho[p], &f);
+                for i in 0..6 {
+                    w6[i] += wr[i];
+                }
+                for (kb, &col) in sh.budget_vars.iter().enumerate() {
+                    self.rhs_s[6 * nb + kb] += w[col];
                 }
             }
-            for (lc, &j) in cols.iter().enumerate() {
-                x[j] = rt[lc];
+            for side in contact.sides.iter().flatten() {
+                psi_mul(&side.psi, &w6, &mut self.rhs_s[6 * side.block..6 * side.block + 6]);
             }
-            let b = g.b.get(k);
-            for (a, &row) in g.e_rows.get(k).iter().enumerate() {
-                let mut v = 0.0;
-                for lc in 0..c {
-                    v += b[a * c + lc] * rt[lc];
-                }
-                rhs_s[row] += v;
-            }
+        }
+        let nk = sh.budget_vars.len();
+        let mut rt_sigma = [0.0f64; 2];
+        for kb in 0..nk {
+            let i = np * mp + kb;
+            // G row of σ is −1.
+            rt_sigma[kb] = rx[np * C + kb] - rg[i] * sc.dinv[i];
+            self.rhs_s[6 * nb + kb] += self.hinv_sigma[kb] * rt_sigma[kb];
         }
         let llt = LltRef::new(&self.symbolic, &self.l_values);
         llt.solve_in_place_with_conj(
             Conj::No,
-            MatMut::from_column_major_slice_mut(&mut rhs_s, m_e, 1),
+            MatMut::from_column_major_slice_mut(&mut self.rhs_s, self.m_e, 1),
             Par::Seq,
             MemStack::new(&mut self.buffer),
         );
-        let (z_e, z_g) = z.split_at_mut(m_e);
-        z_e.copy_from_slice(&rhs_s);
-        // x = H⁻¹ r̃x − Bᵀ z_E, z_G = D⁻¹ (G x − rz_G).
-        let mut y = [0.0f64; MAX_GROUP];
-        for k in 0..g.cols.off.len() - 1 {
-            let cols = g.cols.get(k);
-            let c = cols.len();
-            let h_inv = g.h_inv.get(k);
-            for (a, yv) in y[..c].iter_mut().enumerate() {
-                let mut v = 0.0;
-                for (i, &j) in cols.iter().enumerate() {
-                    v += h_inv[a * c + i] * x[j];
+        ze.copy_from_slice(&self.rhs_s);
+        // x = H⁻¹ (r̃x − Eᵀ z_E), z_G = Hs⁻¹ (G x − r_G).
+        for contact in sh.contacts {
+            let mut u = [0.0f64; 6];
+            for side in contact.sides.iter().flatten() {
+                psi_t_mul(&side.psi, &ze[6 * side.block..6 * side.block + 6], &mut u);
+            }
+            for p in contact.points.clone() {
+                let mut t = point_motion(sh, &u, &sh.rho[p]);
+                for (kb, &col) in sh.budget_vars.iter().enumerate() {
+                    t[col] += ze[6 * nb + kb];
                 }
-                *yv = v;
-            }
-            let b = g.b.get(k);
-            for (a, &row) in g.e_rows.get(k).iter().enumerate() {
-                let ze = z_e[row];
-                for lc in 0..c {
-                    y[lc] -= b[a * c + lc] * ze;
+                let mut r = self.rt[p];
+                for k in 0..C {
+                    r[k] -= t[k];
+                }
+                let xp = mat_vec(&self.hinv[p], &r);
+                x[p * C..(p + 1) * C].copy_from_slice(&xp);
+                let rgp = &rg[p * mp..(p + 1) * mp];
+                let dinv = &sc.dinv[p * mp..p * mp + nn];
+                let zgp = &mut zg[p * mp..(p + 1) * mp];
+                for (r, g) in sh.nonneg.iter().enumerate() {
+                    let mut gx = 0.0;
+                    for k in 0..C {
+                        gx += g[k] * xp[k];
+                    }
+                    zgp[r] = (gx - rgp[r]) * dinv[r];
+                }
+                if let Some(soc) = &sh.soc {
+                    let mut gx = [0.0; 3];
+                    for i in 0..3 {
+                        let mut s = -rgp[nn + i];
+                        for k in 0..C {
+                            s += soc[i][k] * xp[k];
+                        }
+                        gx[i] = s;
+                    }
+                    zgp[nn..nn + 3].copy_from_slice(&sc.hs_inv_mul(p, &gx));
                 }
             }
-            for (lc, &j) in cols.iter().enumerate() {
-                x[j] = y[lc];
-            }
-            let g_loc = g.g_loc.get(k);
-            for (kk, &gr) in g.g_rows.get(k).iter().enumerate() {
-                let mut v = -rz_g[gr];
-                for lc in 0..c {
-                    v += g_loc[kk * c + lc] * y[lc];
-                }
-                z_g[gr] = v * self.d_inv[gr];
-            }
+        }
+        for kb in 0..nk {
+            let i = np * mp + kb;
+            let xs = self.hinv_sigma[kb] * (rt_sigma[kb] - ze[6 * nb + kb]);
+            x[np * C + kb] = xs;
+            zg[i] = (-xs - rg[i]) * sc.dinv[i];
         }
     }
 
-    /// K [x; z] with the unregularised matrix.
-    fn apply(&self, p: &[f64], x: &[f64], z: &[f64], out_x: &mut [f64], out_z: &mut [f64]) {
-        let m_e = self.m_e;
-        for j in 0..self.n {
-            out_x[j] = p[j] * x[j];
-        }
-        out_z[..m_e].iter_mut().for_each(|v| *v = 0.0);
-        let g = &self.g;
-        for k in 0..g.cols.off.len() - 1 {
-            let cols = g.cols.get(k);
-            let c = cols.len();
-            let e_loc = g.e_loc.get(k);
-            for (a, &row) in g.e_rows.get(k).iter().enumerate() {
-                let mut v = 0.0;
-                let zr = z[row];
-                for (lc, &j) in cols.iter().enumerate() {
-                    let e = e_loc[a * c + lc];
-                    v += e * x[j];
-                    out_x[j] += e * zr;
-                }
-                out_z[row] += v;
-            }
-            let g_loc = g.g_loc.get(k);
-            for (kk, &gr) in g.g_rows.get(k).iter().enumerate() {
-                let zg = z[m_e + gr];
-                let mut v = -self.d[gr] * zg;
-                for (lc, &j) in cols.iter().enumerate() {
-                    let gv = g_loc[kk * c + lc];
-                    v += gv * x[j];
-                    out_x[j] += gv * zg;
-                }
-                out_z[m_e + gr] = v;
-            }
-        }
-    }
-
-    /// Solves K [x; z] = [rx; rz]; with `refine`, iterative refinement against the
-    /// unregularised matrix (clarabel's defaults: relative 1e-13, absolute 1e-12, ≤ 10 steps,
-    /// stop when a step gains less than 5×).
-    pub fn solve(&mut self, p: &[f64], rx: &[f64], rz: &[f64], x: &mut [f64], z: &mut [f64], refine: bool) -> bool {
-        self.solve_reg(rx, rz, x, z);
+    /// Solves K [x; z_E; z_G] = [rx; r_E; r_G]; with `refine`, iterative refinement against
+    /// the unregularised matrix (clarabel's defaults: relative 1e-13, absolute 1e-12, ≤ 10
+    /// steps, stop when a step gains less than 5×). False when the result is not finite.
+    #[allow(clippy::too_many_arguments)]
+    pub fn solve(
+        &mut self,
+        sh: &Shape<C>,
+        sc: &Scaling,
+        rx: &[f64],
+        re: &[f64],
+        rg: &[f64],
+        x: &mut [f64],
+        ze: &mut [f64],
+        zg: &mut [f64],
+        refine: bool,
+    ) -> bool {
+        self.solve_reg(sh, sc, rx, re, rg, x, ze, zg);
         if refine {
-            let norm_b = rx.iter().chain(rz).fold(0.0f64, |a, v| a.max(v.abs()));
-            let (mut kx, mut kz) = (vec![0.0; x.len()], vec![0.0; z.len()]);
-            let (mut dx, mut dz) = (vec![0.0; x.len()], vec![0.0; z.len()]);
-            let error = |kx: &mut Vec<f64>, kz: &mut Vec<f64>, x: &[f64], z: &[f64], this: &Self| -> f64 {
-                this.apply(p, x, z, kx, kz);
+            let norm_b = rx.iter().chain(re).chain(rg).fold(0.0f64, |a, v| a.max(v.abs()));
+            let [mut ex, mut ee, mut eg, mut dx, mut de, mut dg] = std::mem::take(&mut self.work);
+            // e = rhs − K [x; z].
+            let error = |ex: &mut [f64], ee: &mut [f64], eg: &mut [f64], x: &[f64], ze: &[f64], zg: &[f64]| -> f64 {
+                sh.apply(sc, x, ze, zg, ex, ee, eg);
                 let mut e = 0.0f64;
-                for (k, r) in kx.iter_mut().zip(rx) {
-                    *k = r - *k;
-                    e = e.max(k.abs());
-                }
-                for (k, r) in kz.iter_mut().zip(rz) {
+                for (k, r) in ex.iter_mut().zip(rx).chain(ee.iter_mut().zip(re)).chain(eg.iter_mut().zip(rg)) {
                     *k = r - *k;
                     e = e.max(k.abs());
                 }
                 e
             };
-            let mut norm_e = error(&mut kx, &mut kz, x, z, self);
+            let mut norm_e = error(&mut ex, &mut ee, &mut eg, x, ze, zg);
             for _ in 0..10 {
                 if norm_e <= 1e-12 + 1e-13 * norm_b {
                     break;
                 }
-                let (ex, ez) = (kx.clone(), kz.clone());
-                self.solve_reg(&ex, &ez, &mut dx, &mut dz);
-                let xn: Vec<f64> = x.iter().zip(&dx).map(|(a, b)| a + b).collect();
-                let zn: Vec<f64> = z.iter().zip(&dz).map(|(a, b)| a + b).collect();
-                let new_e = error(&mut kx, &mut kz, &xn, &zn, self);
+                self.solve_reg(sh, sc, &ex, &ee, &eg, &mut dx, &mut de, &mut dg);
+                // Candidate x + dx into dx (and so on).
+                for (d, v) in dx.iter_mut().zip(x.iter()) {
+                    *d += v;
+                }
+                for (d, v) in de.iter_mut().zip(ze.iter()) {
+                    *d += v;
+                }
+                for (d, v) in dg.iter_mut().zip(zg.iter()) {
+                    *d += v;
+                }
+                let new_e = error(&mut ex, &mut ee, &mut eg, &dx, &de, &dg);
                 if new_e < norm_e {
-                    x.copy_from_slice(&xn);
-                    z.copy_from_slice(&zn);
+                    x.copy_from_slice(&dx);
+                    ze.copy_from_slice(&de);
+                    zg.copy_from_slice(&dg);
                 }
                 if new_e * 5.0 > norm_e {
                     break;
                 }
                 norm_e = new_e;
             }
+            self.work = [ex, ee, eg, dx, de, dg];
         }
-        x.iter().chain(z.iter()).all(|v| v.is_finite())
+        x.iter().chain(ze.iter()).chain(zg.iter()).all(|v| v.is_finite())
     }
 }

@@ -1,29 +1,30 @@
-//! A structure-exploiting interior-point method for the polyhedral problems (pyramid8, box4,
-//! no friction): clarabel's algorithm (homogeneous self-dual embedding with the QP extension,
-//! Mehrotra predictor–corrector, its termination and infeasibility tests and default
-//! tolerances), with the Newton system reduced to the 6-per-block equality rows
+//! A structure-exploiting interior-point method for the equilibrium problems (every friction
+//! model): clarabel's algorithm — homogeneous self-dual embedding with the QP extension,
+//! Nesterov–Todd scaling of the non-negative and second-order cones, Mehrotra
+//! predictor–corrector, its step rules, termination and infeasibility tests and default
+//! tolerances — with the Newton system reduced to the 6-per-block equilibrium rows
 //! ([`kkt`]) instead of a general LDL of the whole KKT matrix.
 //!
-//! Why: clarabel's QDLDL factors a KKT matrix of ~57 000 rows for the Armadillo (15 000
-//! variables, 40 000 pyramid rows) in scalar code; here each force point's few variables are
-//! eliminated in closed form and a supernodal Cholesky factors the 2 400-row system. The
-//! answer is the same problem's optimum to the same tolerances; tests compare both solvers.
-//!
-//! Problems of another shape (second-order cones, large groups) return `None` and go to
-//! clarabel, which stays the reference and the solver of the cone model.
+//! Why: clarabel factors a KKT matrix of ~57 000 rows for the Armadillo (15 000 variables,
+//! 40 000 pyramid rows) with a scalar LDL; here each force point's few variables are
+//! eliminated in closed form, the points of an interface are summed in its own frame, and a
+//! supernodal Cholesky factors the 2 400-row system. The answer is the same problem's optimum
+//! to the same tolerances; tests compare both solvers.
 
 // Numerical kernels index several parallel arrays with one loop variable.
 #![allow(clippy::needless_range_loop)]
 
+mod cones;
 mod kkt;
-mod structure;
+mod shape;
 
-use super::assemble::Problem;
+use super::problem::ContactProblem;
 use super::result::SolverStatus;
+use cones::{Layout, Scaling, shift_to_interior};
 use kkt::Kkt;
-use structure::Structured;
+use shape::Shape;
 
-/// Outcome in the original variables.
+/// Outcome in the problem's variables (the points', then the budgets' slacks).
 pub struct IpmOutcome {
     pub status: SolverStatus,
     pub x: Vec<f64>,
@@ -58,21 +59,29 @@ impl Tolerances {
     }
 }
 
+/// The iterate: x, the equality duals z_E, the inequality slacks and duals (s, z), τ, κ.
 #[derive(Clone)]
 struct Vars {
     x: Vec<f64>,
-    /// Row order: equality rows (s = 0), then inequality rows.
+    ze: Vec<f64>,
     s: Vec<f64>,
     z: Vec<f64>,
     tau: f64,
     kappa: f64,
 }
 
+impl Vars {
+    fn zeros(n: usize, me: usize, mg: usize) -> Self {
+        Self { x: vec![0.0; n], ze: vec![0.0; me], s: vec![0.0; mg], z: vec![0.0; mg], tau: 0.0, kappa: 0.0 }
+    }
+}
+
 /// Residuals and the measures of clarabel's `DefaultInfo`.
 #[derive(Clone, Default)]
 struct Info {
     rx: Vec<f64>,
-    rz: Vec<f64>,
+    re: Vec<f64>,
+    rg: Vec<f64>,
     rtau: f64,
     dot_qx: f64,
     dot_bz: f64,
@@ -86,82 +95,52 @@ struct Info {
     ktratio: f64,
 }
 
-struct Data {
-    st: Structured,
-    /// b = [b_E; h].
-    b: Vec<f64>,
-    norm_b: f64,
-    norm_q: f64,
-    is_qp: bool,
-}
-
-impl Data {
-    fn m(&self) -> usize {
-        self.b.len()
+fn info<const C: usize>(sh: &Shape<C>, v: &Vars, info: &mut Info, work: &mut [Vec<f64>; 3]) {
+    let [px, ex, gx] = work;
+    sh.p_mul(&v.x, px);
+    let xpx = dot(&v.x, px);
+    let (qx, bz, sz) = (sh.q_dot(&v.x), dot(&sh.b_e, &v.ze), dot(&v.s, &v.z));
+    // rx_inf = −Aᵀz (kept in info.rx first), rz_inf = A x + s.
+    sh.at_mul(&v.ze, &v.z, &mut info.rx);
+    info.rx.iter_mut().for_each(|r| *r = -*r);
+    sh.a_mul(&v.x, ex, gx);
+    for (g, s) in gx.iter_mut().zip(&v.s) {
+        *g += s;
     }
-
-    /// A x as [E x; G x].
-    fn a_mul(&self, x: &[f64], out: &mut [f64]) {
-        for (i, row) in self.st.e_rows.iter().chain(&self.st.g_rows).enumerate() {
-            out[i] = row.iter().map(|&(j, v)| v * x[j]).sum();
-        }
+    let normx = norm_inf(&v.x);
+    let normz = norm_inf(&v.ze).max(norm_inf(&v.z));
+    let norms = norm_inf(&v.s);
+    let res_primal_inf = norm_inf(&info.rx) / normz.max(1.0);
+    let rz_inf = norm_inf(ex).max(norm_inf(gx));
+    let res_dual_inf = (norm_inf(px) / normx.max(1.0)).max(rz_inf / (normx + norms).max(1.0));
+    let q = &sh.q;
+    for (j, r) in info.rx.iter_mut().enumerate() {
+        let qj = if j < sh.points() * C { q[j % C] } else { 0.0 };
+        *r -= px[j] + v.tau * qj;
     }
-
-    /// Aᵀ z.
-    fn at_mul(&self, z: &[f64], out: &mut [f64]) {
-        out.iter_mut().for_each(|v| *v = 0.0);
-        for (i, row) in self.st.e_rows.iter().chain(&self.st.g_rows).enumerate() {
-            for &(j, v) in row {
-                out[j] += v * z[i];
-            }
-        }
+    for (i, r) in info.re.iter_mut().enumerate() {
+        *r = ex[i] - v.tau * sh.b_e[i];
     }
-
-    fn info(&self, v: &Vars) -> Info {
-        let (n, m) = (self.st.n, self.m());
-        let p = &self.st.p;
-        let px: Vec<f64> = (0..n).map(|j| p[j] * v.x[j]).collect();
-        let xpx = dot(&v.x, &px);
-        let (qx, bz, sz) = (dot(&self.st.q, &v.x), dot(&self.b, &v.z), dot(&v.s, &v.z));
-        let mut rx_inf = vec![0.0; n];
-        self.at_mul(&v.z, &mut rx_inf);
-        rx_inf.iter_mut().for_each(|r| *r = -*r);
-        let mut rz_inf = vec![0.0; m];
-        self.a_mul(&v.x, &mut rz_inf);
-        for i in 0..m {
-            rz_inf[i] += v.s[i];
-        }
-        let rx: Vec<f64> = (0..n).map(|j| rx_inf[j] - px[j] - v.tau * self.st.q[j]).collect();
-        let rz: Vec<f64> = (0..m).map(|i| rz_inf[i] - v.tau * self.b[i]).collect();
-        let rtau = qx + bz + v.kappa + xpx / v.tau;
-        let tinv = 1.0 / v.tau;
-        let half_xpx = xpx * tinv * tinv / 2.0;
-        let cost_primal = qx * tinv + half_xpx;
-        let cost_dual = -bz * tinv - half_xpx;
-        let (normx, normz, norms) = (norm_inf(&v.x), norm_inf(&v.z), norm_inf(&v.s));
-        let res_primal_inf = norm_inf(&rx_inf) / normz.max(1.0);
-        let res_dual_inf = (norm_inf(&px) / normx.max(1.0)).max(norm_inf(&rz_inf) / (normx + norms).max(1.0));
-        let (normx, normz, norms) = (normx * tinv, normz * tinv, norms * tinv);
-        let res_primal = norm_inf(&rz) * tinv / (self.norm_b + normx + norms).max(1.0);
-        let res_dual = norm_inf(&rx) * tinv / (self.norm_q + normx + normz).max(1.0);
-        let gap_abs = (cost_primal - cost_dual).abs();
-        let gap_rel = gap_abs / cost_primal.abs().min(cost_dual.abs()).max(1.0);
-        Info {
-            rx,
-            rz,
-            rtau,
-            dot_qx: qx,
-            dot_bz: bz,
-            dot_sz: sz,
-            res_primal,
-            res_dual,
-            res_primal_inf,
-            res_dual_inf,
-            gap_abs,
-            gap_rel,
-            ktratio: v.kappa * tinv,
-        }
-    }
+    info.rg.copy_from_slice(gx);
+    let tinv = 1.0 / v.tau;
+    let half_xpx = xpx * tinv * tinv / 2.0;
+    let cost_primal = qx * tinv + half_xpx;
+    let cost_dual = -bz * tinv - half_xpx;
+    let (normx, normz, norms) = (normx * tinv, normz * tinv, norms * tinv);
+    let norm_b = norm_inf(&sh.b_e);
+    let norm_q = norm_inf(&sh.q);
+    let rz = norm_inf(&info.re).max(norm_inf(&info.rg));
+    info.rtau = qx + bz + v.kappa + xpx / v.tau;
+    info.dot_qx = qx;
+    info.dot_bz = bz;
+    info.dot_sz = sz;
+    info.res_primal = rz * tinv / (norm_b + normx + norms).max(1.0);
+    info.res_dual = norm_inf(&info.rx) * tinv / (norm_q + normx + normz).max(1.0);
+    info.res_primal_inf = res_primal_inf;
+    info.res_dual_inf = res_dual_inf;
+    info.gap_abs = (cost_primal - cost_dual).abs();
+    info.gap_rel = info.gap_abs / cost_primal.abs().min(cost_dual.abs()).max(1.0);
+    info.ktratio = v.kappa * tinv;
 }
 
 fn convergence(info: &Info, t: &Tolerances, almost: bool) -> Option<SolverStatus> {
@@ -183,167 +162,180 @@ fn convergence(info: &Info, t: &Tolerances, almost: bool) -> Option<SolverStatus
     None
 }
 
-/// Shifts the inequality part of `v` into the interior (clarabel's symmetric initialisation).
-fn shift_to_interior(v: &mut [f64]) {
-    if v.is_empty() {
-        return;
+/// Solves `cp`; `None` when it has a shape this solver does not take (it then goes to
+/// clarabel).
+pub fn solve(cp: &ContactProblem, tol: f64, max_iter: u32) -> Option<IpmOutcome> {
+    match cp.per_point() {
+        1 => solve_c::<1>(cp, tol, max_iter),
+        2 => solve_c::<2>(cp, tol, max_iter),
+        3 => solve_c::<3>(cp, tol, max_iter),
+        4 => solve_c::<4>(cp, tol, max_iter),
+        5 => solve_c::<5>(cp, tol, max_iter),
+        _ => None,
     }
-    let min = v.iter().cloned().fold(f64::INFINITY, f64::min);
-    let pos: f64 = v.iter().map(|x| x.max(0.0)).sum();
-    let target = (0.1 * pos / v.len() as f64).max(1.0);
-    let shift = if min <= 0.0 {
-        -min + target
-    } else if min < target {
-        target - min
-    } else {
-        0.0
+}
+
+fn solve_c<const C: usize>(cp: &ContactProblem, tol: f64, max_iter: u32) -> Option<IpmOutcome> {
+    let sh = Shape::<C>::new(cp)?;
+    let mut kkt = Kkt::<C>::new(&sh)?;
+    let (n, me, mg) = (sh.n(), sh.m_e(), sh.m_g());
+    let layout = Layout {
+        points: sh.points(),
+        per_point: sh.m_p,
+        nonneg: sh.nonneg.len(),
+        soc: sh.soc.is_some(),
+        tail: sh.budgets(),
     };
-    v.iter_mut().for_each(|x| *x += shift);
-}
-
-/// Largest step in (0, cap] keeping `v + α dv ≥ 0`.
-fn max_step(v: &[f64], dv: &[f64], cap: f64) -> f64 {
-    let mut a = cap;
-    for (x, d) in v.iter().zip(dv) {
-        if *d < 0.0 {
-            a = a.min(-x / d);
-        }
-    }
-    a
-}
-
-/// Solves `p` if it has the structure (see [`structure`]); `None` hands it to clarabel.
-pub fn solve(p: &Problem, tol: f64, max_iter: u32) -> Option<IpmOutcome> {
-    let st = Structured::new(p)?;
-    let mut kkt = Kkt::new(&st)?;
-    let m_e = st.e_rows.len();
-    let b: Vec<f64> = st.b_e.iter().chain(&st.h).cloned().collect();
-    let data = Data { norm_b: norm_inf(&b), norm_q: norm_inf(&st.q), is_qp: st.p.iter().any(|v| *v != 0.0), b, st };
-    let (n, m) = (data.st.n, data.m());
-    let mg = m - m_e;
-    let p_diag = data.st.p.clone();
+    let is_qp = sh.p.iter().any(|v| *v != 0.0);
+    let mut sc = Scaling::identity(layout);
     let outcome = |status: SolverStatus, v: &Vars, iterations: u32| -> IpmOutcome {
         let scale = if v.tau > 0.0 { 1.0 / v.tau } else { 1.0 };
-        let xr: Vec<f64> = v.x.iter().map(|x| x * scale).collect();
-        let x = data.st.expand(&xr);
-        let objective = (0..p.n).map(|j| 0.5 * p.p_diag[j] * x[j] * x[j] + p.q[j] * x[j]).sum();
+        let x: Vec<f64> = v.x.iter().map(|x| x * scale).collect();
+        let objective = 0.5 * sh.p_quad(&x, &x) + sh.q_dot(&x);
         IpmOutcome { status, x, objective, iterations }
     };
 
     // Initial point: identity scaling, then the shifted least-squares points.
-    let mut v = Vars { x: vec![0.0; n], s: vec![0.0; m], z: vec![0.0; m], tau: 1.0, kappa: 1.0 };
-    if !kkt.factor(&p_diag, &vec![1.0; mg]) {
+    let mut v = Vars::zeros(n, me, mg);
+    v.tau = 1.0;
+    v.kappa = 1.0;
+    if !kkt.factor(&sh, &sc) {
         return Some(outcome(SolverStatus::NumericalError, &v, 0));
     }
     let zeros_n = vec![0.0; n];
-    let minus_q: Vec<f64> = data.st.q.iter().map(|q| -q).collect();
-    let mut tmp = vec![0.0; m];
-    if data.is_qp {
-        kkt.solve(&p_diag, &minus_q, &data.b, &mut v.x, &mut v.z, true);
-        for i in m_e..m {
+    let zeros_g = vec![0.0; mg];
+    let zeros_e = vec![0.0; me];
+    let mut minus_q = vec![0.0; n];
+    for p in 0..sh.points() {
+        for k in 0..C {
+            minus_q[p * C + k] = -sh.q[k];
+        }
+    }
+    if is_qp {
+        kkt.solve(&sh, &sc, &minus_q, &sh.b_e, &zeros_g, &mut v.x, &mut v.ze, &mut v.z, true);
+        for i in 0..mg {
             v.s[i] = -v.z[i];
         }
     } else {
-        kkt.solve(&p_diag, &zeros_n, &data.b, &mut v.x, &mut tmp, true);
-        for i in m_e..m {
-            v.s[i] = -tmp[i];
-        }
+        let mut tmp_e = vec![0.0; me];
+        kkt.solve(&sh, &sc, &zeros_n, &sh.b_e, &zeros_g, &mut v.x, &mut tmp_e, &mut v.s, true);
+        v.s.iter_mut().for_each(|s| *s = -*s);
         let mut xt = vec![0.0; n];
-        kkt.solve(&p_diag, &minus_q, &vec![0.0; m], &mut xt, &mut v.z, true);
+        kkt.solve(&sh, &sc, &minus_q, &zeros_e, &zeros_g, &mut xt, &mut v.ze, &mut v.z, true);
     }
-    shift_to_interior(&mut v.s[m_e..]);
-    shift_to_interior(&mut v.z[m_e..]);
+    shift_to_interior(&layout, &mut v.s);
+    shift_to_interior(&layout, &mut v.z);
 
     let full = Tolerances::full(tol);
     let mut prev: Option<(Vars, Info)> = None;
     let mut iter = 0u32;
-    let mut status = None;
-    let (mut x1, mut z1, mut x2, mut z2) = (vec![0.0; n], vec![0.0; m], vec![0.0; n], vec![0.0; m]);
-    let mut d = vec![0.0; mg];
-    let mut last_info;
+    let status;
+    let mut inf = Info { rx: vec![0.0; n], re: vec![0.0; me], rg: vec![0.0; mg], ..Default::default() };
+    let mut work = [vec![0.0; n], vec![0.0; me], vec![0.0; mg]];
+    // Constant part (x2, z2) and the variable part (x1, z1) of each Newton solve.
+    let mut c2 = Vars::zeros(n, me, mg);
+    let mut c1 = Vars::zeros(n, me, mg);
+    let mut aff = Vars::zeros(n, me, mg);
+    let mut comb = Vars::zeros(n, me, mg);
+    let mut wg = vec![0.0; mg];
+    let mut we = vec![0.0; me];
+    let mut rg_c = vec![0.0; mg];
+    let mut cterm = vec![0.0; mg];
+    let mut rx_c = vec![0.0; n];
+    let mut re_c = vec![0.0; me];
+    let mut xi = vec![0.0; n];
     loop {
-        let info = data.info(&v);
-        let mu = (info.dot_sz + v.tau * v.kappa) / (mg as f64 + 1.0);
-        last_info = info.clone();
-        if let Some(s) = convergence(&info, &full, false) {
-            status = Some(s);
+        info(&sh, &v, &mut inf, &mut work);
+        let mu = (inf.dot_sz + v.tau * v.kappa) / (layout.degree() as f64 + 1.0);
+        if let Some(s) = convergence(&inf, &full, false) {
+            status = s;
             break;
         }
         if let (Some((_, pi)), true) = (&prev, iter > 1)
-            && (info.res_dual > pi.res_dual || info.res_primal > pi.res_primal)
+            && (inf.res_dual > pi.res_dual || inf.res_primal > pi.res_primal)
         {
             // clarabel's insufficient-progress tests.
             let stalled =
-                info.ktratio < f64::EPSILON * 100.0 && (pi.gap_abs < full.gap_abs || pi.gap_rel < full.gap_rel);
-            let blowing = info.ktratio < 1.0
-                && ((info.res_dual > full.feas * 100.0 && info.res_dual > pi.res_dual * 100.0)
-                    || (info.res_primal > full.feas * 100.0 && info.res_primal > pi.res_primal * 100.0));
+                inf.ktratio < f64::EPSILON * 100.0 && (pi.gap_abs < full.gap_abs || pi.gap_rel < full.gap_rel);
+            let blowing = inf.ktratio < 1.0
+                && ((inf.res_dual > full.feas * 100.0 && inf.res_dual > pi.res_dual * 100.0)
+                    || (inf.res_primal > full.feas * 100.0 && inf.res_primal > pi.res_primal * 100.0));
             if stalled || blowing {
-                status = Some(SolverStatus::InsufficientProgress);
+                status = SolverStatus::InsufficientProgress;
                 break;
             }
         }
         if iter >= max_iter {
-            status = Some(SolverStatus::MaxIterations);
+            status = SolverStatus::MaxIterations;
             break;
         }
-        // Nesterov–Todd scaling of the non-negative rows: D = s/z.
-        for k in 0..mg {
-            let (s, z) = (v.s[m_e + k], v.z[m_e + k]);
-            if s <= 0.0 || z <= 0.0 {
-                status = Some(SolverStatus::NumericalError);
-            }
-            d[k] = s / z;
-        }
-        if status.is_some() {
+        if !sc.update(&v.s, &v.z) {
+            status = SolverStatus::NumericalError;
             break;
         }
         iter += 1;
-        if !kkt.factor(&p_diag, &d) {
-            status = Some(SolverStatus::NumericalError);
+        if !kkt.factor(&sh, &sc) {
+            status = SolverStatus::NumericalError;
             break;
         }
         // Constant part of the step: K [x2; z2] = [−q; b].
-        if !kkt.solve(&p_diag, &minus_q, &data.b, &mut x2, &mut z2, true) {
-            status = Some(SolverStatus::NumericalError);
+        if !kkt.solve(&sh, &sc, &minus_q, &sh.b_e, &zeros_g, &mut c2.x, &mut c2.ze, &mut c2.z, true) {
+            status = SolverStatus::NumericalError;
             break;
         }
-        // One Newton step for a right-hand side (rx, rz, rs, rτ, rκ); clarabel's
-        // DefaultKKTSystem::solve for the non-negative cone. `c` is the Δs constant term.
-        let mut step = |rhs_x: &[f64],
-                        rhs_z: &[f64],
-                        c: &[f64],
-                        r_tau: f64,
-                        r_kappa: f64,
-                        refine: bool,
-                        kkt: &mut Kkt|
-         -> Option<Vars> {
-            let mut wz = vec![0.0; m];
-            for i in 0..m {
-                wz[i] = c[i] - rhs_z[i];
+        for j in 0..n {
+            xi[j] = v.x[j] / v.tau;
+        }
+        // One Newton step for the right-hand side (rx, r_E, r_G, the Δs constant term `c`,
+        // rτ, rκ); clarabel's DefaultKKTSystem::solve.
+        #[allow(clippy::too_many_arguments)]
+        let step = |rx: &[f64],
+                    re: &[f64],
+                    rg: &[f64],
+                    c: &[f64],
+                    r_tau: f64,
+                    r_kappa: f64,
+                    refine: bool,
+                    kkt: &mut Kkt<C>,
+                    c1: &mut Vars,
+                    (we, wg): (&mut Vec<f64>, &mut Vec<f64>),
+                    out: &mut Vars|
+         -> bool {
+            // The z right-hand side is c − r_z (c = 0 on the equality rows).
+            for i in 0..me {
+                we[i] = -re[i];
             }
-            if !kkt.solve(&p_diag, rhs_x, &wz, &mut x1, &mut z1, refine) {
-                return None;
+            for i in 0..mg {
+                wg[i] = c[i] - rg[i];
             }
-            let xi: Vec<f64> = v.x.iter().map(|x| x / v.tau).collect();
-            let quad = |a: &[f64], b2: &[f64]| -> f64 { (0..n).map(|j| a[j] * p_diag[j] * b2[j]).sum() };
-            let num = r_tau - r_kappa / v.tau + dot(&data.st.q, &x1) + dot(&data.b, &z1) + 2.0 * quad(&xi, &x1);
-            let xi_x2: Vec<f64> = (0..n).map(|j| xi[j] - x2[j]).collect();
-            let den =
-                v.kappa / v.tau - dot(&data.st.q, &x2) - dot(&data.b, &z2) + quad(&xi_x2, &xi_x2) - quad(&x2, &x2);
+            if !kkt.solve(&sh, &sc, rx, we, wg, &mut c1.x, &mut c1.ze, &mut c1.z, refine) {
+                return false;
+            }
+            let b_z = |ze: &[f64]| dot(&sh.b_e, ze);
+            let num = r_tau - r_kappa / v.tau + sh.q_dot(&c1.x) + b_z(&c1.ze) + 2.0 * sh.p_quad(&xi, &c1.x);
+            let mut quad = 0.0;
+            for p in 0..sh.points() {
+                for k in 0..C {
+                    let j = p * C + k;
+                    let d = xi[j] - c2.x[j];
+                    quad += sh.p[k] * (d * d - c2.x[j] * c2.x[j]);
+                }
+            }
+            let den = v.kappa / v.tau - sh.q_dot(&c2.x) - b_z(&c2.ze) + quad;
             let dtau = num / den;
-            let dx: Vec<f64> = (0..n).map(|j| x1[j] + dtau * x2[j]).collect();
-            let dz: Vec<f64> = (0..m).map(|i| z1[i] + dtau * z2[i]).collect();
-            let mut ds = vec![0.0; m];
-            for k in 0..mg {
-                let i = m_e + k;
-                ds[i] = -(d[k] * dz[i] + c[i]);
+            for j in 0..n {
+                out.x[j] = c1.x[j] + dtau * c2.x[j];
             }
-            let dkappa = -(r_kappa + v.kappa * dtau) / v.tau;
-            if !dtau.is_finite() || !dkappa.is_finite() {
-                return None;
+            for i in 0..me {
+                out.ze[i] = c1.ze[i] + dtau * c2.ze[i];
             }
-            Some(Vars { x: dx, s: ds, z: dz, tau: dtau, kappa: dkappa })
+            for i in 0..mg {
+                out.z[i] = c1.z[i] + dtau * c2.z[i];
+            }
+            sc.ds_from_dz(&out.z, c, &mut out.s);
+            out.tau = dtau;
+            out.kappa = -(r_kappa + v.kappa * dtau) / v.tau;
+            dtau.is_finite() && out.kappa.is_finite()
         };
         let step_len = |dv: &Vars| -> f64 {
             let mut a: f64 = 1.0;
@@ -353,60 +345,89 @@ pub fn solve(p: &Problem, tol: f64, max_iter: u32) -> Option<IpmOutcome> {
             if dv.kappa < 0.0 {
                 a = a.min(-v.kappa / dv.kappa);
             }
-            let az = max_step(&v.z[m_e..], &dv.z[m_e..], a);
-            let as_ = max_step(&v.s[m_e..], &dv.s[m_e..], a);
+            let az = sc.step_length(&v.z, &dv.z, a);
+            let as_ = sc.step_length(&v.s, &dv.s, a);
             az.min(as_)
         };
-        // Affine (predictor) step.
-        let c_aff: Vec<f64> = v.s.clone();
-        let Some(aff) = step(&info.rx, &info.rz, &c_aff, info.rtau, v.tau * v.kappa, false, &mut kkt) else {
-            status = Some(SolverStatus::NumericalError);
+        // Affine (predictor) step: Δs constant term s.
+        if !step(
+            &inf.rx,
+            &inf.re,
+            &inf.rg,
+            &v.s,
+            inf.rtau,
+            v.tau * v.kappa,
+            false,
+            &mut kkt,
+            &mut c1,
+            (&mut we, &mut wg),
+            &mut aff,
+        ) {
+            status = SolverStatus::NumericalError;
             break;
-        };
+        }
         let alpha_aff = step_len(&aff);
         let sigma = (1.0 - alpha_aff).powi(3);
         let mfac = if iter > 1 { 1.0 } else { alpha_aff };
-        // Combined (corrector) step: rs = s∘z + m Δs_a∘Δz_a − σμ, Δs constant term rs / z.
-        let mut c_comb = vec![0.0; m];
-        for k in 0..mg {
-            let i = m_e + k;
-            let rs = v.s[i] * v.z[i] + mfac * aff.s[i] * aff.z[i] - sigma * mu;
-            c_comb[i] = rs / v.z[i];
+        // Combined (corrector) step.
+        sc.combined_const(&v.s, &v.z, &aff.s, &aff.z, mfac, sigma * mu, &mut cterm);
+        for j in 0..n {
+            rx_c[j] = (1.0 - sigma) * inf.rx[j];
         }
-        let rx_c: Vec<f64> = info.rx.iter().map(|r| (1.0 - sigma) * r).collect();
-        let rz_c: Vec<f64> = info.rz.iter().map(|r| (1.0 - sigma) * r).collect();
+        for i in 0..me {
+            re_c[i] = (1.0 - sigma) * inf.re[i];
+        }
+        for i in 0..mg {
+            rg_c[i] = (1.0 - sigma) * inf.rg[i];
+        }
         let r_kappa = -sigma * mu + mfac * aff.tau * aff.kappa + v.tau * v.kappa;
-        let Some(comb) = step(&rx_c, &rz_c, &c_comb, (1.0 - sigma) * info.rtau, r_kappa, true, &mut kkt) else {
-            status = Some(SolverStatus::NumericalError);
+        if !step(
+            &rx_c,
+            &re_c,
+            &rg_c,
+            &cterm,
+            (1.0 - sigma) * inf.rtau,
+            r_kappa,
+            true,
+            &mut kkt,
+            &mut c1,
+            (&mut we, &mut wg),
+            &mut comb,
+        ) {
+            status = SolverStatus::NumericalError;
             break;
-        };
+        }
         let alpha = step_len(&comb) * 0.99;
         if alpha < 1e-4 {
-            status = Some(SolverStatus::InsufficientProgress);
+            status = SolverStatus::InsufficientProgress;
             break;
         }
-        prev = Some((v.clone(), info));
+        prev = Some((v.clone(), inf.clone()));
         for j in 0..n {
             v.x[j] += alpha * comb.x[j];
         }
-        for i in 0..m {
+        for i in 0..me {
+            v.ze[i] += alpha * comb.ze[i];
+        }
+        for i in 0..mg {
             v.s[i] += alpha * comb.s[i];
             v.z[i] += alpha * comb.z[i];
         }
         v.tau += alpha * comb.tau;
         v.kappa += alpha * comb.kappa;
     }
-    let mut status = status.unwrap_or(SolverStatus::NumericalError);
+    let mut status = status;
+    let mut last = inf;
     // Like clarabel: on insufficient progress go back to the last iterate; on trouble or the
     // iteration limit, accept the reduced tolerances.
     if status == SolverStatus::InsufficientProgress
         && let Some((pv, pi)) = prev.take()
     {
         v = pv;
-        last_info = pi;
+        last = pi;
     }
     if matches!(status, SolverStatus::InsufficientProgress | SolverStatus::NumericalError | SolverStatus::MaxIterations)
-        && let Some(s) = convergence(&last_info, &Tolerances::reduced(), true)
+        && let Some(s) = convergence(&last, &Tolerances::reduced(), true)
     {
         status = match s {
             SolverStatus::Solved => SolverStatus::AlmostSolved,
@@ -414,82 +435,4 @@ pub fn solve(p: &Problem, tol: f64, max_iter: u32) -> Option<IpmOutcome> {
         };
     }
     Some(outcome(status, &v, iter))
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::statics::assemble::Cone;
-
-    /// x0 + x1 (+ x2) = 1, x ≥ 0, x0 ≤ `cap0`, x1 ≤ `cap1`; x2 fixed to 0.3 by a singleton row
-    /// when `fixed`.
-    fn problem(q: [f64; 2], p: [f64; 2], cap0: f64, cap1: f64, fixed: bool) -> Problem {
-        let n = if fixed { 3 } else { 2 };
-        let mut a = vec![(0, 0, 1.0), (0, 1, 1.0)];
-        let mut b = vec![1.0];
-        if fixed {
-            a.push((0, 2, 1.0));
-            a.push((1, 2, 1.0));
-            b[0] = 1.3;
-            b.push(0.3);
-        }
-        let z = b.len();
-        for (k, (col, v, rhs)) in
-            [(0, -1.0, 0.0), (1, -1.0, 0.0), (0, 1.0, cap0), (1, 1.0, cap1)].into_iter().enumerate()
-        {
-            a.push((z + k, col, v));
-            b.push(rhs);
-        }
-        let mut p_diag = p.to_vec();
-        let mut qv = q.to_vec();
-        if fixed {
-            p_diag.push(0.0);
-            qv.push(5.0);
-        }
-        Problem { n, p_diag, q: qv, a, b, cones: vec![Cone::Zero(z), Cone::Nonnegative(4)] }
-    }
-
-    #[test]
-    fn lp_optimum_at_a_vertex() {
-        // min x0 + 2 x1 with x0 ≤ 0.6: x = (0.6, 0.4), objective 1.4.
-        let o = solve(&problem([1.0, 2.0], [0.0, 0.0], 0.6, 10.0, false), 1e-10, 100).unwrap();
-        assert_eq!(o.status, SolverStatus::Solved);
-        assert!((o.x[0] - 0.6).abs() < 1e-8 && (o.x[1] - 0.4).abs() < 1e-8, "{:?}", o.x);
-        assert!((o.objective - 1.4).abs() < 1e-8, "{}", o.objective);
-    }
-
-    #[test]
-    fn qp_optimum_in_the_interior() {
-        // min ½(x0² + 3 x1²) on x0 + x1 = 1: x = (0.75, 0.25).
-        let o = solve(&problem([0.0, 0.0], [1.0, 3.0], 10.0, 10.0, false), 1e-10, 100).unwrap();
-        assert_eq!(o.status, SolverStatus::Solved);
-        assert!((o.x[0] - 0.75).abs() < 1e-8 && (o.x[1] - 0.25).abs() < 1e-8, "{:?}", o.x);
-    }
-
-    #[test]
-    fn infeasible_problem_is_reported() {
-        // x0 + x1 = 1 with both ≤ 0.2.
-        let o = solve(&problem([1.0, 1.0], [0.0, 0.0], 0.2, 0.2, false), 1e-10, 100).unwrap();
-        assert_eq!(o.status, SolverStatus::Infeasible);
-    }
-
-    #[test]
-    fn singleton_rows_fix_their_variable() {
-        // x2 = 0.3 leaves x0 + x1 = 1 as before; the objective counts 5 x2 = 1.5.
-        let o = solve(&problem([1.0, 2.0], [0.0, 0.0], 0.6, 10.0, true), 1e-10, 100).unwrap();
-        assert_eq!(o.status, SolverStatus::Solved);
-        assert_eq!(o.x[2], 0.3);
-        assert!((o.x[0] - 0.6).abs() < 1e-8, "{:?}", o.x);
-        assert!((o.objective - 2.9).abs() < 1e-8, "{}", o.objective);
-    }
-
-    #[test]
-    fn second_order_cones_are_left_to_clarabel() {
-        let mut p = problem([1.0, 2.0], [0.0, 0.0], 0.6, 10.0, false);
-        p.cones.push(Cone::SecondOrder(2));
-        p.a.push((5, 0, -1.0));
-        p.a.push((6, 1, -1.0));
-        p.b.extend([0.0, 0.0]);
-        assert!(solve(&p, 1e-10, 100).is_none());
-    }
 }

@@ -1,0 +1,253 @@
+//! A [`ContactProblem`] in the fixed-size form the kernels use (C variables per point), and
+//! the products with its constraint matrix A = [E; G].
+//!
+//! Vector layouts: x = [the points' variables (point-major), one σ per budget]; the equality
+//! rows [6 per block, one per budget]; the inequality rows [each point's rows (non-negative
+//! first, then its second-order cone), one `−σ ≤ 0` per budget].
+
+use super::cones::Scaling;
+use crate::statics::problem::{Contact, ContactProblem, wrench};
+
+pub struct Shape<'a, const C: usize> {
+    pub blocks: usize,
+    pub contacts: &'a [Contact],
+    pub rho: &'a [[f64; 3]],
+    /// Shared rows of every point: non-negative rows, then an optional second-order cone.
+    pub nonneg: Vec<[f64; C]>,
+    pub soc: Option<[[f64; C]; 3]>,
+    /// N: variables → local force (n, u, v).
+    pub fmap: [[f64; C]; 3],
+    pub p: [f64; C],
+    pub q: [f64; C],
+    /// Column (within a point) of each budget's variable.
+    pub budget_vars: Vec<usize>,
+    /// Inequality rows per point.
+    pub m_p: usize,
+    /// Right-hand side of the equality rows (block rows, then the budgets' limits).
+    pub b_e: Vec<f64>,
+}
+
+fn fixed<const C: usize>(v: &[f64]) -> [f64; C] {
+    let mut out = [0.0; C];
+    out.copy_from_slice(v);
+    out
+}
+
+impl<'a, const C: usize> Shape<'a, C> {
+    pub fn new(cp: &'a ContactProblem<'a>) -> Option<Self> {
+        if cp.per_point() != C {
+            return None;
+        }
+        let g = cp.geometry;
+        let rows = cp.point_rows();
+        let fm = cp.force_map();
+        let budget_vars = cp.budgets.iter().map(|b| cp.index(b.var)).collect::<Option<Vec<_>>>()?;
+        if budget_vars.len() > 2 {
+            return None;
+        }
+        let mut b_e = g.rhs.clone();
+        b_e.extend(cp.budgets.iter().map(|b| b.limit));
+        Some(Self {
+            blocks: g.blocks,
+            contacts: &g.contacts,
+            rho: &g.rho,
+            nonneg: rows.nonneg.iter().map(|r| fixed(r)).collect(),
+            soc: rows.soc.as_ref().map(|s| [fixed(&s[0]), fixed(&s[1]), fixed(&s[2])]),
+            fmap: [fixed(&fm[0]), fixed(&fm[1]), fixed(&fm[2])],
+            p: fixed(&cp.p),
+            q: fixed(&cp.q),
+            budget_vars,
+            m_p: rows.count(),
+            b_e,
+        })
+    }
+
+    pub fn points(&self) -> usize {
+        self.rho.len()
+    }
+
+    pub fn budgets(&self) -> usize {
+        self.budget_vars.len()
+    }
+
+    pub fn n(&self) -> usize {
+        self.points() * C + self.budgets()
+    }
+
+    pub fn m_e(&self) -> usize {
+        self.b_e.len()
+    }
+
+    pub fn m_g(&self) -> usize {
+        self.points() * self.m_p + self.budgets()
+    }
+
+    /// `out_e = E x`, `out_g = G x`.
+    pub fn a_mul(&self, x: &[f64], out_e: &mut [f64], out_g: &mut [f64]) {
+        let nb = self.blocks;
+        let (np, mp, nn) = (self.points(), self.m_p, self.nonneg.len());
+        out_e.iter_mut().for_each(|v| *v = 0.0);
+        for contact in self.contacts {
+            let mut w6 = [0.0f64; 6];
+            for p in contact.points.clone() {
+                let xp: [f64; C] = fixed(&x[p * C..(p + 1) * C]);
+                let mut f = [0.0; 3];
+                for (i, fi) in f.iter_mut().enumerate() {
+                    for k in 0..C {
+                        *fi += self.fmap[i][k] * xp[k];
+                    }
+                }
+                let w = wrench(&self.rho[p], &f);
+                for i in 0..6 {
+                    w6[i] += w[i];
+                }
+                for (kb, &col) in self.budget_vars.iter().enumerate() {
+                    out_e[6 * nb + kb] += xp[col];
+                }
+                let og = &mut out_g[p * mp..(p + 1) * mp];
+                for (r, g) in self.nonneg.iter().enumerate() {
+                    let mut s = 0.0;
+                    for k in 0..C {
+                        s += g[k] * xp[k];
+                    }
+                    og[r] = s;
+                }
+                if let Some(soc) = &self.soc {
+                    for i in 0..3 {
+                        let mut s = 0.0;
+                        for k in 0..C {
+                            s += soc[i][k] * xp[k];
+                        }
+                        og[nn + i] = s;
+                    }
+                }
+            }
+            for side in contact.sides.iter().flatten() {
+                let out = &mut out_e[6 * side.block..6 * side.block + 6];
+                for r in 0..6 {
+                    let mut s = 0.0;
+                    for c in 0..6 {
+                        s += side.psi[r][c] * w6[c];
+                    }
+                    out[r] += s;
+                }
+            }
+        }
+        for kb in 0..self.budgets() {
+            let xs = x[np * C + kb];
+            out_e[6 * nb + kb] += xs;
+            out_g[np * mp + kb] = -xs;
+        }
+    }
+
+    /// `out = Eᵀ z_E + Gᵀ z_G`.
+    pub fn at_mul(&self, ze: &[f64], zg: &[f64], out: &mut [f64]) {
+        let nb = self.blocks;
+        let (np, mp, nn) = (self.points(), self.m_p, self.nonneg.len());
+        for contact in self.contacts {
+            let mut u = [0.0f64; 6];
+            for side in contact.sides.iter().flatten() {
+                let z = &ze[6 * side.block..6 * side.block + 6];
+                for c in 0..6 {
+                    let mut s = 0.0;
+                    for r in 0..6 {
+                        s += side.psi[r][c] * z[r];
+                    }
+                    u[c] += s;
+                }
+            }
+            for p in contact.points.clone() {
+                let rho = &self.rho[p];
+                let g3 = [
+                    u[0] + u[4] * rho[2] - u[5] * rho[1],
+                    u[1] + u[5] * rho[0] - u[3] * rho[2],
+                    u[2] + u[3] * rho[1] - u[4] * rho[0],
+                ];
+                let mut t = [0.0f64; C];
+                for k in 0..C {
+                    t[k] = self.fmap[0][k] * g3[0] + self.fmap[1][k] * g3[1] + self.fmap[2][k] * g3[2];
+                }
+                for (kb, &col) in self.budget_vars.iter().enumerate() {
+                    t[col] += ze[6 * nb + kb];
+                }
+                let zp = &zg[p * mp..(p + 1) * mp];
+                for (r, g) in self.nonneg.iter().enumerate() {
+                    let zr = zp[r];
+                    for k in 0..C {
+                        t[k] += g[k] * zr;
+                    }
+                }
+                if let Some(soc) = &self.soc {
+                    for i in 0..3 {
+                        let zr = zp[nn + i];
+                        for k in 0..C {
+                            t[k] += soc[i][k] * zr;
+                        }
+                    }
+                }
+                out[p * C..(p + 1) * C].copy_from_slice(&t);
+            }
+        }
+        for kb in 0..self.budgets() {
+            out[np * C + kb] = ze[6 * nb + kb] - zg[np * mp + kb];
+        }
+    }
+
+    /// `P x` (σ has no quadratic term).
+    pub fn p_mul(&self, x: &[f64], out: &mut [f64]) {
+        let np = self.points();
+        for p in 0..np {
+            for k in 0..C {
+                out[p * C + k] = self.p[k] * x[p * C + k];
+            }
+        }
+        for v in out[np * C..].iter_mut() {
+            *v = 0.0;
+        }
+    }
+
+    /// `qᵀ x`.
+    pub fn q_dot(&self, x: &[f64]) -> f64 {
+        let mut s = 0.0;
+        for p in 0..self.points() {
+            for k in 0..C {
+                s += self.q[k] * x[p * C + k];
+            }
+        }
+        s
+    }
+
+    /// `xᵀ P y`.
+    pub fn p_quad(&self, x: &[f64], y: &[f64]) -> f64 {
+        let mut s = 0.0;
+        for p in 0..self.points() {
+            for k in 0..C {
+                s += self.p[k] * x[p * C + k] * y[p * C + k];
+            }
+        }
+        s
+    }
+
+    /// The unregularised KKT matrix times [x; z_E; z_G] (module docs of the kkt).
+    #[allow(clippy::too_many_arguments)]
+    pub fn apply(
+        &self,
+        sc: &Scaling,
+        x: &[f64],
+        ze: &[f64],
+        zg: &[f64],
+        out_x: &mut [f64],
+        out_e: &mut [f64],
+        out_g: &mut [f64],
+    ) {
+        self.a_mul(x, out_e, out_g);
+        sc.hs_mul_sub(zg, out_g);
+        self.at_mul(ze, zg, out_x);
+        let np = self.points();
+        for p in 0..np {
+            for k in 0..C {
+                out_x[p * C + k] += self.p[k] * x[p * C + k];
+            }
+        }
+    }
+}

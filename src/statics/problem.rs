@@ -1,0 +1,260 @@
+//! One stage's equilibrium problem as plain data, in contact form: the shape the structured
+//! interior-point method exploits ([`super::ipm`]) and from which clarabel's triplets are
+//! generated ([`ContactProblem::to_conic`]), so both backends solve the same data.
+//!
+//! Non-dimensional: lengths by the model size, forces by the component's free weight.
+//!
+//! ## Equilibrium rows (6 per free block, then one per budget)
+//! A force point p of interface I carries variables `x_p` (the stage's [`Var`]s, in order);
+//! its force in the interface frame (n, u, v) is `f_p = N x_p` (c_n⁺ → +n, c_n⁻ → −n,
+//! c_u → u, c_v → v, the slack → nothing). With `ρ_p` the point's position relative to the
+//! interface origin o in the same frame, the local wrench about o is `T_p f_p = [f_p; ρ_p × f_p]`,
+//! and block j's six rows (force, moment about its centroid c_j, world axes) receive
+//! `Ψ_j T_p f_p` with `Ψ_j = ±[F 0; [o − c_j]× F  F]`, F = [n u v] (right-handed), + for the
+//! block b the normal points into, − for a. A budget `Σ_p x_p[v] ≤ limit` is an equality row
+//! `Σ_p x_p[v] + σ = limit` with its own slack σ ≥ 0 (in the structured solver; clarabel gets
+//! the inequality).
+//!
+//! ## Inequality rows per point (A x + s = b, s in the cone; b = 0)
+//! Sign rows `c_n⁺ ≥ 0` (left out when friction rows without slack imply it), `c_n⁻ ≥ 0`,
+//! `s ≥ 0`; then for the pyramid models `±c_u − μc_n⁺ − s ≤ 0`, `±c_v − μc_n⁺ − s ≤ 0` (box4,
+//! pyramid8) and `±c_u ± c_v − √2(μc_n⁺ + s) ≤ 0` (pyramid8); for the cone model one
+//! second-order cone `‖(c_u, c_v)‖ ≤ μc_n⁺ + s`.
+
+use super::assemble::{Cone, Problem, Var};
+use super::settings::FrictionModel;
+
+/// One side of an interface that is a free block of the component.
+#[derive(Clone, Debug)]
+pub struct Side {
+    /// Local block index (rows 6·block … 6·block + 5).
+    pub block: usize,
+    /// Maps the local wrench about the interface origin to the block's rows.
+    pub psi: [[f64; 6]; 6],
+}
+
+/// An interface of the component: its force points and the free blocks it touches.
+#[derive(Clone, Debug)]
+pub struct Contact {
+    pub points: std::ops::Range<usize>,
+    /// Block a (−) and block b (+), when free.
+    pub sides: [Option<Side>; 2],
+}
+
+/// The stage-independent geometry of a component's problem.
+#[derive(Clone, Debug, Default)]
+pub struct Geometry {
+    pub blocks: usize,
+    /// Right-hand side of the block rows: minus the load, 6 per block.
+    pub rhs: Vec<f64>,
+    pub contacts: Vec<Contact>,
+    /// Per force point (in contact order): (x_p − o)/L in the interface frame (n, u, v).
+    pub rho: Vec<[f64; 3]>,
+}
+
+impl Geometry {
+    pub fn points(&self) -> usize {
+        self.rho.len()
+    }
+}
+
+/// A budget row `Σ_p x_p[var] ≤ limit`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Budget {
+    pub var: Var,
+    pub limit: f64,
+}
+
+/// One stage's problem: minimise Σ_p ½ Σ_c p_c x_pc² + q_c x_pc over the geometry's points.
+#[derive(Clone, Debug)]
+pub struct ContactProblem<'a> {
+    pub geometry: &'a Geometry,
+    /// The variables of each point, in column order.
+    pub vars: Vec<Var>,
+    pub model: FrictionModel,
+    pub mu: f64,
+    /// Quadratic (the diagonal of P) and linear weights per variable.
+    pub p: Vec<f64>,
+    pub q: Vec<f64>,
+    pub budgets: Vec<Budget>,
+}
+
+/// The inequality rows every point shares: `rows` of the non-negative cone, then optionally
+/// one second-order cone of three rows. Each row is a dense vector over the point's variables.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PointRows {
+    pub nonneg: Vec<Vec<f64>>,
+    pub soc: Option<[Vec<f64>; 3]>,
+}
+
+impl PointRows {
+    pub fn count(&self) -> usize {
+        self.nonneg.len() + if self.soc.is_some() { 3 } else { 0 }
+    }
+}
+
+impl ContactProblem<'_> {
+    pub fn per_point(&self) -> usize {
+        self.vars.len()
+    }
+
+    /// Column of `var` within a point.
+    pub fn index(&self, var: Var) -> Option<usize> {
+        self.vars.iter().position(|&v| v == var)
+    }
+
+    fn has_friction(&self) -> bool {
+        self.index(Var::Cu).is_some() && self.index(Var::Cv).is_some()
+    }
+
+    /// `N`: the local force (n, u, v) of a point's variables.
+    pub fn force_map(&self) -> [Vec<f64>; 3] {
+        let c = self.per_point();
+        let mut n = [vec![0.0; c], vec![0.0; c], vec![0.0; c]];
+        for (k, v) in self.vars.iter().enumerate() {
+            match v {
+                Var::CnPos => n[0][k] = 1.0,
+                Var::CnNeg => n[0][k] = -1.0,
+                Var::Cu => n[1][k] = 1.0,
+                Var::Cv => n[2][k] = 1.0,
+                Var::Slack => {}
+            }
+        }
+        n
+    }
+
+    /// The rows of the module docs, for this stage's variables and friction model.
+    pub fn point_rows(&self) -> PointRows {
+        let c = self.per_point();
+        let unit = |var: Var, value: f64| -> Option<Vec<f64>> {
+            self.index(var).map(|k| {
+                let mut r = vec![0.0; c];
+                r[k] = value;
+                r
+            })
+        };
+        let slack = self.index(Var::Slack);
+        let friction = self.has_friction();
+        let mut nonneg = Vec::new();
+        if !friction || slack.is_some() {
+            nonneg.extend(unit(Var::CnPos, -1.0));
+        }
+        nonneg.extend(unit(Var::CnNeg, -1.0));
+        nonneg.extend(unit(Var::Slack, -1.0));
+        let mut soc = None;
+        if friction {
+            let (cn, cu, cv) = (self.index(Var::CnPos), self.index(Var::Cu), self.index(Var::Cv));
+            let row = |du: f64, dv: f64, scale: f64| {
+                let mut r = vec![0.0; c];
+                if let Some(k) = cu {
+                    r[k] += du;
+                }
+                if let Some(k) = cv {
+                    r[k] += dv;
+                }
+                if let Some(k) = cn {
+                    r[k] -= scale * self.mu;
+                }
+                if let Some(k) = slack {
+                    r[k] -= scale;
+                }
+                r
+            };
+            let r2 = std::f64::consts::SQRT_2;
+            match self.model {
+                FrictionModel::Box4 | FrictionModel::Pyramid8 => {
+                    for (du, dv) in [(1.0, 0.0), (-1.0, 0.0), (0.0, 1.0), (0.0, -1.0)] {
+                        nonneg.push(row(du, dv, 1.0));
+                    }
+                    if self.model == FrictionModel::Pyramid8 {
+                        for (du, dv) in [(1.0, 1.0), (1.0, -1.0), (-1.0, 1.0), (-1.0, -1.0)] {
+                            nonneg.push(row(du, dv, r2));
+                        }
+                    }
+                }
+                FrictionModel::Cone => {
+                    // s = −A x = (μ c_n⁺ + s, c_u, c_v): the head row is −(μ e_n + e_s).
+                    let head = row(0.0, 0.0, 1.0);
+                    soc = Some([head, unit(Var::Cu, -1.0).expect("friction"), unit(Var::Cv, -1.0).expect("friction")]);
+                }
+            }
+        }
+        PointRows { nonneg, soc }
+    }
+
+    /// The equilibrium rows of one point as (row, column-in-point, value), for a point of
+    /// `contact` with local offset `rho`.
+    fn point_equilibrium(&self, contact: &Contact, rho: &[f64; 3], out: &mut Vec<(usize, usize, f64)>) {
+        let n = self.force_map();
+        for side in contact.sides.iter().flatten() {
+            for (k, _) in self.vars.iter().enumerate() {
+                let f = [n[0][k], n[1][k], n[2][k]];
+                if f == [0.0; 3] {
+                    continue;
+                }
+                let w = wrench(rho, &f);
+                for (r, row) in side.psi.iter().enumerate() {
+                    let v: f64 = row.iter().zip(&w).map(|(a, b)| a * b).sum();
+                    if v != 0.0 {
+                        out.push((6 * side.block + r, k, v));
+                    }
+                }
+            }
+        }
+    }
+
+    /// The same problem for a general conic solver (clarabel): rows in the order zero cone
+    /// (block rows), non-negative cone (every point's rows, then the budgets), then one
+    /// second-order cone per point.
+    pub fn to_conic(&self) -> Problem {
+        let g = self.geometry;
+        let c = self.per_point();
+        let np = g.points();
+        let n = np * c;
+        let mut a = Vec::new();
+        let mut b = g.rhs.clone();
+        let mut local = Vec::new();
+        for contact in &g.contacts {
+            for p in contact.points.clone() {
+                local.clear();
+                self.point_equilibrium(contact, &g.rho[p], &mut local);
+                a.extend(local.iter().map(|&(r, k, v)| (r, p * c + k, v)));
+            }
+        }
+        let mut cones = vec![Cone::Zero(b.len())];
+        let start = b.len();
+        let rows = self.point_rows();
+        for p in 0..np {
+            for r in &rows.nonneg {
+                let row = b.len();
+                a.extend(r.iter().enumerate().filter(|e| *e.1 != 0.0).map(|(k, &v)| (row, p * c + k, v)));
+                b.push(0.0);
+            }
+        }
+        for budget in &self.budgets {
+            let row = b.len();
+            let k = self.index(budget.var).expect("a budget over a variable of the stage");
+            a.extend((0..np).map(|p| (row, p * c + k, 1.0)));
+            b.push(budget.limit);
+        }
+        cones.push(Cone::Nonnegative(b.len() - start));
+        if let Some(soc) = &rows.soc {
+            for p in 0..np {
+                for r in soc {
+                    let row = b.len();
+                    a.extend(r.iter().enumerate().filter(|e| *e.1 != 0.0).map(|(k, &v)| (row, p * c + k, v)));
+                    b.push(0.0);
+                }
+                cones.push(Cone::SecondOrder(3));
+            }
+        }
+        let p_diag = (0..n).map(|j| self.p[j % c]).collect();
+        let q = (0..n).map(|j| self.q[j % c]).collect();
+        Problem { n, p_diag, q, a, b, cones }
+    }
+}
+
+/// `[f; ρ × f]`: a force's wrench about the interface origin.
+pub fn wrench(rho: &[f64; 3], f: &[f64; 3]) -> [f64; 6] {
+    [f[0], f[1], f[2], rho[1] * f[2] - rho[2] * f[1], rho[2] * f[0] - rho[0] * f[2], rho[0] * f[1] - rho[1] * f[0]]
+}
