@@ -6,6 +6,7 @@ use super::{SequenceError, Step};
 use crate::analysis::{Analysis, AnalysisSettings, Pipeline};
 use crate::dynamics::{DropSettings, drop_test};
 use crate::model::Scene;
+use crate::statics::FirstStage;
 use std::collections::HashSet;
 
 /// Analyses prefixes of one resolved design.
@@ -17,6 +18,10 @@ pub(crate) struct Stepper<'a> {
     pipeline: Pipeline,
     /// Static checks run so far.
     pub checks: usize,
+    /// Whether the last check failed: steps that fail come in runs (a partial vault fails
+    /// until it closes), so the next check then starts with the exact LPs instead of the
+    /// strict QP (`FirstStage::Relaxed`: the same answer, one solve fewer when it fails).
+    last_failed: bool,
 }
 
 impl<'a> Stepper<'a> {
@@ -26,7 +31,7 @@ impl<'a> Stepper<'a> {
         let mut settings = settings.clone();
         settings.statics.distribution = false;
         let empty = Scene { blocks: Vec::new(), ..resolved.clone() };
-        Self { resolved, empty, settings, pipeline: Pipeline::new(), checks: 0 }
+        Self { resolved, empty, settings, pipeline: Pipeline::new(), checks: 0, last_failed: false }
     }
 
     /// The design with only the `placed` free blocks, the `props` among them fixed.
@@ -49,7 +54,10 @@ impl<'a> Stepper<'a> {
     pub fn analyse(&mut self, placed: &HashSet<&str>, props: &HashSet<&str>) -> Result<Analysis, SequenceError> {
         self.checks += 1;
         let prefix = self.prefix(placed, props);
-        Ok(self.pipeline.run(&prefix, &self.settings)?)
+        self.settings.statics.first_stage = if self.last_failed { FirstStage::Relaxed } else { FirstStage::Strict };
+        let a = self.pipeline.run(&prefix, &self.settings)?;
+        self.last_failed = !a.statics.stands;
+        Ok(a)
     }
 
     /// The step that placed `name`, with the drop test when asked.

@@ -187,6 +187,31 @@ impl System {
         out
     }
 
+    /// Σ over points of the friction beyond the model's capacity in `x` (non-dimensional): the
+    /// slack each point would need, `max(0, max_row (±c_u ± c_v)/k − μ c_n⁺)` for the pyramid
+    /// and box rows (k = 1 on the axes, √2 on the pyramid's diagonals), `max(0, ‖(c_u, c_v)‖ −
+    /// μ c_n⁺)` for the cone. An upper bound of the minimum friction excess when `x` is an
+    /// equilibrium without tension.
+    pub fn friction_violation(&self, x: &[f64]) -> f64 {
+        if !self.layout.friction {
+            return 0.0;
+        }
+        (0..self.points.len())
+            .map(|i| {
+                let (cn, cu, cv) = (self.value(x, i, Var::CnPos), self.value(x, i, Var::Cu), self.value(x, i, Var::Cv));
+                let cap = self.mu * cn;
+                let need = match self.model {
+                    FrictionModel::Cone => cu.hypot(cv),
+                    FrictionModel::Box4 => cu.abs().max(cv.abs()),
+                    FrictionModel::Pyramid8 => {
+                        cu.abs().max(cv.abs()).max((cu.abs() + cv.abs()) / std::f64::consts::SQRT_2)
+                    }
+                };
+                (need - cap).max(0.0)
+            })
+            .sum()
+    }
+
     fn residual_vector(&self, x: &[f64]) -> Vec<f64> {
         let mut r: Vec<f64> = self.eq_rhs.iter().map(|b| -b).collect();
         for &(i, j, v) in &self.eq {
@@ -310,23 +335,31 @@ pub enum Stage {
     Strict,
     /// Relaxed: Σ c_n⁻ (friction slack free).
     Tension,
-    /// Relaxed: Σ s with Σ c_n⁻ ≤ the tension budget.
-    FrictionExcess { tension: f64 },
+    /// Relaxed: Σ s with the tension at its minimum `tension`. With `penalty` M > 0 the exact
+    /// penalty form `M Σ c_n⁻ + Σ s` (no budget; the caller checks that Σ c_n⁻ came back at
+    /// the minimum, i.e. that M was large enough); with 0 the budget Σ c_n⁻ ≤ `tension`.
+    FrictionExcess { tension: f64, penalty: f64 },
     /// Relaxed: the weighted quadratic with both budgets.
     Distribution { tension: f64, excess: f64 },
 }
 
+/// The tension budget of the later stages for a minimum tension `t` (relative): loosened by
+/// 1e-6 (relative) and 1e-9 (absolute), so that the optimum of the previous stage stays
+/// strictly feasible.
+pub fn tension_budget(t: f64) -> f64 {
+    t * (1.0 + 1e-6) + 1e-9
+}
+
 /// The problem of one stage over `sys` (strict stage ⇔ strict layout) in contact form.
 ///
-/// When the minimum tension is zero (to what the LP resolves), the later stages leave c_n⁻
+/// When the minimum tension is zero (to what the LP resolves), the budget forms leave c_n⁻
 /// out altogether instead of a budget Σ c_n⁻ ≤ ~0: an inequality budget at zero leaves the
-/// interior-point method no interior (the friction-excess LP then took 60–200 iterations on
-/// partial vaults instead of ~20). Budgets are loosened by 1e-6 (relative) and 1e-9 W
-/// (absolute): the optimum of the previous stage stays strictly feasible.
+/// interior-point method no interior. Budgets are [`tension_budget`]s.
 pub fn contact_problem<'a>(sys: &'a System, stage: Stage, settings: &StaticsSettings) -> ContactProblem<'a> {
     let lay = sys.layout;
     let pinned = match stage {
-        Stage::FrictionExcess { tension } | Stage::Distribution { tension, .. } => tension <= PINNED_TENSION,
+        Stage::FrictionExcess { tension, penalty } => penalty == 0.0 && tension <= PINNED_TENSION,
+        Stage::Distribution { tension, .. } => tension <= PINNED_TENSION,
         _ => false,
     };
     let vars: Vec<Var> = [Var::CnPos, Var::CnNeg, Var::Cu, Var::Cv, Var::Slack]
@@ -345,20 +378,23 @@ pub fn contact_problem<'a>(sys: &'a System, stage: Stage, settings: &StaticsSett
         .iter()
         .map(|&v| match stage {
             Stage::Tension => (0.0, (v == Var::CnNeg) as u8 as f64),
-            Stage::FrictionExcess { .. } => (0.0, (v == Var::Slack) as u8 as f64),
+            Stage::FrictionExcess { penalty, .. } => match v {
+                Var::Slack => (0.0, 1.0),
+                Var::CnNeg => (0.0, penalty),
+                _ => (0.0, 0.0),
+            },
             Stage::Strict | Stage::Distribution { .. } => (weight(v), 0.0),
         })
         .unzip();
-    let budget = |value: f64| value * (1.0 + 1e-6) + 1e-9;
     let mut budgets = Vec::new();
     match stage {
-        Stage::FrictionExcess { tension } | Stage::Distribution { tension, .. } if !pinned => {
-            budgets.push(Budget { var: Var::CnNeg, limit: budget(tension) });
+        Stage::FrictionExcess { tension, penalty: 0.0 } | Stage::Distribution { tension, .. } if !pinned => {
+            budgets.push(Budget { var: Var::CnNeg, limit: tension_budget(tension) });
         }
         _ => {}
     }
     if let (Stage::Distribution { excess, .. }, true) = (stage, lay.friction) {
-        budgets.push(Budget { var: Var::Slack, limit: budget(excess) });
+        budgets.push(Budget { var: Var::Slack, limit: tension_budget(excess) });
     }
     ContactProblem { geometry: &sys.geometry, vars, model: sys.model, mu: sys.mu, p, q, budgets }
 }

@@ -48,7 +48,7 @@ mod stages;
 pub use cache::{SolveStats, StaticsCache, analyze_cached};
 pub use components::{Component, components};
 pub use result::{InterfaceResult, SolverReport, SolverStatus, StaticsResult, Verdict, VertexForce};
-pub use settings::{Backend, FrictionModel, StaticsSettings};
+pub use settings::{Backend, FirstStage, FrictionModel, StaticsSettings};
 
 use crate::interfaces::Interface;
 use crate::model::Assembly;

@@ -131,6 +131,12 @@ pub struct StaticsResult {
 /// by the LPs (solved to 1e-10): it counts as zero.
 pub const STAND_FLOOR: f64 = 1e-8;
 
+/// The minimum tension or friction excess (N) up to which a component of `weight` whose
+/// lightest block weighs `lightest` (N) counts as standing (see `stand_tolerance`).
+pub fn stand_threshold(settings: &StaticsSettings, lightest: f64, weight: f64) -> f64 {
+    (settings.stand_tolerance * lightest).max(STAND_FLOOR * weight)
+}
+
 pub(super) fn collect(
     assembly: &Assembly,
     interfaces: &[Interface],
@@ -148,7 +154,7 @@ pub(super) fn collect(
     let (mut needs_tension, mut needs_friction) = (false, false);
     for (comp, out) in comps.iter().zip(outcomes.iter()) {
         status = status.max(out.status);
-        let threshold = (settings.stand_tolerance * out.lightest).max(STAND_FLOOR * out.weight);
+        let threshold = stand_threshold(settings, out.lightest, out.weight);
         needs_tension |= out.min_tension > threshold;
         needs_friction |= out.min_excess > threshold;
         iterations += out.iterations;

@@ -112,6 +112,23 @@ pub struct StaticsSettings {
     pub distribution: bool,
     /// Which interior-point solver runs the problems. Default [`Backend::Structured`].
     pub backend: Backend,
+    /// Which stage a component's solve starts with. Default [`FirstStage::Strict`].
+    pub first_stage: FirstStage,
+}
+
+/// Where a component's solve starts.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum FirstStage {
+    /// The strict QP (compression only, friction within μ): most designs being checked stand,
+    /// and a standing one then costs one solve.
+    #[default]
+    Strict,
+    /// Straight to the exact minimum-tension and friction-excess LPs: the same verdict and
+    /// graded numbers with one solve fewer on a design that does not stand (a sequence check
+    /// switches to it while its steps fail). A design that stands then costs the two LPs, and
+    /// the strict QP after them for its force distribution when `distribution` is on.
+    Relaxed,
 }
 
 /// The interior-point solver of the equilibrium problems.
@@ -142,6 +159,7 @@ impl Default for StaticsSettings {
             split_components: true,
             distribution: true,
             backend: Backend::Structured,
+            first_stage: FirstStage::Strict,
         }
     }
 }

@@ -9,6 +9,25 @@ use clarabel::algebra::CscMatrix;
 use clarabel::solver::{DefaultSettings, DefaultSolver, IPSolver, SolverStatus as ClStatus, SupportedConeT};
 use std::time::Instant;
 
+/// What a solve must reach: clarabel's feasibility and duality-gap tolerances. The relative
+/// gap is taken against max(1, |objective|) (clarabel's definition), or with `pure_relative`
+/// against |objective| itself — then near a zero optimum only `gap_abs` decides, and a large
+/// optimum needs only `gap_rel` of itself (the structured solver; clarabel keeps its own).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Accuracy {
+    pub feas: f64,
+    pub gap_abs: f64,
+    pub gap_rel: f64,
+    pub pure_relative: bool,
+}
+
+impl Accuracy {
+    /// clarabel's definition with one tolerance for all three.
+    pub fn uniform(tol: f64) -> Self {
+        Self { feas: tol, gap_abs: tol, gap_rel: tol, pure_relative: false }
+    }
+}
+
 /// Result of one conic solve.
 #[derive(Clone, Debug)]
 pub struct QpOutcome {
@@ -60,10 +79,10 @@ fn csc_from_triplets(m: usize, n: usize, triplets: &[(usize, usize, f64)]) -> Cs
 
 /// Solves one problem: the structured interior-point method when the settings ask for it and
 /// the problem has its shape, else clarabel (verbose off, presolve on).
-pub fn run(cp: &ContactProblem, settings: &StaticsSettings, tol: f64) -> QpOutcome {
+pub fn run(cp: &ContactProblem, settings: &StaticsSettings, acc: Accuracy) -> QpOutcome {
     if settings.backend == Backend::Structured {
         let t = Instant::now();
-        if let Some(o) = super::ipm::solve(cp, tol, settings.max_iterations) {
+        if let Some(o) = super::ipm::solve(cp, acc, settings.max_iterations) {
             return QpOutcome {
                 status: o.status,
                 x: o.x,
@@ -96,9 +115,9 @@ pub fn run(cp: &ContactProblem, settings: &StaticsSettings, tol: f64) -> QpOutco
     let cl = DefaultSettings {
         verbose: false,
         max_iter: settings.max_iterations,
-        tol_feas: tol,
-        tol_gap_abs: tol,
-        tol_gap_rel: tol,
+        tol_feas: acc.feas,
+        tol_gap_abs: acc.gap_abs,
+        tol_gap_rel: acc.gap_rel,
         ..DefaultSettings::default()
     };
     let mut solver = match DefaultSolver::new(&pm, &p.q, &am, &p.b, &cones, cl) {

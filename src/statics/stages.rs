@@ -2,17 +2,29 @@
 //! and when it has no solution the exact minimum-tension and minimum-excess LPs and the
 //! distribution QP; and the solve of all components, on two threads when it pays.
 
-use super::assemble::{Stage, System, Var, contact_problem};
+use super::assemble::{Stage, System, Var, contact_problem, tension_budget};
 use super::components::Component;
-use super::result::SolverStatus;
-use super::settings::StaticsSettings;
-use super::solve::run;
+use super::result::{SolverStatus, stand_threshold};
+use super::settings::{FirstStage, StaticsSettings};
+use super::solve::{Accuracy, run};
 use crate::interfaces::Interface;
 use crate::model::Assembly;
 use std::time::Instant;
 
 /// Interior-point tolerance of the minimum-tension and minimum-excess LPs.
 pub const LP_TOLERANCE: f64 = 1e-10;
+
+/// First weight M of Σ c_n⁻ in the exact-penalty friction-excess LP `M Σ c_n⁻ + Σ s`, and the
+/// largest tried (×100 each time the tension comes back above its minimum T*).
+///
+/// Why a penalty and not the budget Σ c_n⁻ ≤ T*: in the dual (a mechanism), M bounds how fast
+/// a joint may open; with the budget (or with c_n⁻ pinned at 0) the openings are unbounded,
+/// the dual optimal face with them, and the interior-point method drifts towards it — 40–190
+/// iterations on the Armadillo's partial shells, often ending at reduced accuracy with a
+/// wrong optimum (2.3e7 W where the optimum is 4.9 W). The penalty form takes 22–50. Its
+/// answer is the budget form's whenever Σ c_n⁻ comes back at T*: then it is feasible for the
+/// budget form, and no point of the budget form does better (M T* + F ≥ M Σc_n⁻ + Σ s).
+const EXCESS_PENALTY: (f64, f64) = (1e3, 1e7);
 
 /// Outcome of one component, in physical units.
 #[derive(Clone, Debug)]
@@ -116,13 +128,18 @@ pub fn solve_component(
         let t = Instant::now();
         let cp = contact_problem(sys, st, settings);
         let built = t.elapsed().as_secs_f64();
-        // The LPs decide the verdict: solve them to 1e-10 so that their optimum resolves a
-        // tension or friction excess of 1e-8 W (see `StaticsSettings::stand_tolerance`).
-        let tol = match st {
-            Stage::Tension | Stage::FrictionExcess { .. } => settings.solver_tolerance.min(LP_TOLERANCE),
-            _ => settings.solver_tolerance,
+        // The LPs decide the verdict: solve them to 1e-10 (absolute) so that their optimum
+        // resolves a tension or friction excess of 1e-8 W near zero (see
+        // `StaticsSettings::stand_tolerance`); a large optimum (a design far from standing)
+        // needs only the solver tolerance relative to itself.
+        let acc = match st {
+            Stage::Tension | Stage::FrictionExcess { .. } => {
+                let tol = settings.solver_tolerance.min(LP_TOLERANCE);
+                Accuracy { feas: tol, gap_abs: tol, gap_rel: settings.solver_tolerance, pure_relative: true }
+            }
+            _ => Accuracy::uniform(settings.solver_tolerance),
         };
-        let mut out = run(&cp, settings, tol);
+        let mut out = run(&cp, settings, acc);
         out.x = sys.stage_values(&cp, &out.x);
         tally.0 += out.iterations;
         tally.1 += built + out.convert_seconds;
@@ -138,32 +155,79 @@ pub fn solve_component(
     };
     // Most designs being checked stand: try the strict problem (compression only, friction
     // within μ) first. Solved ⇒ minimum tension and excess are exactly 0, and this is the
-    // distribution. Otherwise (infeasible, or trouble) take the relaxed stages.
-    let strict = system(false, &mut tally);
-    let first = stage(&strict, Stage::Strict, &mut tally);
-    let (sys, c, tension, excess) = if ok(first.status) {
+    // distribution. Otherwise (infeasible, or trouble) take the relaxed stages — straight away
+    // when the caller expects the design not to stand.
+    let first = match settings.first_stage {
+        FirstStage::Strict => {
+            let strict = system(false, &mut tally);
+            let first = stage(&strict, Stage::Strict, &mut tally);
+            // Solved to its tolerance, the QP's forces may still exceed friction by a little
+            // at many points: it stands only if that excess (an upper bound of the minimum)
+            // is within the stand tolerance, so that both ways in give the same verdict.
+            let within =
+                strict.friction_violation(&first.x) * strict.force_scale <= stand_threshold(settings, lightest, weight);
+            (ok(first.status) && within).then_some((strict, first))
+        }
+        FirstStage::Relaxed => None,
+    };
+    let (sys, c, tension, excess) = if let Some((strict, first)) = first {
         (strict, first, 0.0, 0.0)
     } else {
         let sys = system(true, &mut tally);
-        let b1 = stage(&sys, Stage::Tension, &mut tally);
-        if !ok(b1.status) {
-            let msg = format!("the minimum-tension LP ended with status {:?}", b1.status);
-            let residual = sys.residual(&b1.x) * sys.force_scale;
-            return failed(b1.status, msg, weights, residual, tally.0, (tally.1, tally.2, tally.3));
-        }
-        let tension = b1.objective.max(0.0);
-        let mut excess = 0.0;
-        let mut best = b1;
-        if sys.layout.friction {
-            let b2 = stage(&sys, Stage::FrictionExcess { tension }, &mut tally);
-            if !ok(b2.status) {
-                let msg = format!("the friction-excess LP ended with status {:?}", b2.status);
-                let residual = sys.residual(&b2.x) * sys.force_scale;
-                return failed(b2.status, msg, weights, residual, tally.0, (tally.1, tally.2, tally.3));
+        let sum = |x: &[f64], var: Var| (0..sys.points.len()).map(|i| sys.value(x, i, var)).sum::<f64>();
+        // The exact-penalty friction-excess LP first: when its optimum needs no tension, it is
+        // the whole answer (T* = 0 below the LPs' resolution, F* its Σ s). Otherwise the
+        // minimum-tension LP gives T*, and the penalty LP's answer stands if its tension is
+        // T*; if not, M was too small: ×100, and past its largest the budget form.
+        let mut penalty = EXCESS_PENALTY.0;
+        let mut tension: Option<f64> = None;
+        let best = loop {
+            let out = stage(&sys, Stage::FrictionExcess { tension: tension.unwrap_or(0.0), penalty }, &mut tally);
+            if !ok(out.status) {
+                let msg = match out.status {
+                    SolverStatus::Infeasible => "no equilibrium exists even with tension and unlimited friction \
+                                                 (some block cannot be held in some direction)"
+                        .to_string(),
+                    s => format!("the friction-excess LP ended with status {s:?}"),
+                };
+                let residual = sys.residual(&out.x) * sys.force_scale;
+                return failed(out.status, msg, weights, residual, tally.0, (tally.1, tally.2, tally.3));
             }
-            excess = b2.objective.max(0.0);
-            best = b2;
-        }
+            let used = sum(&out.x, Var::CnNeg);
+            if tension.is_none() && used <= tension_budget(0.0) {
+                tension = Some(0.0);
+                break out;
+            }
+            let t = match tension {
+                Some(t) => t,
+                None => {
+                    let b1 = stage(&sys, Stage::Tension, &mut tally);
+                    if !ok(b1.status) {
+                        let msg = format!("the minimum-tension LP ended with status {:?}", b1.status);
+                        let residual = sys.residual(&b1.x) * sys.force_scale;
+                        return failed(b1.status, msg, weights, residual, tally.0, (tally.1, tally.2, tally.3));
+                    }
+                    *tension.insert(b1.objective.max(0.0))
+                }
+            };
+            if penalty == 0.0 {
+                break out;
+            }
+            if used <= tension_budget(t) {
+                // Its Σ s is resolved to ~1e-9 of the whole objective M T* + Σ s: when that
+                // cannot tell a small excess from none, the budget form decides (it is well
+                // behaved when the excess is small; its trouble was large ones).
+                if sum(&out.x, Var::Slack) >= 1e-6 * (penalty * t).max(1.0) {
+                    break out;
+                }
+                penalty = 0.0;
+                continue;
+            }
+            // M was too small: the optimum traded friction for tension.
+            penalty = if penalty < EXCESS_PENALTY.1 { penalty * 100.0 } else { 0.0 };
+        };
+        let tension = tension.unwrap_or(0.0);
+        let excess = sum(&best.x, Var::Slack).max(0.0);
         // The distribution QP only refines the forces: if it fails (or is not asked for), the
         // last LP's solution is an equilibrium with the same minimum tension and excess.
         let c = if settings.distribution {

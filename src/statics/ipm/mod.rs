@@ -20,6 +20,7 @@ mod shape;
 
 use super::problem::ContactProblem;
 use super::result::SolverStatus;
+use super::solve::Accuracy;
 use cones::{Layout, Scaling, shift_to_interior};
 use kkt::Kkt;
 use shape::Shape;
@@ -40,22 +41,40 @@ fn norm_inf(a: &[f64]) -> f64 {
     a.iter().fold(0.0f64, |m, v| m.max(v.abs()))
 }
 
-/// Tolerances: clarabel's defaults with `tol` for feasibility and gap.
+/// Tolerances: clarabel's defaults with the caller's for feasibility and gap.
 struct Tolerances {
     feas: f64,
     gap_abs: f64,
     gap_rel: f64,
+    /// The relative gap's denominator is max(`rel_floor`, |objective|).
+    rel_floor: f64,
     infeas_abs: f64,
     infeas_rel: f64,
     ktratio: f64,
 }
 
 impl Tolerances {
-    fn full(tol: f64) -> Self {
-        Self { feas: tol, gap_abs: tol, gap_rel: tol, infeas_abs: 1e-8, infeas_rel: 1e-8, ktratio: 1e-6 }
+    fn full(acc: Accuracy) -> Self {
+        Self {
+            feas: acc.feas,
+            gap_abs: acc.gap_abs,
+            gap_rel: acc.gap_rel,
+            rel_floor: if acc.pure_relative { 0.0 } else { 1.0 },
+            infeas_abs: 1e-8,
+            infeas_rel: 1e-8,
+            ktratio: 1e-6,
+        }
     }
     fn reduced() -> Self {
-        Self { feas: 1e-4, gap_abs: 5e-5, gap_rel: 5e-5, infeas_abs: 5e-12, infeas_rel: 5e-5, ktratio: 1e-4 }
+        Self {
+            feas: 1e-4,
+            gap_abs: 5e-5,
+            gap_rel: 5e-5,
+            rel_floor: 1.0,
+            infeas_abs: 5e-12,
+            infeas_rel: 5e-5,
+            ktratio: 1e-4,
+        }
     }
 }
 
@@ -91,7 +110,8 @@ struct Info {
     res_primal_inf: f64,
     res_dual_inf: f64,
     gap_abs: f64,
-    gap_rel: f64,
+    /// min(|primal cost|, |dual cost|).
+    cost: f64,
     ktratio: f64,
 }
 
@@ -139,13 +159,18 @@ fn info<const C: usize>(sh: &Shape<C>, v: &Vars, info: &mut Info, work: &mut [Ve
     info.res_primal_inf = res_primal_inf;
     info.res_dual_inf = res_dual_inf;
     info.gap_abs = (cost_primal - cost_dual).abs();
-    info.gap_rel = info.gap_abs / cost_primal.abs().min(cost_dual.abs()).max(1.0);
+    info.cost = cost_primal.abs().min(cost_dual.abs());
     info.ktratio = v.kappa * tinv;
 }
 
+impl Info {
+    fn gap_small(&self, t: &Tolerances) -> bool {
+        self.gap_abs < t.gap_abs || self.gap_abs < t.gap_rel * self.cost.max(t.rel_floor)
+    }
+}
+
 fn convergence(info: &Info, t: &Tolerances, almost: bool) -> Option<SolverStatus> {
-    let solved =
-        (info.gap_abs < t.gap_abs || info.gap_rel < t.gap_rel) && info.res_primal < t.feas && info.res_dual < t.feas;
+    let solved = info.gap_small(t) && info.res_primal < t.feas && info.res_dual < t.feas;
     if info.ktratio <= 1.0 && solved {
         return Some(if almost { SolverStatus::AlmostSolved } else { SolverStatus::Solved });
     }
@@ -164,18 +189,18 @@ fn convergence(info: &Info, t: &Tolerances, almost: bool) -> Option<SolverStatus
 
 /// Solves `cp`; `None` when it has a shape this solver does not take (it then goes to
 /// clarabel).
-pub fn solve(cp: &ContactProblem, tol: f64, max_iter: u32) -> Option<IpmOutcome> {
+pub fn solve(cp: &ContactProblem, acc: Accuracy, max_iter: u32) -> Option<IpmOutcome> {
     match cp.per_point() {
-        1 => solve_c::<1>(cp, tol, max_iter),
-        2 => solve_c::<2>(cp, tol, max_iter),
-        3 => solve_c::<3>(cp, tol, max_iter),
-        4 => solve_c::<4>(cp, tol, max_iter),
-        5 => solve_c::<5>(cp, tol, max_iter),
+        1 => solve_c::<1>(cp, acc, max_iter),
+        2 => solve_c::<2>(cp, acc, max_iter),
+        3 => solve_c::<3>(cp, acc, max_iter),
+        4 => solve_c::<4>(cp, acc, max_iter),
+        5 => solve_c::<5>(cp, acc, max_iter),
         _ => None,
     }
 }
 
-fn solve_c<const C: usize>(cp: &ContactProblem, tol: f64, max_iter: u32) -> Option<IpmOutcome> {
+fn solve_c<const C: usize>(cp: &ContactProblem, acc: Accuracy, max_iter: u32) -> Option<IpmOutcome> {
     let sh = Shape::<C>::new(cp)?;
     let mut kkt = Kkt::<C>::new(&sh)?;
     let (n, me, mg) = (sh.n(), sh.m_e(), sh.m_g());
@@ -226,7 +251,7 @@ fn solve_c<const C: usize>(cp: &ContactProblem, tol: f64, max_iter: u32) -> Opti
     shift_to_interior(&layout, &mut v.s);
     shift_to_interior(&layout, &mut v.z);
 
-    let full = Tolerances::full(tol);
+    let full = Tolerances::full(acc);
     let mut prev: Option<(Vars, Info)> = None;
     let mut iter = 0u32;
     let status;
@@ -255,8 +280,7 @@ fn solve_c<const C: usize>(cp: &ContactProblem, tol: f64, max_iter: u32) -> Opti
             && (inf.res_dual > pi.res_dual || inf.res_primal > pi.res_primal)
         {
             // clarabel's insufficient-progress tests.
-            let stalled =
-                inf.ktratio < f64::EPSILON * 100.0 && (pi.gap_abs < full.gap_abs || pi.gap_rel < full.gap_rel);
+            let stalled = inf.ktratio < f64::EPSILON * 100.0 && pi.gap_small(&full);
             let blowing = inf.ktratio < 1.0
                 && ((inf.res_dual > full.feas * 100.0 && inf.res_dual > pi.res_dual * 100.0)
                     || (inf.res_primal > full.feas * 100.0 && inf.res_primal > pi.res_primal * 100.0));
@@ -436,3 +460,6 @@ fn solve_c<const C: usize>(cp: &ContactProblem, tol: f64, max_iter: u32) -> Opti
     }
     Some(outcome(status, &v, iter))
 }
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,91 @@
+//! The structured solver against clarabel on the same plain-data problems, for every shape a
+//! stage produces: 1, 3, 4 and 5 variables per point, budgets (their slacks σ), the pyramid,
+//! box and cone rows, standing and failing designs.
+
+use super::solve;
+use crate::interfaces::detect;
+use crate::model::{Assembly, builtin};
+use crate::statics::assemble::{Stage, System, contact_problem};
+use crate::statics::components::components;
+use crate::statics::result::SolverStatus;
+use crate::statics::settings::{Backend, FrictionModel, StaticsSettings};
+use crate::statics::solve::{Accuracy, run};
+
+/// The accuracy the stages ask of their LPs.
+const LP: Accuracy = Accuracy { feas: 1e-10, gap_abs: 1e-10, gap_rel: 1e-8, pure_relative: true };
+
+fn system(spec: &str, mu: f64, model: FrictionModel, relaxed: bool) -> System {
+    let asm = Assembly::new(&builtin(spec).unwrap(), &Default::default()).unwrap();
+    let ifs = detect(&asm);
+    let comps = components(&asm, &ifs);
+    System::new(&asm, &ifs, &comps[0], mu, model, relaxed)
+}
+
+/// Solves `stage` of `sys` on both backends to the stages' LP accuracy; returns the status
+/// (both solved, to full or reduced accuracy, or both infeasible) and the two objectives.
+fn both(sys: &System, stage: Stage) -> (SolverStatus, f64, f64) {
+    let settings = StaticsSettings::default();
+    let cp = contact_problem(sys, stage, &settings);
+    let s = solve(&cp, LP, 200).expect("the structured solver takes every stage");
+    let c = run(&cp, &StaticsSettings { backend: Backend::Clarabel, ..settings }, LP);
+    let solved = |st: SolverStatus| matches!(st, SolverStatus::Solved | SolverStatus::AlmostSolved);
+    let status = match (s.status, c.status) {
+        (a, b) if solved(a) && solved(b) => SolverStatus::Solved,
+        (a, b) if a == b => a,
+        (a, b) => panic!("{stage:?}: structured {a:?}, clarabel {b:?}"),
+    };
+    (status, s.objective, c.objective)
+}
+
+#[test]
+fn every_stage_shape_meets_clarabel() {
+    for model in [FrictionModel::Pyramid8, FrictionModel::Box4, FrictionModel::Cone] {
+        // A 7-voussoir arch too thin to stand: tension is needed, and friction beyond μ once the
+        // tension is held at its minimum.
+        let strict = system("arch?n=7&t=0.06", 0.6, model, false);
+        let (status, _, _) = both(&strict, Stage::Strict);
+        assert_eq!(status, SolverStatus::Infeasible, "{model}: the thin arch has no strict equilibrium");
+        let sys = system("arch?n=7&t=0.06", 0.6, model, true);
+        let (status, t, tc) = both(&sys, Stage::Tension);
+        assert_eq!(status, SolverStatus::Solved);
+        assert!(t > 1e-4 && (t - tc).abs() <= 1e-8, "{model}: minimum tension {t} vs clarabel {tc}");
+        for penalty in [0.0, 1e3] {
+            let (_, f, fc) = both(&sys, Stage::FrictionExcess { tension: t, penalty });
+            assert!((f - fc).abs() <= 1e-7 * (1.0 + fc.abs()), "{model} M {penalty}: {f} vs {fc}");
+        }
+        // The distribution QP (weights 1e6 on tension and slack): clarabel ends it at its
+        // reduced accuracy (5e-5) on the pyramid.
+        let (_, d, dc) = both(&sys, Stage::Distribution { tension: t, excess: 1.0 });
+        assert!((d - dc).abs() <= 1e-4 * (1.0 + dc.abs()), "{model}: distribution {d} vs {dc}");
+        // Zero tension: the pinned layout of 4 variables per point.
+        let slope = system("slope?angle=35", 0.5, model, true);
+        let (_, f, fc) = both(&slope, Stage::FrictionExcess { tension: 0.0, penalty: 0.0 });
+        assert!(f > 0.1 && (f - fc).abs() <= 1e-8, "{model}: slope excess {f} vs {fc}");
+        // A standing wall: the strict QP of 3 variables per point.
+        let wall = system("wall?courses=3&bricks=3", 0.6, model, false);
+        let (status, q, qc) = both(&wall, Stage::Strict);
+        assert_eq!(status, SolverStatus::Solved);
+        assert!((q - qc).abs() <= 1e-7 * (1.0 + qc.abs()), "{model}: wall {q} vs {qc}");
+    }
+    // μ = 0: one variable per point (c_n⁺) in the strict layout.
+    let stack = system("stack?n=3", 0.0, FrictionModel::Pyramid8, false);
+    let (status, q, qc) = both(&stack, Stage::Strict);
+    assert_eq!(status, SolverStatus::Solved);
+    assert!((q - qc).abs() <= 1e-8 * (1.0 + qc.abs()), "frictionless stack {q} vs {qc}");
+}
+
+#[test]
+fn the_cone_slope_excess_is_sin_minus_mu_cos() {
+    // One block on a 35° slope, μ = 0.5: the exact cone needs W (sin θ − μ cos θ) more
+    // friction, in the problem's units (forces / W).
+    let sys = system("slope?angle=35", 0.5, FrictionModel::Cone, true);
+    let cp = contact_problem(&sys, Stage::FrictionExcess { tension: 0.0, penalty: 1e3 }, &StaticsSettings::default());
+    let o = solve(&cp, LP, 200).unwrap();
+    assert!(matches!(o.status, SolverStatus::Solved | SolverStatus::AlmostSolved), "{:?}", o.status);
+    let th = 35f64.to_radians();
+    // The idealised sin θ − μ cos θ; the scene's geometry (detected interface, mass
+    // properties) puts the optimum 2.3e-6 off it, on clarabel too.
+    assert!((o.objective - (th.sin() - 0.5 * th.cos())).abs() < 1e-6, "{}", o.objective);
+    let c = run(&cp, &StaticsSettings { backend: Backend::Clarabel, ..Default::default() }, LP);
+    assert!((o.objective - c.objective).abs() < 1e-9, "{} vs clarabel {}", o.objective, c.objective);
+}
