@@ -181,3 +181,18 @@ fn mesh_errors_from_files_name_file_and_block() {
     let e = Assembly::new(&scene, &Default::default()).unwrap_err().to_string();
     assert!(e.contains("block 'lid_missing'") && e.contains("not closed"), "{e}");
 }
+
+#[test]
+fn a_reference_length_sets_the_model_size_and_a_bad_one_is_named() {
+    let s = Scene::new("one", vec![Block::new("b", unit())]);
+    let mut t = voussoir::geometry::Tolerances::default();
+    assert_close(Assembly::new(&s, &t).unwrap().scale, 3f64.sqrt(), 1e-12, "the bounding-box diagonal");
+    t.reference_length = Some(20.0);
+    let a = Assembly::new(&s, &t).unwrap();
+    assert_eq!((a.scale, a.tolerances.coplanar), (20.0, 20.0 * t.coplanar));
+    for bad in [0.0, -1.0, f64::NAN, f64::INFINITY] {
+        t.reference_length = Some(bad);
+        let e = Assembly::new(&s, &t).expect_err("rejected");
+        assert!(matches!(e, ModelError::BadReferenceLength(_)) && e.to_string().contains("reference length"), "{e}");
+    }
+}

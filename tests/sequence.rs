@@ -7,6 +7,8 @@ use voussoir::analysis::AnalysisSettings;
 use voussoir::model::builtin;
 use voussoir::sequence::{OrderSpec, SearchSettings, SequenceError, check, check_with_props, search};
 
+mod common;
+
 fn given(names: &[&str]) -> OrderSpec {
     OrderSpec::Given(names.iter().map(|s| s.to_string()).collect())
 }
@@ -74,7 +76,10 @@ fn recheck(scene: &voussoir::model::Scene, r: &voussoir::sequence::SequenceRepor
         for b in &mut prefix.blocks {
             b.support |= step.props.contains(&b.name);
         }
-        let a = voussoir::analysis::analyze(&prefix, &AnalysisSettings::default()).unwrap();
+        // A prefix takes its tolerances from the complete design's size.
+        let mut settings = AnalysisSettings::default();
+        settings.tolerances.reference_length = Some(resolved.scale());
+        let a = voussoir::analysis::analyze(&prefix, &settings).unwrap();
         assert_eq!(a.statics.stands, step.stands, "step {k}");
         assert!((a.statics.tension_ratio - step.tension_ratio).abs() <= 1e-7, "step {k}");
     }
@@ -155,4 +160,26 @@ fn two_threads_give_the_steps_of_one() {
     let r = check(&scene, &OrderSpec::BottomUp, &AnalysisSettings::default(), None, &|| {}).unwrap();
     assert!(r.steps.len() >= 8);
     recheck(&scene, &r);
+}
+
+#[test]
+fn prefixes_are_detected_with_the_design_tolerances() {
+    // A 1 m column of 12 cubes on a support cube, the first one 10 mm above it: a joint that
+    // open is an interface of the 13 m design (coplanar tolerance 3e-3 × 13.1 m = 39 mm) but
+    // not of the first prefix on its own scale (3e-3 × 2.4 m = 7 mm). Every step must see the
+    // design's interface, so the column stands at every step.
+    let mut blocks = vec![common::cube("base", [0.0, 0.0, 0.0], 1.0).support(true)];
+    blocks.extend((0..12).map(|i| common::cube(&format!("c{i:02}"), [0.0, 0.0, 1.01 + i as f64], 1.0)));
+    let mut scene = voussoir::model::Scene::new("gap", blocks);
+    scene.ground = false;
+    let full = common::run(&scene, &AnalysisSettings::default());
+    assert!(full.statics.stands, "the complete column stands");
+    let r = check(&scene, &OrderSpec::BottomUp, &AnalysisSettings::default(), None, &|| {}).unwrap();
+    assert_eq!(r.first_failure, None, "{:?}", r.steps[0]);
+    recheck(&scene, &r);
+    // The first prefix on its own scale misses the joint: the test can tell the difference.
+    let mut alone = scene.clone();
+    alone.blocks.truncate(2);
+    let a = common::run(&alone, &AnalysisSettings::default());
+    assert!(a.interfaces.is_empty() && !a.statics.stands);
 }

@@ -278,7 +278,7 @@ pub fn resolve(
     if scene.cuts.is_empty() && scene.removed.is_empty() && scene.supports.is_empty() {
         return Ok((scene.clone(), ReplayStats::default()));
     }
-    let tol = tolerances.resolve(scene.scale());
+    let tol = tolerances.resolve(tolerances.scale(scene.scale()));
     let mut sources = scene.blocks.clone();
     for b in &mut sources {
         b.mesh = crate::geometry::repair(&b.mesh, &tol)

@@ -34,6 +34,11 @@ pub struct Tolerances {
     pub min_area: f64,
     /// A block whose volume is below `min_volume * (block diagonal)³` is rejected. Default 1e-9.
     pub min_volume: f64,
+    /// The model size `scale` itself, m, when it should not be the scene's own bounding-box
+    /// diagonal. Default `None` (the diagonal). A sequence check sets it to the complete
+    /// design's size, so that every prefix is detected and solved with the design's absolute
+    /// tolerances (the same interfaces as the design, and work reused between steps).
+    pub reference_length: Option<f64>,
 }
 
 impl Default for Tolerances {
@@ -46,6 +51,7 @@ impl Default for Tolerances {
             angle_deg: 6.0,
             min_area: 1e-3,
             min_volume: 1e-9,
+            reference_length: None,
         }
     }
 }
@@ -66,6 +72,12 @@ pub struct AbsTolerances {
 }
 
 impl Tolerances {
+    /// The model size of a scene whose bounding-box diagonal is `diagonal`: the reference
+    /// length when one is set.
+    pub fn scale(&self, diagonal: f64) -> f64 {
+        self.reference_length.unwrap_or(diagonal)
+    }
+
     /// Absolute tolerances for a model whose bounding-box diagonal is `scale` (> 0).
     pub fn resolve(&self, scale: f64) -> AbsTolerances {
         AbsTolerances {

@@ -28,6 +28,8 @@ pub enum ModelError {
     BadFriction(f64),
     #[error("gravity {0:?} is not a finite vector")]
     BadGravity([f64; 3]),
+    #[error("reference length {0} is not a positive finite number (m)")]
+    BadReferenceLength(f64),
 }
 
 /// A repair made while loading, with the block it concerns.
@@ -112,7 +114,10 @@ impl Assembly {
                 return Err(ModelError::DuplicateName(b.name.clone()));
             }
         }
-        let scale = scene.scale();
+        if let Some(l) = tolerances.reference_length.filter(|l| !(*l > 0.0 && l.is_finite())) {
+            return Err(ModelError::BadReferenceLength(l));
+        }
+        let scale = tolerances.scale(scene.scale());
         let tol = tolerances.resolve(scale);
         let mut blocks = Vec::with_capacity(scene.blocks.len());
         let mut warnings = Vec::new();

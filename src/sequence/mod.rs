@@ -112,7 +112,7 @@ pub fn step_analysis(
     let placed = report.order.iter().take(k + 1).map(String::as_str).collect();
     let props = report.steps.get(k).map(|s| s.props.iter().map(String::as_str).collect()).unwrap_or_default();
     let prefix = Stepper::new(&resolved, settings).prefix(&placed, &props);
-    Ok(crate::analysis::analyze(&prefix, settings)?)
+    Ok(crate::analysis::analyze(&prefix, &steps::prefix_settings(&resolved, settings))?)
 }
 
 /// Checks every prefix of `spec`'s order of `scene` (its cut history replayed first).

@@ -9,6 +9,17 @@ use crate::model::Scene;
 use crate::statics::FirstStage;
 use std::collections::HashSet;
 
+/// `settings` for the prefixes of `resolved`: every prefix takes its tolerances (and the
+/// statics its length unit) from the complete design's size, not from its own bounding box —
+/// the same absolute tolerances at every step, so the prefix has the design's interfaces and
+/// the pipeline finds the pairs and components of earlier steps in its memory.
+pub(crate) fn prefix_settings(resolved: &Scene, settings: &AnalysisSettings) -> AnalysisSettings {
+    let mut settings = settings.clone();
+    let t = &mut settings.tolerances;
+    t.reference_length = Some(t.scale(resolved.scale()));
+    settings
+}
+
 /// Analyses prefixes of one resolved design.
 pub(crate) struct Stepper<'a> {
     resolved: &'a Scene,
@@ -28,7 +39,7 @@ impl<'a> Stepper<'a> {
     /// Only the graded numbers are reported per step, so the distribution QP is skipped (the
     /// minimum tension and friction excess are exact either way).
     pub fn new(resolved: &'a Scene, settings: &AnalysisSettings) -> Self {
-        let mut settings = settings.clone();
+        let mut settings = prefix_settings(resolved, settings);
         settings.statics.distribution = false;
         let empty = Scene { blocks: Vec::new(), ..resolved.clone() };
         Self { resolved, empty, settings, pipeline: Pipeline::new(), checks: 0, last_failed: false }
