@@ -110,3 +110,34 @@ fn compas_blocks_and_supports() {
     let names: Vec<&str> = s.blocks.iter().map(|b| b.name.as_str()).collect();
     assert_eq!(names[..3], ["0", "1", "2"], "numeric node order");
 }
+
+#[test]
+fn compas_typed_parse_equals_the_tree_walk_and_odd_files_fall_back() {
+    // load_scene reads compas files through a typed parse; the tree walk over serde_json::Value
+    // (scene_from_value) is the independent reference: the same scene for every file.
+    for rel in assembly_files() {
+        let path = shared(&rel);
+        let value: serde_json::Value = serde_json::from_slice(&std::fs::read(&path).unwrap()).unwrap();
+        let reference = voussoir::io::compas::scene_from_value(&path, &value).unwrap();
+        assert_eq!(load_scene(&path).unwrap(), reference, "{rel}");
+    }
+    // Off the usual layout (string support flag, float vertex key, a missing block mesh): the
+    // typed parse declines and the tree walk answers or names the problem.
+    let cube = |support: &str, key: &str| {
+        format!(
+            r#"{{"data": {{"graph": {{"data": {{"node": {{"0": {{"is_support": {support}, "block": {{"data": {{
+            "vertex": {{"0": {{"x": 0, "y": 0, "z": 0}}, "1": {{"x": 1, "y": 0, "z": 0}}, "2": {{"x": 1, "y": 1, "z": 0}},
+                        "3": {{"x": 0, "y": 1, "z": 0}}, "4": {{"x": 0, "y": 0, "z": 1}}, "5": {{"x": 1, "y": 0, "z": 1}},
+                        "6": {{"x": 1, "y": 1, "z": 1}}, "7": {{"x": 0, "y": 1, "z": 1}}}},
+            "face": {{"0": [0, 3, 2, 1], "1": [4, 5, 6, 7], "2": [0, 1, 5, 4], "3": [1, 2, 6, 5], "4": [2, 3, 7, 6],
+                      "5": [3, 0, 4, {key}]}}}}}}}}}}}}}}}}}}"#
+        )
+    };
+    let typed = load_scene(&tmp("typed.json", cube("true", "7").as_bytes())).unwrap();
+    assert!(typed.blocks[0].support && typed.blocks[0].mesh.faces.len() == 6);
+    let odd = load_scene(&tmp("odd.json", cube("\"yes\"", "\"7\"").as_bytes())).unwrap();
+    assert!(!odd.blocks[0].support, "a non-bool flag reads as not a support, as before");
+    assert_eq!(odd.blocks[0].mesh, typed.blocks[0].mesh);
+    let e = load_scene(&tmp("float.json", cube("true", "7.0").as_bytes())).unwrap_err().to_string();
+    assert!(e.contains("block '0'") && e.contains("missing vertex '7.0'"), "{e}");
+}

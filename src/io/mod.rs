@@ -79,6 +79,9 @@ fn kind_of(path: &Path) -> Result<Kind, IoError> {
 fn parse(kind: Kind, path: &Path, bytes: &[u8]) -> Result<Scene, IoError> {
     match kind {
         Kind::Json => {
+            if let Some(scene) = compas::scene_from_bytes(path, bytes) {
+                return scene;
+            }
             let value: serde_json::Value =
                 serde_json::from_slice(bytes).map_err(|source| IoError::Json { path: path.to_path_buf(), source })?;
             if compas::is_compas(&value) {
