@@ -8,21 +8,21 @@ use voussoir::interfaces::detect;
 use voussoir::io::load_scene;
 use voussoir::model::Assembly;
 
-fn shared(rel: &str) -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/data/compas").join(rel)
+fn compas_data(rel: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("assets/compas").join(rel)
 }
 
 fn bench(c: &mut Criterion) {
     let mut g = c.benchmark_group("detection");
     for (name, rel) in [("dome", "compas_assembly/dome_assembly.json"), ("armadillo", "compas_cra/armadillo_cra.json")]
     {
-        let scene = load_scene(&shared(rel)).expect("reference data beside the checkout");
+        let scene = load_scene(&compas_data(rel)).expect("reference data beside the checkout");
         let asm = Assembly::new(&scene, &Default::default()).expect("valid");
         g.bench_function(format!("{name}/detect"), |b| b.iter(|| black_box(detect(black_box(&asm)))));
         g.bench_function(format!("{name}/validate"), |b| {
             b.iter(|| black_box(Assembly::new(black_box(&scene), &Default::default()).unwrap()))
         });
-        g.bench_function(format!("{name}/load"), |b| b.iter(|| black_box(load_scene(&shared(rel)).unwrap())));
+        g.bench_function(format!("{name}/load"), |b| b.iter(|| black_box(load_scene(&compas_data(rel)).unwrap())));
     }
     g.finish();
 }

@@ -21,7 +21,7 @@ fn drops(c: &mut Criterion) {
     }
     g.finish();
     let path =
-        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/data/compas/compas_cra/armadillo_cra.json");
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/compas/compas_cra/armadillo_cra.json");
     let mut scene = voussoir::io::load_scene(&path).unwrap();
     scene.material.friction = 0.84;
     let asm = Assembly::new(&scene, &Default::default()).unwrap();

@@ -57,7 +57,7 @@ fn edit_loop(c: &mut Criterion) {
     let app = app_with(wall, &name, [c0.x, c0.y, c0.z], [1.0, 0.0, 0.0]);
     bench_moves(c, "edit_loop/wall_100_move_cut", app, [c0.x, c0.y, c0.z], [1.0, 0.0, 0.0], 0.01);
 
-    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/data/compas/compas_cra/armadillo_cra.json");
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("assets/compas/compas_cra/armadillo_cra.json");
     let mut armadillo = voussoir::io::load_scene(&path).unwrap();
     armadillo.material.friction = 0.84;
     let block = armadillo.blocks.iter().find(|b| !b.support).unwrap();

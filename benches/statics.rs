@@ -16,8 +16,8 @@ use voussoir::statics::{self, Backend, FrictionModel, StaticsSettings};
 
 const MODELS: [FrictionModel; 3] = [FrictionModel::Pyramid8, FrictionModel::Cone, FrictionModel::Box4];
 
-fn shared(rel: &str) -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/data/compas").join(rel)
+fn compas_data(rel: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("assets/compas").join(rel)
 }
 
 fn settings(model: FrictionModel) -> StaticsSettings {
@@ -30,7 +30,7 @@ fn real_data(c: &mut Criterion) {
     for model in MODELS {
         g.bench_function(BenchmarkId::new("armadillo_pipeline", model), |b| {
             b.iter(|| {
-                let scene = load_scene(&shared("compas_cra/armadillo_cra.json")).unwrap();
+                let scene = load_scene(&compas_data("compas_cra/armadillo_cra.json")).unwrap();
                 let mut s = AnalysisSettings { statics: settings(model), ..Default::default() };
                 s.statics.friction = Some(0.84);
                 black_box(analyze(&scene, &s).unwrap())
@@ -40,7 +40,7 @@ fn real_data(c: &mut Criterion) {
             // The same on clarabel's general LDL: the structured backend's gain.
             g.bench_function(BenchmarkId::new("armadillo_pipeline", "pyramid8-clarabel"), |b| {
                 b.iter(|| {
-                    let scene = load_scene(&shared("compas_cra/armadillo_cra.json")).unwrap();
+                    let scene = load_scene(&compas_data("compas_cra/armadillo_cra.json")).unwrap();
                     let mut s = AnalysisSettings { statics: settings(model), ..Default::default() };
                     s.statics.friction = Some(0.84);
                     s.statics.backend = Backend::Clarabel;
@@ -48,7 +48,7 @@ fn real_data(c: &mut Criterion) {
                 })
             });
         }
-        let scene = load_scene(&shared("compas_assembly/dome_assembly.json")).unwrap();
+        let scene = load_scene(&compas_data("compas_assembly/dome_assembly.json")).unwrap();
         let asm = Assembly::new(&scene, &Default::default()).unwrap();
         let ifs = detect(&asm);
         g.bench_function(BenchmarkId::new("dome_solve", model), |b| {

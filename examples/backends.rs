@@ -15,12 +15,12 @@ fn scene(spec: &str) -> Scene {
 }
 
 fn main() {
-    let shared = |rel: &str| format!("{}/../shared/data/compas/{rel}", env!("CARGO_MANIFEST_DIR"));
+    let compas_data = |rel: &str| format!("{}/assets/compas/{rel}", env!("CARGO_MANIFEST_DIR"));
     let mut specs: Vec<String> = std::env::args().skip(1).collect();
     if specs.is_empty() {
         specs = vec![
-            shared("compas_cra/armadillo_cra.json"),
-            shared("compas_assembly/dome_assembly.json"),
+            compas_data("compas_cra/armadillo_cra.json"),
+            compas_data("compas_assembly/dome_assembly.json"),
             "builtin:wall?courses=10&bricks=10".into(),
             "builtin:wall?courses=20&bricks=20".into(),
             "builtin:arch?n=40&t=0.10".into(),

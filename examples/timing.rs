@@ -9,10 +9,10 @@ use voussoir::statics::{self, FrictionModel, StaticsSettings};
 
 fn main() {
     let tol: f64 = std::env::args().nth(1).and_then(|a| a.parse().ok()).unwrap_or(1e-10);
-    let shared = |rel: &str| format!("{}/../shared/data/compas/{rel}", env!("CARGO_MANIFEST_DIR"));
+    let compas_data = |rel: &str| format!("{}/assets/compas/{rel}", env!("CARGO_MANIFEST_DIR"));
     let scenes: Vec<(String, Scene)> = vec![
-        ("armadillo".into(), load_scene(std::path::Path::new(&shared("compas_cra/armadillo_cra.json"))).unwrap()),
-        ("dome".into(), load_scene(std::path::Path::new(&shared("compas_assembly/dome_assembly.json"))).unwrap()),
+        ("armadillo".into(), load_scene(std::path::Path::new(&compas_data("compas_cra/armadillo_cra.json"))).unwrap()),
+        ("dome".into(), load_scene(std::path::Path::new(&compas_data("compas_assembly/dome_assembly.json"))).unwrap()),
         ("wall400".into(), builtin("wall?courses=20&bricks=20").unwrap()),
         ("wall1000".into(), builtin("wall?courses=32&bricks=31").unwrap()),
         ("arch1000".into(), builtin("arch?n=1000&t=0.15").unwrap()),

@@ -1,4 +1,4 @@
-"""Cross-check voussoir's statics against compas_cra's RBE solver (IPOPT) on the shared data.
+"""Cross-check voussoir's statics against compas_cra's RBE solver (IPOPT) on the BRG reference assemblies in assets/compas.
 
 Set-up (once): python3 -m venv /tmp/cra && /tmp/cra/bin/pip install compas_cra==0.8.0
 Run:           /tmp/cra/bin/python scripts/cross_check_compas_cra.py [path/to/voussoir]
@@ -21,7 +21,7 @@ from compas.data import json_load
 from compas_cra.equilibrium import rbe_solve_native
 
 ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..")
-DATA = os.path.join(ROOT, "..", "shared", "data", "compas")
+DATA = os.path.join(ROOT, "assets", "compas")
 FILES = [
     "compas_assembly/stack_assembly.json",
     "compas_assembly/arch_assembly.json",

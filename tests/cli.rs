@@ -15,8 +15,8 @@ fn tmp(name: &str) -> PathBuf {
     dir.join(name)
 }
 
-fn shared(rel: &str) -> String {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/data/compas").join(rel).display().to_string()
+fn compas_data(rel: &str) -> String {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("assets/compas").join(rel).display().to_string()
 }
 
 #[test]
@@ -87,7 +87,7 @@ fn options_mu_density_supports() {
     let v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
     assert!((v["free_weight"].as_f64().unwrap() - 2.0 * 2400.0 * 9.81).abs() < 1e-6);
     // compas_cra file without stored supports: lowest blocks.
-    let out = voussoir(&["analyze", &shared("compas_cra/cubes.json"), "--supports", "lowest"]);
+    let out = voussoir(&["analyze", &compas_data("compas_cra/cubes.json"), "--supports", "lowest"]);
     assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stdout));
 }
 
@@ -374,12 +374,12 @@ fn a_disagreement_says_whether_the_drop_test_came_to_rest() {
         text.lines().find(|l| l.starts_with("statics ")).expect("the side-by-side line").to_string()
     };
     // The compas arch: its crown sags 4 % of a block in rapier within 0.1 s, then holds.
-    let settled = verdict_line(&["drop", &shared("compas_assembly/arch_assembly.json")]);
+    let settled = verdict_line(&["drop", &compas_data("compas_assembly/arch_assembly.json")]);
     assert!(settled.contains("DISAGREE (the blocks moved past the tolerance, then came to rest"), "{settled}");
     // A 15-voussoir arch just above its static limit: rapier lets it hinge and fall.
     let moving = verdict_line(&["drop", "builtin:arch?n=15&t=0.115"]);
     assert!(moving.contains("DISAGREE (still moving at the end"), "{moving}");
     // Both agree on a stack that needs tension.
-    let agree = verdict_line(&["drop", &shared("compas_assembly/stack_assembly.json")]);
+    let agree = verdict_line(&["drop", &compas_data("compas_assembly/stack_assembly.json")]);
     assert!(agree.ends_with("AGREE") && !agree.contains("DISAGREE"), "{agree}");
 }

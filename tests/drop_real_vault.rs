@@ -10,7 +10,7 @@ use common::*;
 use voussoir::dynamics::{DropResult, DropSettings, drop_test};
 
 fn drop(rel: &str, mu: f64) -> DropResult {
-    let mut scene = voussoir::io::load_scene(&shared(rel)).expect("the vault loads");
+    let mut scene = voussoir::io::load_scene(&compas_data(rel)).expect("the vault loads");
     scene.material.friction = mu;
     drop_test(&assembly(&scene), &DropSettings { duration: 1.0, ..Default::default() }).expect("valid settings")
 }

@@ -8,7 +8,7 @@ use voussoir::model::builtin;
 
 #[test]
 fn rerun_of_an_unchanged_design_reuses_everything() {
-    let scene = voussoir::io::load_scene(&shared("compas_cra/armadillo_cra.json")).unwrap();
+    let scene = voussoir::io::load_scene(&compas_data("compas_cra/armadillo_cra.json")).unwrap();
     let settings = AnalysisSettings::default();
     let mut p = Pipeline::new();
     let first = p.run(&scene, &settings).unwrap();

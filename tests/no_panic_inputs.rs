@@ -98,7 +98,7 @@ proptest! {
 
     #[test]
     fn mutated_compas(edits in prop::collection::vec((any::<usize>(), any::<u8>(), byte()), 1..6)) {
-        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/data/compas/compas_assembly/two-blocks_assembly.json");
+        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/compas/compas_assembly/two-blocks_assembly.json");
         let bytes = std::fs::read(path).unwrap();
         pipeline("m.json", &mutate(bytes, &edits));
     }

@@ -104,7 +104,7 @@ fn stl_ascii_and_binary_give_the_same_unit_cube() {
 
 #[test]
 fn compas_blocks_and_supports() {
-    let s = load_scene(&shared("compas_assembly/arch_assembly.json")).unwrap();
+    let s = load_scene(&compas_data("compas_assembly/arch_assembly.json")).unwrap();
     assert_eq!(s.blocks.len(), 30);
     assert_eq!(s.blocks.iter().filter(|b| b.support).count(), 2);
     let names: Vec<&str> = s.blocks.iter().map(|b| b.name.as_str()).collect();
@@ -116,7 +116,7 @@ fn compas_typed_parse_equals_the_tree_walk_and_odd_files_fall_back() {
     // load_scene reads compas files through a typed parse; the tree walk over serde_json::Value
     // (scene_from_value) is the independent reference: the same scene for every file.
     for rel in assembly_files() {
-        let path = shared(&rel);
+        let path = compas_data(&rel);
         let value: serde_json::Value = serde_json::from_slice(&std::fs::read(&path).unwrap()).unwrap();
         let reference = voussoir::io::compas::scene_from_value(&path, &value).unwrap();
         assert_eq!(load_scene(&path).unwrap(), reference, "{rel}");

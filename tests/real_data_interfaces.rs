@@ -26,7 +26,7 @@ fn ordered(a: &str, b: &str) -> (String, String) {
 }
 
 fn detected(rel: &str) -> (Assembly, Vec<voussoir::interfaces::Interface>) {
-    let scene = load_scene(&shared(rel)).unwrap_or_else(|e| panic!("{e}"));
+    let scene = load_scene(&compas_data(rel)).unwrap_or_else(|e| panic!("{e}"));
     let asm = Assembly::new(&scene, &Default::default()).unwrap_or_else(|e| panic!("{rel}: {e}"));
     let ifs = detect(&asm);
     (asm, ifs)
@@ -35,7 +35,7 @@ fn detected(rel: &str) -> (Assembly, Vec<voussoir::interfaces::Interface>) {
 fn compare(rel: &str) -> (Pairs, Pairs, Assembly) {
     let (asm, ifs) = detected(rel);
     let found: Pairs = ifs.iter().map(|i| ordered(i.a.name(&asm), i.b.name(&asm))).collect();
-    let stored: Pairs = load_stored_interfaces(&shared(rel)).unwrap().iter().map(|s| ordered(&s.u, &s.v)).collect();
+    let stored: Pairs = load_stored_interfaces(&compas_data(rel)).unwrap().iter().map(|s| ordered(&s.u, &s.v)).collect();
     (found, stored, asm)
 }
 
@@ -78,7 +78,7 @@ fn stored_normals_agree_with_detected_ones() {
     // For single-interface pairs the stored frame normal (u→v) equals ours up to the a/b order.
     for rel in ["compas_assembly/arch_assembly.json", "compas_cra/armadillo_cra.json"] {
         let (asm, ifs) = detected(rel);
-        let stored = load_stored_interfaces(&shared(rel)).unwrap();
+        let stored = load_stored_interfaces(&compas_data(rel)).unwrap();
         let mut diffs: Vec<f64> = Vec::new();
         for s in &stored {
             let Some(i) = ifs.iter().find(|i| ordered(i.a.name(&asm), i.b.name(&asm)) == ordered(&s.u, &s.v)) else {

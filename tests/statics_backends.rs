@@ -9,8 +9,8 @@ use voussoir::model::builtin;
 use voussoir::statics::{Backend, FrictionModel, SolverStatus, StaticsResult, StaticsSettings};
 
 fn solve(spec: &str, model: FrictionModel, mu: Option<f64>, backend: Backend) -> StaticsResult {
-    let scene = match spec.strip_prefix("shared:") {
-        Some(rel) => voussoir::io::load_scene(&shared(rel)).unwrap(),
+    let scene = match spec.strip_prefix("data:") {
+        Some(rel) => voussoir::io::load_scene(&compas_data(rel)).unwrap(),
         None => builtin(spec).unwrap(),
     };
     let statics = StaticsSettings { friction_model: model, friction: mu, backend, ..Default::default() };
@@ -47,7 +47,7 @@ fn standing_designs_agree() {
         assert!(s.stands);
         let (s, _) = compare("arch?n=40&t=0.115", model, None);
         assert!(s.stands);
-        compare("shared:compas_assembly/crossvault_assembly.json", model, None);
+        compare("data:compas_assembly/crossvault_assembly.json", model, None);
     }
 }
 

@@ -11,7 +11,7 @@ use voussoir::io::{compas::load_stored_interfaces, load_scene};
 use voussoir::statics::{SolverStatus, Verdict};
 
 fn scene(rel: &str) -> voussoir::model::Scene {
-    let mut s = load_scene(&shared(rel)).unwrap();
+    let mut s = load_scene(&compas_data(rel)).unwrap();
     if !s.blocks.iter().any(|b| b.support) {
         // compas_cra's example scripts fix the lowest block; where several blocks share the
         // lowest level (the concave pairs stand side by side on it) they fix the first one.
@@ -43,7 +43,7 @@ fn every_assembly_file_solves() {
 #[test]
 fn lowest_blocks_of_the_bare_armadillo_are_its_33_supports() {
     let bare = scene("compas_cra/armadillo.json");
-    let cra = load_scene(&shared("compas_cra/armadillo_cra.json")).unwrap();
+    let cra = load_scene(&compas_data("compas_cra/armadillo_cra.json")).unwrap();
     let names = |s: &voussoir::model::Scene| {
         let mut v: Vec<String> = s.blocks.iter().filter(|b| b.support).map(|b| b.name.clone()).collect();
         v.sort();
@@ -83,7 +83,7 @@ fn stored_forces_of_determinate_cases_agree() {
         let r = &an.statics;
         // compas: density 1, no g: its W is the free volume.
         let w_compas: f64 = an.assembly.blocks.iter().filter(|b| !b.support).map(|b| b.mass.volume).sum();
-        let stored = load_stored_interfaces(&shared(rel)).unwrap();
+        let stored = load_stored_interfaces(&compas_data(rel)).unwrap();
         let mut tension_compas = 0.0;
         for s in &stored {
             let f = s.forces.as_ref().unwrap();

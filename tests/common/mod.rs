@@ -6,17 +6,17 @@ use voussoir::analysis::{Analysis, AnalysisSettings, analyze};
 use voussoir::geometry::{Mesh, Point3};
 use voussoir::model::{Assembly, Block, Scene};
 
-/// `../shared/data/compas/<rel>` beside the checkout.
-pub fn shared(rel: &str) -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/data/compas").join(rel)
+/// `assets/compas/<rel>` in the checkout (the BRG reference assemblies).
+pub fn compas_data(rel: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("assets/compas").join(rel)
 }
 
 /// Every compas Assembly file of the reference data (compas_assembly and compas_cra), sorted,
-/// as paths relative to `../shared/data/compas`.
+/// as paths relative to `assets/compas`.
 pub fn assembly_files() -> Vec<String> {
     let mut files = Vec::new();
     for dir in ["compas_assembly", "compas_cra"] {
-        for e in std::fs::read_dir(shared(dir)).expect("../shared/data beside the checkout") {
+        for e in std::fs::read_dir(compas_data(dir)).expect("assets/compas in the checkout") {
             files.push(format!("{dir}/{}", e.expect("a directory entry").file_name().to_string_lossy()));
         }
     }
