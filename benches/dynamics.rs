@@ -20,8 +20,7 @@ fn drops(c: &mut Criterion) {
         g.bench_function(spec, |b| b.iter(|| black_box(drop_test(&asm, &DropSettings::default()).unwrap())));
     }
     g.finish();
-    let path =
-        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/compas/compas_cra/armadillo_cra.json");
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/compas/compas_cra/armadillo_cra.json");
     let mut scene = voussoir::io::load_scene(&path).unwrap();
     scene.material.friction = 0.84;
     let asm = Assembly::new(&scene, &Default::default()).unwrap();

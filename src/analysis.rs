@@ -41,7 +41,8 @@ pub struct Timings {
     pub detect: f64,
     /// Building the equilibrium problems (summed over components).
     pub assemble: f64,
-    /// Inside clarabel (summed over components).
+    /// Inside the interior-point solver that ran — the structured backend by default, clarabel
+    /// with `Backend::Clarabel` (summed over components).
     pub solve: f64,
     /// Wall clock of the whole pipeline.
     pub total: f64,

@@ -35,7 +35,8 @@ fn detected(rel: &str) -> (Assembly, Vec<voussoir::interfaces::Interface>) {
 fn compare(rel: &str) -> (Pairs, Pairs, Assembly) {
     let (asm, ifs) = detected(rel);
     let found: Pairs = ifs.iter().map(|i| ordered(i.a.name(&asm), i.b.name(&asm))).collect();
-    let stored: Pairs = load_stored_interfaces(&compas_data(rel)).unwrap().iter().map(|s| ordered(&s.u, &s.v)).collect();
+    let stored: Pairs =
+        load_stored_interfaces(&compas_data(rel)).unwrap().iter().map(|s| ordered(&s.u, &s.v)).collect();
     (found, stored, asm)
 }
 

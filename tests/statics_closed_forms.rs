@@ -1,6 +1,6 @@
-//! Invariant: the statics reproduce DESIGN §5's closed forms — cube on cube 0.25 W per
-//! corner, offset cube needs tension W, lever-rule reactions — with equilibrium residual
-//! ≤ 1e-9 W.
+//! Invariant: the statics reproduce the closed forms of docs/design.md#closed-forms — cube on
+//! cube 0.25 W per corner, offset cube needs tension W, lever-rule reactions — with equilibrium
+//! residual ≤ 1e-9 W.
 
 mod common;
 use common::*;

@@ -7,7 +7,7 @@
 //! polygon-clipping crate, so non-convex faces, holes and several disjoint overlap pieces are
 //! handled; each piece is one [`Interface`].
 //!
-//! Sign rule (DESIGN §2): an interface a→b has frame (u, v, n) with n the outward normal of a's
+//! Sign rule (docs/design.md#interface-sign-rule): an interface a→b has frame (u, v, n) with n the outward normal of a's
 //! face (pointing into b). A force f at an interface point acts on b as +f and on a as −f, so a
 //! positive normal component is compression. For the ground, a is the ground and n = +z.
 

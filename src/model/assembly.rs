@@ -98,7 +98,7 @@ impl Assembly {
         if scene.blocks.is_empty() {
             return Err(ModelError::NoBlocks);
         }
-        if !(scene.material.friction >= 0.0 && scene.material.friction.is_finite()) {
+        if !Material::valid_friction(scene.material.friction) {
             return Err(ModelError::BadFriction(scene.material.friction));
         }
         if !scene.gravity.iter().all(|g| g.is_finite()) {

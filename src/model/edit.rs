@@ -1,7 +1,7 @@
 //! Edits of a design, as data: what the ECS layer's requests and the CLI carry. Applying one is
 //! a pure function of the scene; names are checked when the design is next resolved.
 
-use super::{Block, Cut, Scene};
+use super::{Block, Cut, Material, Scene};
 use crate::statics::FrictionModel;
 use thiserror::Error;
 
@@ -83,7 +83,7 @@ pub fn apply(scene: &mut Scene, edit: &Edit) -> Result<(), EditError> {
             scene.blocks.push(block.clone());
         }
         Edit::SetFriction(mu) => {
-            if !(*mu >= 0.0 && mu.is_finite()) {
+            if !Material::valid_friction(*mu) {
                 return Err(EditError::BadFriction(*mu));
             }
             scene.material.friction = *mu;

@@ -59,6 +59,14 @@ impl Default for Material {
     }
 }
 
+impl Material {
+    /// The one rule for a friction coefficient: a finite number ≥ 0. Each way μ enters — the
+    /// scene's material (`Assembly::new`), an edit, a statics override — is checked by it once.
+    pub fn valid_friction(mu: f64) -> bool {
+        mu >= 0.0 && mu.is_finite()
+    }
+}
+
 /// Standard gravity (m/s², along −z).
 pub const STANDARD_GRAVITY: f64 = 9.81;
 

@@ -1,49 +1,14 @@
-//! Assembles the conic problem of one component and one stage as plain data (triplets), in
-//! the row and variable order documented in the module above. No solver types here.
+//! Assembles the problem of one component and one stage as plain data (contact form, and the
+//! equilibrium triplets for residuals and polishing), in the row and variable order documented
+//! in the statics module. No solver types here.
 
 use super::components::Component;
-use super::problem::{Budget, Contact, ContactProblem, Geometry, Side};
-use super::settings::{FrictionModel, StaticsSettings};
+use super::problem::{Budget, Contact, ContactProblem, FrictionModel, Geometry, Side, Var};
+use super::settings::StaticsSettings;
 use crate::geometry::{Point3, Vector3};
 use crate::interfaces::{Body, Interface};
 use crate::model::{Assembly, BlockId};
 use std::collections::HashMap;
-
-/// Cones in row order.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Cone {
-    Zero(usize),
-    Nonnegative(usize),
-    SecondOrder(usize),
-}
-
-/// minimise ½ xᵀ diag(p) x + qᵀ x subject to A x + s = b, s ∈ cones.
-#[derive(Clone, Debug, Default)]
-pub struct Problem {
-    pub n: usize,
-    pub p_diag: Vec<f64>,
-    pub q: Vec<f64>,
-    /// (row, column, value) of A.
-    pub a: Vec<(usize, usize, f64)>,
-    pub b: Vec<f64>,
-    pub cones: Vec<Cone>,
-}
-
-impl Problem {
-    pub fn m(&self) -> usize {
-        self.b.len()
-    }
-}
-
-/// Variables of a force point.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Var {
-    CnPos,
-    CnNeg,
-    Cu,
-    Cv,
-    Slack,
-}
 
 /// Which variables a point has, and their offsets within its block of columns.
 /// Strict systems (no tension, no friction slack) have `[c_n⁺, c_u, c_v]`; relaxed ones

@@ -4,8 +4,10 @@
 //! the components whose blocks or interfaces changed are solved again.
 
 use super::components::{Component, components, merged};
+use super::error::StaticsError;
+use super::result::{self, StaticsResult};
+use super::settings::StaticsSettings;
 use super::stages::{ComponentOutcome, solve_components};
-use super::{StaticsError, StaticsResult, StaticsSettings, result};
 use crate::interfaces::{Body, Interface};
 use crate::model::Assembly;
 use std::collections::HashMap;
@@ -63,10 +65,9 @@ pub fn analyze_cached(
     cache: &mut StaticsCache,
 ) -> Result<(StaticsResult, SolveStats), StaticsError> {
     settings.validate()?;
+    // Both sources of μ are validated where they enter: the override in `validate`, the
+    // scene's material in `Assembly::new`.
     let mu = settings.friction.unwrap_or(assembly.material.friction);
-    if !(mu >= 0.0 && mu.is_finite()) {
-        return Err(StaticsError::BadFriction(mu));
-    }
     let mut comps = components(assembly, interfaces);
     if !settings.split_components && comps.len() > 1 {
         comps = vec![merged(comps)];

@@ -21,9 +21,12 @@
 //! 1. Strict QP: minimise w_c Σ(c_n⁺)² + w_f Σ(c_u² + c_v²) with no tension and friction
 //!    within μ. Solved ⇒ minimum tension and friction excess are exactly zero: it stands, and
 //!    this is the force distribution (one solve for the common case).
-//! 2. Otherwise, relaxed LP: T* = min Σ c_n⁻ (friction slack free, i.e. unlimited friction),
-//!    then LP F* = min Σ s with Σ c_n⁻ ≤ T*, then the QP w_c Σ(c_n⁺)² + w_t Σ(c_n⁻)²
-//!    + w_f Σ(c_u² + c_v²) + w_s Σ s² with the budgets Σ c_n⁻ ≤ T*, Σ s ≤ F*: the distribution.
+//! 2. Otherwise the relaxed stages: the exact-penalty LP min M Σ c_n⁻ + Σ s first — when its
+//!    optimum uses no tension, T* = 0 and F* is its Σ s; else the minimum-tension LP
+//!    T* = min Σ c_n⁻ (friction slack free, i.e. unlimited friction), M raised until the penalty
+//!    LP's tension comes back at T*, and past its largest the budget form F* = min Σ s with
+//!    Σ c_n⁻ ≤ T* — then the QP w_c Σ(c_n⁺)² + w_t Σ(c_n⁻)² + w_f Σ(c_u² + c_v²) + w_s Σ s²
+//!    with the budgets Σ c_n⁻ ≤ T*, Σ s ≤ F*: the distribution (docs/design.md#stages).
 //!
 //! Units: the problem is solved non-dimensionally (lengths / model size, forces / the
 //! component's free weight) and scaled back to N and m. Each connected component of free
@@ -31,39 +34,45 @@
 //!
 //! ## Solvers ([`Backend`])
 //! Every stage is one conic problem as plain data ([`problem::ContactProblem`]). By default
-//! it runs on [`ipm`], clarabel's interior-point algorithm with the Newton system reduced to
-//! the equilibrium rows (`Backend::Structured`); `Backend::Clarabel` runs the same data on
-//! clarabel itself (`solve.rs`, the one clarabel call), to cross-check.
+//! it runs on [`backend`]'s structured solver, clarabel's interior-point algorithm with the
+//! Newton system reduced to the equilibrium rows (`Backend::Structured`); `Backend::Clarabel`
+//! runs the same data on clarabel itself (`backend/clarabel.rs`, the one clarabel call), to
+//! cross-check.
+//!
+//! ## Layers (each module imports only those below it; none imports this front module)
+//! 1. [`problem`]: the shared vocabulary, a leaf — variables, friction models, cones, the
+//!    problem as plain data, [`Accuracy`](problem::Accuracy), [`SolverStatus`]; and
+//!    [`error`], [`components`] (connected components of free blocks).
+//! 2. [`backend`]: the solvers, over `problem` only; [`settings`], over `backend`'s
+//!    [`Backend`] and `problem`.
+//! 3. `assemble`: a component's rows and each stage's problem.
+//! 4. `stages`: a component's solve stage by stage, and the verdict rule.
+//! 5. `result`: per-interface results and the global answer from the stages' outcomes;
+//!    `cache`: outcomes kept by component content ([`analyze_cached`]).
 
 mod assemble;
+mod backend;
+#[cfg(test)]
+mod backend_tests;
 mod cache;
 mod components;
-mod ipm;
+mod error;
 mod problem;
 mod result;
 mod settings;
-mod solve;
 mod stages;
 
+pub use backend::Backend;
 pub use cache::{SolveStats, StaticsCache, analyze_cached};
 pub use components::{Component, components};
-pub use result::{InterfaceResult, SolverReport, SolverStatus, StaticsResult, Verdict, VertexForce};
-pub use settings::{Backend, FirstStage, FrictionModel, StaticsSettings};
+pub use error::StaticsError;
+pub use problem::{FrictionModel, SolverStatus};
+pub use result::{InterfaceResult, SolverReport, StaticsResult, VertexForce};
+pub use settings::{FirstStage, StaticsSettings};
+pub use stages::Verdict;
 
 use crate::interfaces::Interface;
 use crate::model::Assembly;
-use thiserror::Error;
-
-/// Invalid statics settings (solver trouble is not an error: it is a [`SolverStatus`]).
-#[derive(Debug, Error, Clone, PartialEq)]
-pub enum StaticsError {
-    #[error("friction coefficient {0} must be a finite number ≥ 0")]
-    BadFriction(f64),
-    #[error("objective weight {name} = {value} must be a finite number > 0")]
-    BadWeight { name: &'static str, value: f64 },
-    #[error("stand tolerance {0} must be a finite number > 0")]
-    BadTolerance(f64),
-}
 
 /// Solves the equilibrium of `assembly` over `interfaces` (as returned by
 /// [`crate::interfaces::detect`]). μ comes from the settings when given, else the material.

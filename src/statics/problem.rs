@@ -1,6 +1,9 @@
-//! One stage's equilibrium problem as plain data, in contact form: the shape the structured
-//! interior-point method exploits ([`super::ipm`]) and from which clarabel's triplets are
-//! generated ([`ContactProblem::to_conic`]), so both backends solve the same data.
+//! The statics' shared vocabulary, a leaf (it imports no other statics module): the variables
+//! of a force point, the friction models, one stage's equilibrium problem as plain data in
+//! contact form — the shape the structured interior-point method exploits
+//! ([`super::backend`]) and from which clarabel's triplets are generated
+//! ([`ContactProblem::to_conic`]), so both backends solve the same data — and what a solve must
+//! reach ([`Accuracy`]) and how it ended ([`SolverStatus`]).
 //!
 //! Non-dimensional: lengths by the model size, forces by the component's free weight.
 //!
@@ -21,8 +24,130 @@
 //! pyramid8) and `±c_u ± c_v − √2(μc_n⁺ + s) ≤ 0` (pyramid8); for the cone model one
 //! second-order cone `‖(c_u, c_v)‖ ≤ μc_n⁺ + s`.
 
-use super::assemble::{Cone, Problem, Var};
-use super::settings::FrictionModel;
+use serde::{Deserialize, Serialize};
+
+/// How the friction capacity |f_t| ≤ μ f_n⁺ is modelled at each interface vertex.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, Default)]
+#[serde(rename_all = "lowercase")]
+pub enum FrictionModel {
+    /// 8-sided outer pyramid (the seed paper's default): up to 8.2 % more friction than
+    /// Coulomb in diagonal directions.
+    #[default]
+    Pyramid8,
+    /// Exact Coulomb cone, as a second-order cone.
+    Cone,
+    /// 4-sided box |f_u|, |f_v| ≤ μ f_n⁺ (older tools): up to 41 % more than Coulomb.
+    Box4,
+}
+
+impl FrictionModel {
+    /// The largest friction utilisation |f_t| / (μ f_n⁺) (measured as a circle, as reported)
+    /// the model allows: at the outer pyramid's corners 1/cos 22.5° = 1.082, at the box's √2,
+    /// on the cone 1.
+    pub fn max_utilization(self) -> f64 {
+        match self {
+            Self::Pyramid8 => 1.0 / std::f64::consts::FRAC_PI_8.cos(),
+            Self::Cone => 1.0,
+            Self::Box4 => std::f64::consts::SQRT_2,
+        }
+    }
+}
+
+impl std::str::FromStr for FrictionModel {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s {
+            "pyramid8" | "pyramid" => Ok(Self::Pyramid8),
+            "cone" => Ok(Self::Cone),
+            "box4" | "box" => Ok(Self::Box4),
+            _ => Err(format!("unknown friction model '{s}' (pyramid8, cone or box4)")),
+        }
+    }
+}
+
+impl std::fmt::Display for FrictionModel {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Self::Pyramid8 => "pyramid8",
+            Self::Cone => "cone",
+            Self::Box4 => "box4",
+        })
+    }
+}
+
+/// Cones in row order.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Cone {
+    Zero(usize),
+    Nonnegative(usize),
+    SecondOrder(usize),
+}
+
+/// A general conic problem (clarabel's form): minimise ½ xᵀ diag(p) x + qᵀ x subject to
+/// A x + s = b, s ∈ cones.
+#[derive(Clone, Debug, Default)]
+pub struct ConicProblem {
+    pub n: usize,
+    pub p_diag: Vec<f64>,
+    pub q: Vec<f64>,
+    /// (row, column, value) of A.
+    pub a: Vec<(usize, usize, f64)>,
+    pub b: Vec<f64>,
+    pub cones: Vec<Cone>,
+}
+
+impl ConicProblem {
+    pub fn m(&self) -> usize {
+        self.b.len()
+    }
+}
+
+/// Variables of a force point.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Var {
+    CnPos,
+    CnNeg,
+    Cu,
+    Cv,
+    Slack,
+}
+
+/// How a solve ended. Data, not an error.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SolverStatus {
+    Solved,
+    /// Solved to clarabel's reduced accuracy.
+    AlmostSolved,
+    /// Stopped at the iteration limit.
+    MaxIterations,
+    InsufficientProgress,
+    NumericalError,
+    Unbounded,
+    /// No equilibrium exists at all (not even with tension).
+    Infeasible,
+    /// A block or group touches no support: nothing can hold it (no solve was run).
+    Unsupported,
+}
+
+/// What a solve must reach: clarabel's feasibility and duality-gap tolerances. The relative
+/// gap is taken against max(1, |objective|) (clarabel's definition), or with `pure_relative`
+/// against |objective| itself — then near a zero optimum only `gap_abs` decides, and a large
+/// optimum needs only `gap_rel` of itself (the structured solver; clarabel keeps its own).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Accuracy {
+    pub feas: f64,
+    pub gap_abs: f64,
+    pub gap_rel: f64,
+    pub pure_relative: bool,
+}
+
+impl Accuracy {
+    /// clarabel's definition with one tolerance for all three.
+    pub fn uniform(tol: f64) -> Self {
+        Self { feas: tol, gap_abs: tol, gap_rel: tol, pure_relative: false }
+    }
+}
 
 /// One side of an interface that is a free block of the component.
 #[derive(Clone, Debug)]
@@ -206,7 +331,7 @@ impl ContactProblem<'_> {
     /// The same problem for a general conic solver (clarabel): rows in the order zero cone
     /// (block rows), non-negative cone (every point's rows, then the budgets), then one
     /// second-order cone per point.
-    pub fn to_conic(&self) -> Problem {
+    pub fn to_conic(&self) -> ConicProblem {
         let g = self.geometry;
         let c = self.per_point();
         let np = g.points();
@@ -250,11 +375,37 @@ impl ContactProblem<'_> {
         }
         let p_diag = (0..n).map(|j| self.p[j % c]).collect();
         let q = (0..n).map(|j| self.q[j % c]).collect();
-        Problem { n, p_diag, q, a, b, cones }
+        ConicProblem { n, p_diag, q, a, b, cones }
     }
 }
 
 /// `[f; ρ × f]`: a force's wrench about the interface origin.
 pub fn wrench(rho: &[f64; 3], f: &[f64; 3]) -> [f64; 6] {
     [f[0], f[1], f[2], rho[1] * f[2] - rho[2] * f[1], rho[2] * f[0] - rho[0] * f[2], rho[0] * f[1] - rho[1] * f[0]]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::FrictionModel;
+
+    /// The largest |f_t| a model's rows allow in direction θ (μ f_n = 1), found from the rows
+    /// as assembled: |u|, |v| ≤ 1 (box and pyramid), |u ± v| ≤ √2 (pyramid), u² + v² ≤ 1 (cone).
+    fn reach(model: FrictionModel, theta: f64) -> f64 {
+        let (c, s) = (theta.cos().abs(), theta.sin().abs());
+        let r2 = std::f64::consts::SQRT_2;
+        match model {
+            FrictionModel::Cone => 1.0,
+            FrictionModel::Box4 => 1.0 / c.max(s),
+            FrictionModel::Pyramid8 => (1.0 / c.max(s)).min(r2 / (c + s)),
+        }
+    }
+
+    #[test]
+    fn max_utilization_is_the_farthest_corner_of_the_model() {
+        for model in [FrictionModel::Pyramid8, FrictionModel::Cone, FrictionModel::Box4] {
+            let far = (0..=7200).map(|k| reach(model, k as f64 * std::f64::consts::TAU / 7200.0)).fold(0.0, f64::max);
+            assert!((far - model.max_utilization()).abs() < 1e-9, "{model}: {far} vs {}", model.max_utilization());
+        }
+        assert!((FrictionModel::Pyramid8.max_utilization() - 1.0823922).abs() < 1e-7);
+    }
 }

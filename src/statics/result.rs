@@ -2,49 +2,15 @@
 //! Forces in N, positions in m; compression positive; friction along the interface frame.
 
 use super::assemble::ForcePoint;
+use super::backend::Backend;
 use super::components::Component;
-use super::settings::{Backend, FrictionModel, StaticsSettings};
-use super::stages::ComponentOutcome;
+use super::problem::{FrictionModel, SolverStatus};
+use super::settings::StaticsSettings;
+use super::stages::{ComponentOutcome, Verdict, verdict};
 use crate::geometry::{Point3, Vector3};
 use crate::interfaces::Interface;
 use crate::model::Assembly;
 use serde::Serialize;
-
-/// How a solve ended. Data, not an error.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum SolverStatus {
-    Solved,
-    /// Solved to clarabel's reduced accuracy.
-    AlmostSolved,
-    /// Stopped at the iteration limit.
-    MaxIterations,
-    InsufficientProgress,
-    NumericalError,
-    Unbounded,
-    /// No equilibrium exists at all (not even with tension).
-    Infeasible,
-    /// A block or group touches no support: nothing can hold it (no solve was run).
-    Unsupported,
-}
-
-/// The graded answer.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum Verdict {
-    /// Compression and friction within the limits suffice.
-    Stands,
-    /// Needs tension somewhere (no compression-only equilibrium, even with unlimited friction).
-    NeedsTension,
-    /// Compression-only equilibrium exists, but only with more friction than μ allows.
-    NeedsFriction,
-    /// Both.
-    NeedsTensionAndFriction,
-    /// Some block cannot be held at all (it touches nothing, or its group has no support).
-    Unsupported,
-    /// The solver did not converge: no verdict.
-    Unresolved,
-}
 
 /// Force at one interface vertex (N), in the interface frame.
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -121,20 +87,11 @@ pub struct StaticsResult {
     pub components: usize,
     pub interfaces: Vec<InterfaceResult>,
     pub solver: SolverReport,
-    /// Seconds building the equilibrium problems and inside clarabel, summed over components
+    /// Seconds building the equilibrium problems and inside the interior-point solver that ran
+    /// (structured by default), summed over components
     /// (CPU time: components may run on two threads).
     pub assemble_seconds: f64,
     pub solver_seconds: f64,
-}
-
-/// Below this fraction of a component's weight a minimum tension or excess is not resolved
-/// by the LPs (solved to 1e-10): it counts as zero.
-pub const STAND_FLOOR: f64 = 1e-8;
-
-/// The minimum tension or friction excess (N) up to which a component of `weight` whose
-/// lightest block weighs `lightest` (N) counts as standing (see `stand_tolerance`).
-pub fn stand_threshold(settings: &StaticsSettings, lightest: f64, weight: f64) -> f64 {
-    (settings.stand_tolerance * lightest).max(STAND_FLOOR * weight)
 }
 
 pub(super) fn collect(
@@ -148,15 +105,8 @@ pub(super) fn collect(
     let w_total = assembly.free_weight();
     let mut results = Vec::new();
     let (mut tension, mut excess, mut residual, mut iterations) = (0.0, 0.0, 0.0f64, 0);
-    let mut status = SolverStatus::Solved;
     let mut messages = Vec::new();
-    // Per component: does it need tension / more friction? (See `stand_tolerance`.)
-    let (mut needs_tension, mut needs_friction) = (false, false);
     for (comp, out) in comps.iter().zip(outcomes.iter()) {
-        status = status.max(out.status);
-        let threshold = stand_threshold(settings, out.lightest, out.weight);
-        needs_tension |= out.min_tension > threshold;
-        needs_friction |= out.min_excess > threshold;
         iterations += out.iterations;
         if let Some(m) = &out.message {
             messages.push(m.clone());
@@ -174,16 +124,7 @@ pub(super) fn collect(
     let ratio = |x: f64| if w_total > 0.0 { x / w_total } else { 0.0 };
     let tension_ratio = ratio(tension);
     let friction_excess_ratio = ratio(excess);
-    let verdict = match status {
-        SolverStatus::Solved | SolverStatus::AlmostSolved => match (needs_tension, needs_friction) {
-            (false, false) => Verdict::Stands,
-            (true, false) => Verdict::NeedsTension,
-            (false, true) => Verdict::NeedsFriction,
-            (true, true) => Verdict::NeedsTensionAndFriction,
-        },
-        SolverStatus::Unsupported => Verdict::Unsupported,
-        _ => Verdict::Unresolved,
-    };
+    let (status, verdict) = verdict(&outcomes, settings);
     let max_friction_utilization = results.iter().map(|r| r.friction_utilization).fold(0.0, f64::max);
     StaticsResult {
         verdict,

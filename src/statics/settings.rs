@@ -1,76 +1,9 @@
 //! Statics settings with documented defaults.
 
-use super::StaticsError;
+use super::backend::Backend;
+use super::error::StaticsError;
+use super::problem::FrictionModel;
 use serde::{Deserialize, Serialize};
-
-/// How the friction capacity |f_t| ≤ μ f_n⁺ is modelled at each interface vertex.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, Default)]
-#[serde(rename_all = "lowercase")]
-pub enum FrictionModel {
-    /// 8-sided outer pyramid (the seed paper's default): up to 8.2 % more friction than
-    /// Coulomb in diagonal directions.
-    #[default]
-    Pyramid8,
-    /// Exact Coulomb cone, as a second-order cone.
-    Cone,
-    /// 4-sided box |f_u|, |f_v| ≤ μ f_n⁺ (older tools): up to 41 % more than Coulomb.
-    Box4,
-}
-
-impl FrictionModel {
-    /// The largest friction utilisation |f_t| / (μ f_n⁺) (measured as a circle, as reported)
-    /// the model allows: at the outer pyramid's corners 1/cos 22.5° = 1.082, at the box's √2,
-    /// on the cone 1.
-    pub fn max_utilization(self) -> f64 {
-        match self {
-            Self::Pyramid8 => 1.0 / std::f64::consts::FRAC_PI_8.cos(),
-            Self::Cone => 1.0,
-            Self::Box4 => std::f64::consts::SQRT_2,
-        }
-    }
-}
-
-impl std::str::FromStr for FrictionModel {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
-        match s {
-            "pyramid8" | "pyramid" => Ok(Self::Pyramid8),
-            "cone" => Ok(Self::Cone),
-            "box4" | "box" => Ok(Self::Box4),
-            _ => Err(format!("unknown friction model '{s}' (pyramid8, cone or box4)")),
-        }
-    }
-}
-
-impl std::fmt::Display for FrictionModel {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(match self {
-            Self::Pyramid8 => "pyramid8",
-            Self::Cone => "cone",
-            Self::Box4 => "box4",
-        })
-    }
-}
-
-impl std::str::FromStr for Backend {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
-        match s {
-            "structured" => Ok(Self::Structured),
-            "clarabel" => Ok(Self::Clarabel),
-            _ => Err(format!("unknown solver '{s}' (structured or clarabel)")),
-        }
-    }
-}
-
-impl std::fmt::Display for Backend {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(match self {
-            Self::Structured => "structured",
-            Self::Clarabel => "clarabel",
-        })
-    }
-}
 
 /// Settings of [`super::analyze`].
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -126,21 +59,10 @@ pub enum FirstStage {
     Strict,
     /// Straight to the exact minimum-tension and friction-excess LPs: the same verdict and
     /// graded numbers with one solve fewer on a design that does not stand (a sequence check
-    /// switches to it while its steps fail). A design that stands then costs the two LPs, and
-    /// the strict QP after them for its force distribution when `distribution` is on.
+    /// switches to it while its steps fail). A design that stands then costs the penalty LP
+    /// (which finds no tension) and, when `distribution` is on, the distribution QP with
+    /// tension left out.
     Relaxed,
-}
-
-/// The interior-point solver of the equilibrium problems.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum Backend {
-    /// clarabel's algorithm with the Newton system reduced to the equilibrium rows
-    /// (`statics::ipm`); falls back to clarabel for any problem of another shape.
-    #[default]
-    Structured,
-    /// clarabel with its general sparse LDL (QDLDL) on the whole KKT matrix.
-    Clarabel,
 }
 
 impl Default for StaticsSettings {
@@ -177,7 +99,7 @@ impl StaticsSettings {
             }
         }
         if let Some(mu) = self.friction
-            && !(mu >= 0.0 && mu.is_finite())
+            && !crate::model::Material::valid_friction(mu)
         {
             return Err(StaticsError::BadFriction(mu));
         }
@@ -187,31 +109,5 @@ impl StaticsSettings {
             }
         }
         Ok(())
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::FrictionModel;
-
-    /// The largest |f_t| a model's rows allow in direction θ (μ f_n = 1), found from the rows
-    /// as assembled: |u|, |v| ≤ 1 (box and pyramid), |u ± v| ≤ √2 (pyramid), u² + v² ≤ 1 (cone).
-    fn reach(model: FrictionModel, theta: f64) -> f64 {
-        let (c, s) = (theta.cos().abs(), theta.sin().abs());
-        let r2 = std::f64::consts::SQRT_2;
-        match model {
-            FrictionModel::Cone => 1.0,
-            FrictionModel::Box4 => 1.0 / c.max(s),
-            FrictionModel::Pyramid8 => (1.0 / c.max(s)).min(r2 / (c + s)),
-        }
-    }
-
-    #[test]
-    fn max_utilization_is_the_farthest_corner_of_the_model() {
-        for model in [FrictionModel::Pyramid8, FrictionModel::Cone, FrictionModel::Box4] {
-            let far = (0..=7200).map(|k| reach(model, k as f64 * std::f64::consts::TAU / 7200.0)).fold(0.0, f64::max);
-            assert!((far - model.max_utilization()).abs() < 1e-9, "{model}: {far} vs {}", model.max_utilization());
-        }
-        assert!((FrictionModel::Pyramid8.max_utilization() - 1.0823922).abs() < 1e-7);
     }
 }

@@ -1,16 +1,17 @@
 //! The stages of one component's solve (module docs of [`crate::statics`]): the strict QP,
 //! and when it has no solution the exact minimum-tension and minimum-excess LPs and the
-//! distribution QP; and the solve of all components, on two threads when it pays.
+//! distribution QP; the solve of all components, on two threads when it pays; and the verdict
+//! rule over their outcomes.
 
-use super::assemble::{Stage, System, Var, contact_problem, tension_budget};
+use super::assemble::{ForcePoint, Stage, System, contact_problem, tension_budget};
+use super::backend::{Backend, QpOutcome, run};
 use super::components::Component;
-use super::result::{SolverStatus, stand_threshold};
+use super::problem::{Accuracy, SolverStatus, Var};
 use super::settings::{FirstStage, StaticsSettings};
-use super::solve::{Accuracy, run};
 use crate::interfaces::Interface;
-use crate::model::Assembly;
+use crate::model::{Assembly, BlockId};
+use serde::Serialize;
 use std::time::Instant;
-
 /// Interior-point tolerance of the minimum-tension and minimum-excess LPs.
 pub const LP_TOLERANCE: f64 = 1e-10;
 
@@ -34,7 +35,7 @@ pub struct ComponentOutcome {
     /// Per force point `[c_n⁺, c_n⁻, c_u, c_v, s]` in N (zeros where a model has no such
     /// variable); empty when not solved.
     pub forces: Vec<[f64; 5]>,
-    pub points: Vec<super::assemble::ForcePoint>,
+    pub points: Vec<ForcePoint>,
     /// Minimum total tension and friction excess, N.
     pub min_tension: f64,
     pub min_excess: f64,
@@ -47,36 +48,41 @@ pub struct ComponentOutcome {
     /// Free weight of the component and of its lightest block, N.
     pub weight: f64,
     pub lightest: f64,
-    /// Seconds building the problems (layout, rows, matrices) and inside clarabel.
+    /// Seconds building the problems (layout, rows; on the clarabel backend also its matrices)
+    /// and inside the interior-point solver that ran (the structured backend by default).
     pub assemble_seconds: f64,
     pub solver_seconds: f64,
 }
 
-/// A component without a solution. `residual` (N) is the equilibrium residual of the last
-/// iterate, or the unbalanced weight when nothing could hold the blocks.
-fn failed(
-    status: SolverStatus,
-    message: String,
-    (weight, lightest): (f64, f64),
-    residual: f64,
+/// What a component's stages have spent so far.
+#[derive(Clone, Copy, Default)]
+struct Tally {
     iterations: u32,
-    times: (f64, f64, bool),
-) -> ComponentOutcome {
-    ComponentOutcome {
-        status,
-        message: Some(message),
-        forces: Vec::new(),
-        points: Vec::new(),
-        min_tension: f64::NAN,
-        min_excess: f64::NAN,
-        residual,
-        iterations,
-        used_clarabel: times.2,
-        weight,
-        lightest,
-        assemble_seconds: times.0,
-        solver_seconds: times.1,
-    }
+    assemble_seconds: f64,
+    solver_seconds: f64,
+    used_clarabel: bool,
+}
+
+/// A solved component before it is turned into forces: the system the forces live in, the
+/// last solve's outcome (in the system's layout), and the minimum tension and friction excess
+/// (non-dimensional).
+struct Solution {
+    sys: System,
+    out: QpOutcome,
+    tension: f64,
+    excess: f64,
+}
+
+/// One component's solve, step by step ([`solve_component`]).
+struct ComponentSolve<'a> {
+    assembly: &'a Assembly,
+    interfaces: &'a [Interface],
+    comp: &'a Component,
+    mu: f64,
+    settings: &'a StaticsSettings,
+    /// Free weight of the component and of its lightest block, N.
+    weights: (f64, f64),
+    tally: Tally,
 }
 
 /// Solves one component: the strict QP, and if it has no solution the relaxed stages.
@@ -87,111 +93,176 @@ pub fn solve_component(
     mu: f64,
     settings: &StaticsSettings,
 ) -> ComponentOutcome {
-    let names = |limit: usize| -> String {
-        let mut s: Vec<&str> = comp.blocks.iter().take(limit).map(|&b| assembly.block(b).name.as_str()).collect();
-        if comp.blocks.len() > limit {
+    let mut solve = ComponentSolve::new(assembly, interfaces, comp, mu, settings);
+    if let Some(unheld) = solve.unsupported() {
+        return unheld;
+    }
+    let solution = match solve.strict_first() {
+        Some(solution) => solution,
+        None => match solve.relaxed() {
+            Ok(solution) => solution,
+            Err(failed) => return *failed,
+        },
+    };
+    solve.finish(solution)
+}
+
+fn solved(status: SolverStatus) -> bool {
+    matches!(status, SolverStatus::Solved | SolverStatus::AlmostSolved)
+}
+
+/// The accuracy a stage is solved to. The LPs decide the verdict: they are solved to 1e-10
+/// (absolute) so that their optimum resolves a tension or friction excess of 1e-8 W near zero
+/// (see `StaticsSettings::stand_tolerance`); a large optimum (a design far from standing) needs
+/// only the solver tolerance relative to itself.
+fn stage_accuracy(stage: Stage, settings: &StaticsSettings) -> Accuracy {
+    match stage {
+        Stage::Tension | Stage::FrictionExcess { .. } => {
+            let tol = settings.solver_tolerance.min(LP_TOLERANCE);
+            Accuracy { feas: tol, gap_abs: tol, gap_rel: settings.solver_tolerance, pure_relative: true }
+        }
+        _ => Accuracy::uniform(settings.solver_tolerance),
+    }
+}
+
+impl<'a> ComponentSolve<'a> {
+    fn new(
+        assembly: &'a Assembly,
+        interfaces: &'a [Interface],
+        comp: &'a Component,
+        mu: f64,
+        settings: &'a StaticsSettings,
+    ) -> Self {
+        let block_weight = |b: &BlockId| assembly.block(*b).mass() * assembly.gravity.norm();
+        let weight: f64 = comp.blocks.iter().map(block_weight).sum();
+        let lightest = comp.blocks.iter().map(block_weight).fold(f64::INFINITY, f64::min);
+        Self { assembly, interfaces, comp, mu, settings, weights: (weight, lightest), tally: Tally::default() }
+    }
+
+    /// The first few block names of the component, for messages.
+    fn names(&self, limit: usize) -> String {
+        let blocks = &self.comp.blocks;
+        let mut s: Vec<&str> = blocks.iter().take(limit).map(|&b| self.assembly.block(b).name.as_str()).collect();
+        if blocks.len() > limit {
             s.push("…");
         }
         s.join("', '")
-    };
-    let block_weight = |b: &crate::model::BlockId| assembly.block(*b).mass() * assembly.gravity.norm();
-    let weight: f64 = comp.blocks.iter().map(block_weight).sum();
-    let lightest = comp.blocks.iter().map(block_weight).fold(f64::INFINITY, f64::min);
-    let weights = (weight, lightest);
-    if comp.interfaces.is_empty() {
-        return failed(
-            SolverStatus::Unsupported,
+    }
+
+    /// A component without a solution. `residual` (N) is the equilibrium residual of the last
+    /// iterate, or the unbalanced weight when nothing could hold the blocks.
+    fn failed(&self, status: SolverStatus, message: String, residual: f64) -> ComponentOutcome {
+        let t = &self.tally;
+        ComponentOutcome {
+            status,
+            message: Some(message),
+            forces: Vec::new(),
+            points: Vec::new(),
+            min_tension: f64::NAN,
+            min_excess: f64::NAN,
+            residual,
+            iterations: t.iterations,
+            used_clarabel: t.used_clarabel,
+            weight: self.weights.0,
+            lightest: self.weights.1,
+            assemble_seconds: t.assemble_seconds,
+            solver_seconds: t.solver_seconds,
+        }
+    }
+
+    /// The outcome of a component nothing can hold (no solve runs), if it is one.
+    fn unsupported(&self) -> Option<ComponentOutcome> {
+        let message = if self.comp.interfaces.is_empty() {
             format!(
                 "block '{}' touches nothing: no interface holds it (check its position or the tolerances)",
-                names(5)
-            ),
-            weights,
-            weight,
-            0,
-            (0.0, 0.0, false),
-        );
-    }
-    if !comp.is_supported(assembly, interfaces) {
-        return failed(
-            SolverStatus::Unsupported,
-            format!("blocks '{}' touch no support or ground: the group has nothing to stand on", names(5)),
-            weights,
-            weight,
-            0,
-            (0.0, 0.0, false),
-        );
-    }
-    let ok = |s: SolverStatus| matches!(s, SolverStatus::Solved | SolverStatus::AlmostSolved);
-    // Iterations, assembly seconds and solver seconds over all stages.
-    let mut tally = (0u32, 0.0f64, 0.0f64, false);
-    let stage = |sys: &System, st: Stage, tally: &mut (u32, f64, f64, bool)| {
-        let t = Instant::now();
-        let cp = contact_problem(sys, st, settings);
-        let built = t.elapsed().as_secs_f64();
-        // The LPs decide the verdict: solve them to 1e-10 (absolute) so that their optimum
-        // resolves a tension or friction excess of 1e-8 W near zero (see
-        // `StaticsSettings::stand_tolerance`); a large optimum (a design far from standing)
-        // needs only the solver tolerance relative to itself.
-        let acc = match st {
-            Stage::Tension | Stage::FrictionExcess { .. } => {
-                let tol = settings.solver_tolerance.min(LP_TOLERANCE);
-                Accuracy { feas: tol, gap_abs: tol, gap_rel: settings.solver_tolerance, pure_relative: true }
-            }
-            _ => Accuracy::uniform(settings.solver_tolerance),
+                self.names(5)
+            )
+        } else if !self.comp.is_supported(self.assembly, self.interfaces) {
+            format!("blocks '{}' touch no support or ground: the group has nothing to stand on", self.names(5))
+        } else {
+            return None;
         };
-        let mut out = run(&cp, settings, acc);
-        out.x = sys.stage_values(&cp, &out.x);
-        tally.0 += out.iterations;
-        tally.1 += built + out.convert_seconds;
-        tally.2 += out.solver_seconds;
-        tally.3 |= out.backend == super::settings::Backend::Clarabel;
-        out
-    };
-    let system = |relaxed: bool, tally: &mut (u32, f64, f64, bool)| {
+        Some(self.failed(SolverStatus::Unsupported, message, self.weights.0))
+    }
+
+    /// The component's system, strict or relaxed (its build time counted as assembly).
+    fn system(&mut self, relaxed: bool) -> System {
         let t = Instant::now();
-        let sys = System::new(assembly, interfaces, comp, mu, settings.friction_model, relaxed);
-        tally.1 += t.elapsed().as_secs_f64();
+        let sys =
+            System::new(self.assembly, self.interfaces, self.comp, self.mu, self.settings.friction_model, relaxed);
+        self.tally.assemble_seconds += t.elapsed().as_secs_f64();
         sys
-    };
-    // Most designs being checked stand: try the strict problem (compression only, friction
-    // within μ) first. Solved ⇒ minimum tension and excess are exactly 0, and this is the
-    // distribution. Otherwise (infeasible, or trouble) take the relaxed stages — straight away
-    // when the caller expects the design not to stand.
-    let first = match settings.first_stage {
-        FirstStage::Strict => {
-            let strict = system(false, &mut tally);
-            let first = stage(&strict, Stage::Strict, &mut tally);
-            // Solved to its tolerance, the QP's forces may still exceed friction by a little
-            // at many points: it stands only if that excess (an upper bound of the minimum)
-            // is within the stand tolerance, so that both ways in give the same verdict.
-            let within =
-                strict.friction_violation(&first.x) * strict.force_scale <= stand_threshold(settings, lightest, weight);
-            (ok(first.status) && within).then_some((strict, first))
+    }
+
+    /// Builds and solves one stage of `sys`; the outcome's x in the system's layout.
+    fn stage(&mut self, sys: &System, stage: Stage) -> QpOutcome {
+        let t = Instant::now();
+        let cp = contact_problem(sys, stage, self.settings);
+        let built = t.elapsed().as_secs_f64();
+        let s = self.settings;
+        let mut out = run(&cp, s.backend, stage_accuracy(stage, s), s.max_iterations);
+        out.x = sys.stage_values(&cp, &out.x);
+        self.tally.iterations += out.iterations;
+        self.tally.assemble_seconds += built + out.convert_seconds;
+        self.tally.solver_seconds += out.solver_seconds;
+        self.tally.used_clarabel |= out.backend == Backend::Clarabel;
+        out
+    }
+
+    /// Most designs being checked stand: the strict problem (compression only, friction within
+    /// μ) first. Solved ⇒ minimum tension and excess are exactly 0, and this is the
+    /// distribution. `None` (infeasible, or trouble) sends the component to the relaxed stages —
+    /// straight away when the caller expects the design not to stand.
+    fn strict_first(&mut self) -> Option<Solution> {
+        if self.settings.first_stage == FirstStage::Relaxed {
+            return None;
         }
-        FirstStage::Relaxed => None,
-    };
-    let (sys, c, tension, excess) = if let Some((strict, first)) = first {
-        (strict, first, 0.0, 0.0)
-    } else {
-        let sys = system(true, &mut tally);
+        let sys = self.system(false);
+        let out = self.stage(&sys, Stage::Strict);
+        // Solved to its tolerance, the QP's forces may still exceed friction by a little at
+        // many points: it stands only if that excess (an upper bound of the minimum) is within
+        // the stand tolerance, so that both ways in give the same verdict.
+        let (weight, lightest) = self.weights;
+        let within =
+            sys.friction_violation(&out.x) * sys.force_scale <= stand_threshold(self.settings, lightest, weight);
+        (solved(out.status) && within).then_some(Solution { sys, out, tension: 0.0, excess: 0.0 })
+    }
+
+    /// The relaxed stages: the exact minimum friction excess (and minimum tension when it is
+    /// needed), then the distribution QP. `Err` is the outcome of a component whose LPs failed.
+    fn relaxed(&mut self) -> Result<Solution, Box<ComponentOutcome>> {
+        let sys = self.system(true);
+        let (best, tension, excess) = self.minimum_excess(&sys)?;
+        // The distribution QP only refines the forces: if it fails (or is not asked for), the
+        // last LP's solution is an equilibrium with the same minimum tension and excess.
+        let out = if self.settings.distribution {
+            let c = self.stage(&sys, Stage::Distribution { tension, excess });
+            if solved(c.status) { c } else { best }
+        } else {
+            best
+        };
+        Ok(Solution { sys, out, tension, excess })
+    }
+
+    /// The exact-penalty friction-excess LP first: when its optimum needs no tension, it is the
+    /// whole answer (T* = 0 below the LPs' resolution, F* its Σ s). Otherwise the
+    /// minimum-tension LP gives T*, and the penalty LP's answer stands if its tension is T*; if
+    /// not, M was too small: ×100, and past its largest the budget form. Returns the last LP's
+    /// outcome, T* and F*.
+    fn minimum_excess(&mut self, sys: &System) -> Result<(QpOutcome, f64, f64), Box<ComponentOutcome>> {
         let sum = |x: &[f64], var: Var| (0..sys.points.len()).map(|i| sys.value(x, i, var)).sum::<f64>();
-        // The exact-penalty friction-excess LP first: when its optimum needs no tension, it is
-        // the whole answer (T* = 0 below the LPs' resolution, F* its Σ s). Otherwise the
-        // minimum-tension LP gives T*, and the penalty LP's answer stands if its tension is
-        // T*; if not, M was too small: ×100, and past its largest the budget form.
         let mut penalty = EXCESS_PENALTY.0;
         let mut tension: Option<f64> = None;
         let best = loop {
-            let out = stage(&sys, Stage::FrictionExcess { tension: tension.unwrap_or(0.0), penalty }, &mut tally);
-            if !ok(out.status) {
+            let out = self.stage(sys, Stage::FrictionExcess { tension: tension.unwrap_or(0.0), penalty });
+            if !solved(out.status) {
                 let msg = match out.status {
                     SolverStatus::Infeasible => "no equilibrium exists even with tension and unlimited friction \
                                                  (some block cannot be held in some direction)"
                         .to_string(),
                     s => format!("the friction-excess LP ended with status {s:?}"),
                 };
-                let residual = sys.residual(&out.x) * sys.force_scale;
-                return failed(out.status, msg, weights, residual, tally.0, (tally.1, tally.2, tally.3));
+                return Err(Box::new(self.failed(out.status, msg, sys.residual(&out.x) * sys.force_scale)));
             }
             let used = sum(&out.x, Var::CnNeg);
             if tension.is_none() && used <= tension_budget(0.0) {
@@ -200,15 +271,7 @@ pub fn solve_component(
             }
             let t = match tension {
                 Some(t) => t,
-                None => {
-                    let b1 = stage(&sys, Stage::Tension, &mut tally);
-                    if !ok(b1.status) {
-                        let msg = format!("the minimum-tension LP ended with status {:?}", b1.status);
-                        let residual = sys.residual(&b1.x) * sys.force_scale;
-                        return failed(b1.status, msg, weights, residual, tally.0, (tally.1, tally.2, tally.3));
-                    }
-                    *tension.insert(b1.objective.max(0.0))
-                }
+                None => *tension.insert(self.minimum_tension(sys)?),
             };
             if penalty == 0.0 {
                 break out;
@@ -226,40 +289,46 @@ pub fn solve_component(
             // M was too small: the optimum traded friction for tension.
             penalty = if penalty < EXCESS_PENALTY.1 { penalty * 100.0 } else { 0.0 };
         };
-        let tension = tension.unwrap_or(0.0);
         let excess = sum(&best.x, Var::Slack).max(0.0);
-        // The distribution QP only refines the forces: if it fails (or is not asked for), the
-        // last LP's solution is an equilibrium with the same minimum tension and excess.
-        let c = if settings.distribution {
-            let c = stage(&sys, Stage::Distribution { tension, excess }, &mut tally);
-            if ok(c.status) { c } else { best }
-        } else {
-            best
-        };
-        (sys, c, tension, excess)
-    };
-    let mut c = c;
-    sys.polish(&mut c.x);
-    let residual = sys.residual(&c.x) * sys.force_scale;
-    let status = c.status;
-    let fs = sys.force_scale;
-    let forces = (0..sys.points.len())
-        .map(|i| [Var::CnPos, Var::CnNeg, Var::Cu, Var::Cv, Var::Slack].map(|v| sys.value(&c.x, i, v) * fs))
-        .collect();
-    ComponentOutcome {
-        status,
-        message: (!ok(status)).then(|| format!("the force-distribution QP ended with status {status:?}")),
-        forces,
-        points: sys.points,
-        min_tension: tension * fs,
-        min_excess: excess * fs,
-        residual,
-        iterations: tally.0,
-        used_clarabel: tally.3,
-        weight,
-        lightest,
-        assemble_seconds: tally.1,
-        solver_seconds: tally.2,
+        Ok((best, tension.unwrap_or(0.0), excess))
+    }
+
+    /// T*: the minimum-tension LP's optimum (non-dimensional).
+    fn minimum_tension(&mut self, sys: &System) -> Result<f64, Box<ComponentOutcome>> {
+        let out = self.stage(sys, Stage::Tension);
+        if !solved(out.status) {
+            let msg = format!("the minimum-tension LP ended with status {:?}", out.status);
+            return Err(Box::new(self.failed(out.status, msg, sys.residual(&out.x) * sys.force_scale)));
+        }
+        Ok(out.objective.max(0.0))
+    }
+
+    /// Polishes the equilibrium residual and scales the solution back to N.
+    fn finish(self, solution: Solution) -> ComponentOutcome {
+        let Solution { sys, mut out, tension, excess } = solution;
+        sys.polish(&mut out.x);
+        let fs = sys.force_scale;
+        let residual = sys.residual(&out.x) * fs;
+        let status = out.status;
+        let forces = (0..sys.points.len())
+            .map(|i| [Var::CnPos, Var::CnNeg, Var::Cu, Var::Cv, Var::Slack].map(|v| sys.value(&out.x, i, v) * fs))
+            .collect();
+        let t = self.tally;
+        ComponentOutcome {
+            status,
+            message: (!solved(status)).then(|| format!("the force-distribution QP ended with status {status:?}")),
+            forces,
+            points: sys.points,
+            min_tension: tension * fs,
+            min_excess: excess * fs,
+            residual,
+            iterations: t.iterations,
+            used_clarabel: t.used_clarabel,
+            weight: self.weights.0,
+            lightest: self.weights.1,
+            assemble_seconds: t.assemble_seconds,
+            solver_seconds: t.solver_seconds,
+        }
     }
 }
 
@@ -314,4 +383,57 @@ pub fn solve_components(
         }
     }
     out.into_iter().map(|o| o.expect("every component was solved")).collect()
+}
+
+/// The graded answer.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Verdict {
+    /// Compression and friction within the limits suffice.
+    Stands,
+    /// Needs tension somewhere (no compression-only equilibrium, even with unlimited friction).
+    NeedsTension,
+    /// Compression-only equilibrium exists, but only with more friction than μ allows.
+    NeedsFriction,
+    /// Both.
+    NeedsTensionAndFriction,
+    /// Some block cannot be held at all (it touches nothing, or its group has no support).
+    Unsupported,
+    /// The solver did not converge: no verdict.
+    Unresolved,
+}
+
+/// Below this fraction of a component's weight a minimum tension or excess is not resolved
+/// by the LPs (solved to 1e-10): it counts as zero.
+pub const STAND_FLOOR: f64 = 1e-8;
+
+/// The minimum tension or friction excess (N) up to which a component of `weight` whose
+/// lightest block weighs `lightest` (N) counts as standing (see `stand_tolerance`).
+pub fn stand_threshold(settings: &StaticsSettings, lightest: f64, weight: f64) -> f64 {
+    (settings.stand_tolerance * lightest).max(STAND_FLOOR * weight)
+}
+
+/// The verdict rule: the worst status of any component and, when every component solved, what
+/// the design needs — tension where some component's minimum tension is above its
+/// [`stand_threshold`], more friction where its minimum friction excess is.
+pub fn verdict(outcomes: &[ComponentOutcome], settings: &StaticsSettings) -> (SolverStatus, Verdict) {
+    let mut status = SolverStatus::Solved;
+    let (mut needs_tension, mut needs_friction) = (false, false);
+    for out in outcomes {
+        status = status.max(out.status);
+        let threshold = stand_threshold(settings, out.lightest, out.weight);
+        needs_tension |= out.min_tension > threshold;
+        needs_friction |= out.min_excess > threshold;
+    }
+    let verdict = match status {
+        SolverStatus::Solved | SolverStatus::AlmostSolved => match (needs_tension, needs_friction) {
+            (false, false) => Verdict::Stands,
+            (true, false) => Verdict::NeedsTension,
+            (false, true) => Verdict::NeedsFriction,
+            (true, true) => Verdict::NeedsTensionAndFriction,
+        },
+        SolverStatus::Unsupported => Verdict::Unsupported,
+        _ => Verdict::Unresolved,
+    };
+    (status, verdict)
 }

@@ -1,4 +1,4 @@
-//! The seed paper's diagram colours as pure functions (DESIGN §1), shared by the glTF export and
+//! The seed paper's diagram colours as pure functions (docs/design.md#diagrams), shared by the glTF export and
 //! the viewer. Colours are linear RGB in [0, 1].
 //!
 //! - Compression–tension: per interface vertex, the net normal force normalised by the largest

@@ -17,7 +17,7 @@
 
 use super::cones::Scaling;
 use super::shape::Shape;
-use crate::statics::problem::wrench;
+use crate::statics::problem::{Side as ContactSide, wrench};
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::cholesky::llt::factor::LltRegularization;
 use faer::sparse::linalg::SupernodalThreshold;
@@ -140,6 +140,33 @@ fn psi_t_mul(psi: &Mat6, z: &[f64], out: &mut [f64; 6]) {
             s += psi[r][c] * z[r];
         }
         out[c] += s;
+    }
+}
+
+/// K += T Y Tᵀ for one point at ρ (lower triangle of K), T = [I; [ρ]×]: Y, R Y and R Y Rᵀ
+/// with R = [ρ]×.
+fn add_point_wrench(k6: &mut Mat6, y: &[[f64; 3]; 3], rho: &[f64; 3]) {
+    let mut ry = [[0.0f64; 3]; 3];
+    for j in 0..3 {
+        ry[0][j] = rho[1] * y[2][j] - rho[2] * y[1][j];
+        ry[1][j] = rho[2] * y[0][j] - rho[0] * y[2][j];
+        ry[2][j] = rho[0] * y[1][j] - rho[1] * y[0][j];
+    }
+    for i in 0..3 {
+        for j in 0..=i {
+            k6[i][j] += y[i][j];
+        }
+        for j in 0..3 {
+            k6[3 + i][j] += ry[i][j];
+        }
+    }
+    // R Y Rᵀ: row i of (R Y) crossed with ρ.
+    for i in 0..3 {
+        let r = &ry[i];
+        let rr = [r[1] * rho[2] - r[2] * rho[1], r[2] * rho[0] - r[0] * rho[2], r[0] * rho[1] - r[1] * rho[0]];
+        for j in 0..=i {
+            k6[3 + i][3 + j] -= rr[j];
+        }
     }
 }
 
@@ -300,178 +327,199 @@ impl<const C: usize> Kkt<C> {
     }
 
     /// Factorises the system for the current scaling.
+    /// Forms S for the scaling `sc` and factors it: per contact, the points' H_p⁻¹ and the
+    /// interface's 6×6 wrench matrix K, mapped to its blocks; then the budget rows. `false` when
+    /// an H_p or S cannot be factored.
     pub fn factor(&mut self, sh: &Shape<C>, sc: &Scaling) -> bool {
         self.values.iter_mut().for_each(|v| *v = 0.0);
-        let nb = sh.blocks;
-        let nk = sh.budget_vars.len();
-        let mp = sh.m_p;
+        // The budget rows' own block (at most two budgets), accumulated over all points.
         let mut bb = [[0.0f64; 2]; 2];
         for (ci, contact) in sh.contacts.iter().enumerate() {
-            let mut k6 = [[0.0f64; 6]; 6];
-            let mut v = [[0.0f64; 6]; 2];
-            for p in contact.points.clone() {
-                let mut h = [[0.0f64; C]; C];
-                for k in 0..C {
-                    h[k][k] = sh.p[k] + EPS;
-                }
-                let dinv = &sc.dinv[p * mp..p * mp + sh.nonneg.len()];
-                for (r, g) in sh.nonneg.iter().enumerate() {
-                    let w = dinv[r];
-                    for a in 0..C {
-                        let ga = g[a] * w;
-                        if ga != 0.0 {
-                            for b in 0..=a {
-                                h[a][b] += ga * g[b];
-                            }
-                        }
+            let Some((k6, v)) = self.contact_matrix(sh, sc, contact.points.clone(), &mut bb) else {
+                return false;
+            };
+            self.add_contact(sh, ci, &contact.sides, &k6, &v);
+        }
+        self.add_budgets(sh, sc, &mut bb);
+        self.factor_numeric()
+    }
+
+    /// H_p = P + εI + G_pᵀ Hs_p⁻¹ G_p of point `p` (C×C, symmetric, full).
+    fn point_hessian(sh: &Shape<C>, sc: &Scaling, p: usize) -> [[f64; C]; C] {
+        let mp = sh.m_p;
+        let mut h = [[0.0f64; C]; C];
+        for k in 0..C {
+            h[k][k] = sh.p[k] + EPS;
+        }
+        let dinv = &sc.dinv[p * mp..p * mp + sh.nonneg.len()];
+        for (r, g) in sh.nonneg.iter().enumerate() {
+            let w = dinv[r];
+            for a in 0..C {
+                let ga = g[a] * w;
+                if ga != 0.0 {
+                    for b in 0..=a {
+                        h[a][b] += ga * g[b];
                     }
                 }
-                if let Some(soc) = &sh.soc {
-                    // Gᵀ Hs⁻¹ G = MᵀM with M = W⁻¹ G: a Gram matrix, positive semidefinite
-                    // whatever the rounding.
-                    let mut mm = [[0.0f64; C]; 3];
-                    for k in 0..C {
-                        let col = sc.winv_mul(p, &[soc[0][k], soc[1][k], soc[2][k]]);
-                        for i in 0..3 {
-                            mm[i][k] = col[i];
-                        }
-                    }
-                    for a in 0..C {
-                        for b in 0..=a {
-                            h[a][b] += mm[0][a] * mm[0][b] + mm[1][a] * mm[1][b] + mm[2][a] * mm[2][b];
-                        }
-                    }
-                }
-                for a in 0..C {
-                    for b in 0..a {
-                        h[b][a] = h[a][b];
-                    }
-                }
-                let hinv = &mut self.hinv[p];
-                if !invert(&h, hinv) {
-                    return false;
-                }
-                // Y = N H⁻¹ Nᵀ (local force covariance), then K += T Y Tᵀ.
-                let mut nh = [[0.0f64; C]; 3];
-                for i in 0..3 {
-                    for k in 0..C {
-                        let mut s = 0.0;
-                        for l in 0..C {
-                            s += sh.fmap[i][l] * hinv[l][k];
-                        }
-                        nh[i][k] = s;
-                    }
-                }
-                let mut y = [[0.0f64; 3]; 3];
-                for i in 0..3 {
-                    for j in 0..=i {
-                        let mut s = 0.0;
-                        for k in 0..C {
-                            s += nh[i][k] * sh.fmap[j][k];
-                        }
-                        y[i][j] = s;
-                        y[j][i] = s;
-                    }
-                }
-                let rho = &sh.rho[p];
-                // R Y with R = [ρ]×.
-                let mut ry = [[0.0f64; 3]; 3];
-                for j in 0..3 {
-                    ry[0][j] = rho[1] * y[2][j] - rho[2] * y[1][j];
-                    ry[1][j] = rho[2] * y[0][j] - rho[0] * y[2][j];
-                    ry[2][j] = rho[0] * y[1][j] - rho[1] * y[0][j];
-                }
-                for i in 0..3 {
-                    for j in 0..=i {
-                        k6[i][j] += y[i][j];
-                    }
-                    for j in 0..3 {
-                        k6[3 + i][j] += ry[i][j];
-                    }
-                }
-                // R Y Rᵀ: row i of (R Y) crossed with ρ.
-                for i in 0..3 {
-                    let r = &ry[i];
-                    let rr =
-                        [r[1] * rho[2] - r[2] * rho[1], r[2] * rho[0] - r[0] * rho[2], r[0] * rho[1] - r[1] * rho[0]];
-                    for j in 0..=i {
-                        k6[3 + i][3 + j] -= rr[j];
-                    }
-                }
-                for (kb, &col) in sh.budget_vars.iter().enumerate() {
-                    let mut u = [0.0; 3];
-                    for i in 0..3 {
-                        u[i] = nh[i][col];
-                    }
-                    let w = wrench(rho, &u);
-                    for i in 0..6 {
-                        v[kb][i] += w[i];
-                    }
-                    for (kb2, &col2) in sh.budget_vars.iter().enumerate().take(kb + 1) {
-                        bb[kb][kb2] += hinv[col][col2];
-                    }
-                }
-            }
-            for i in 0..6 {
-                for j in 0..i {
-                    k6[j][i] = k6[i][j];
-                }
-            }
-            let sides = &contact.sides;
-            let mut m = [[[0.0f64; 6]; 6]; 2];
-            for (s, side) in sides.iter().enumerate() {
-                let Some(side) = side else { continue };
-                // M = Ψ K, then S_jj += M Ψᵀ.
-                for r in 0..6 {
-                    for c in 0..6 {
-                        let mut acc = 0.0;
-                        for k in 0..6 {
-                            acc += side.psi[r][k] * k6[k][c];
-                        }
-                        m[s][r][c] = acc;
-                    }
-                }
-                let mut d = [[0.0f64; 6]; 6];
-                for r in 0..6 {
-                    for c in 0..=r {
-                        let mut acc = 0.0;
-                        for k in 0..6 {
-                            acc += m[s][r][k] * side.psi[c][k];
-                        }
-                        d[r][c] = acc;
-                    }
-                }
-                self.scatter(side.block, side.block, &d, None);
-                for kb in 0..nk {
-                    let mut w = [0.0; 6];
-                    psi_mul(&side.psi, &v[kb], &mut w);
-                    for (c, wc) in w.iter().enumerate() {
-                        let at = self.col_ptr[6 * side.block + c + 1] - nk + kb;
-                        self.values[at] += wc;
-                    }
-                }
-            }
-            if let (Some(a), Some(b)) = (&sides[0], &sides[1])
-                && a.block != b.block
-            {
-                // S_ab = Ψ_a K Ψ_bᵀ.
-                let mut o = [[0.0f64; 6]; 6];
-                for r in 0..6 {
-                    for c in 0..6 {
-                        let mut acc = 0.0;
-                        for k in 0..6 {
-                            acc += m[0][r][k] * b.psi[c][k];
-                        }
-                        o[r][c] = acc;
-                    }
-                }
-                let slots = self.slots[ci];
-                self.scatter(a.block, b.block, &o, slots);
             }
         }
+        if let Some(soc) = &sh.soc {
+            // Gᵀ Hs⁻¹ G = MᵀM with M = W⁻¹ G: a Gram matrix, positive semidefinite whatever the
+            // rounding.
+            let mut mm = [[0.0f64; C]; 3];
+            for k in 0..C {
+                let col = sc.winv_mul(p, &[soc[0][k], soc[1][k], soc[2][k]]);
+                for i in 0..3 {
+                    mm[i][k] = col[i];
+                }
+            }
+            for a in 0..C {
+                for b in 0..=a {
+                    h[a][b] += mm[0][a] * mm[0][b] + mm[1][a] * mm[1][b] + mm[2][a] * mm[2][b];
+                }
+            }
+        }
+        for a in 0..C {
+            for b in 0..a {
+                h[b][a] = h[a][b];
+            }
+        }
+        h
+    }
+
+    /// One contact's points: H_p⁻¹ kept per point, and summed in the interface frame the wrench
+    /// matrix K = Σ_p T_p N H_p⁻¹ Nᵀ T_pᵀ (6×6, symmetric), the budget columns' wrenches `v`
+    /// and their block `bb`. `None` when an H_p cannot be inverted.
+    fn contact_matrix(
+        &mut self,
+        sh: &Shape<C>,
+        sc: &Scaling,
+        points: std::ops::Range<usize>,
+        bb: &mut [[f64; 2]; 2],
+    ) -> Option<(Mat6, [[f64; 6]; 2])> {
+        let mut k6 = [[0.0f64; 6]; 6];
+        let mut v = [[0.0f64; 6]; 2];
+        for p in points {
+            let h = Self::point_hessian(sh, sc, p);
+            let hinv = &mut self.hinv[p];
+            if !invert(&h, hinv) {
+                return None;
+            }
+            // Y = N H⁻¹ Nᵀ (local force covariance), then K += T Y Tᵀ.
+            let mut nh = [[0.0f64; C]; 3];
+            for i in 0..3 {
+                for k in 0..C {
+                    let mut s = 0.0;
+                    for l in 0..C {
+                        s += sh.fmap[i][l] * hinv[l][k];
+                    }
+                    nh[i][k] = s;
+                }
+            }
+            let mut y = [[0.0f64; 3]; 3];
+            for i in 0..3 {
+                for j in 0..=i {
+                    let mut s = 0.0;
+                    for k in 0..C {
+                        s += nh[i][k] * sh.fmap[j][k];
+                    }
+                    y[i][j] = s;
+                    y[j][i] = s;
+                }
+            }
+            add_point_wrench(&mut k6, &y, &sh.rho[p]);
+            for (kb, &col) in sh.budget_vars.iter().enumerate() {
+                let mut u = [0.0; 3];
+                for i in 0..3 {
+                    u[i] = nh[i][col];
+                }
+                let w = wrench(&sh.rho[p], &u);
+                for i in 0..6 {
+                    v[kb][i] += w[i];
+                }
+                for (kb2, &col2) in sh.budget_vars.iter().enumerate().take(kb + 1) {
+                    bb[kb][kb2] += hinv[col][col2];
+                }
+            }
+        }
+        for i in 0..6 {
+            for j in 0..i {
+                k6[j][i] = k6[i][j];
+            }
+        }
+        Some((k6, v))
+    }
+
+    /// Maps a contact's K to its blocks: S_jj += Ψ_j K Ψ_jᵀ for each free side, S_ab += Ψ_a K
+    /// Ψ_bᵀ between them, and the budget columns' Ψ_j v.
+    fn add_contact(
+        &mut self,
+        sh: &Shape<C>,
+        ci: usize,
+        sides: &[Option<ContactSide>; 2],
+        k6: &Mat6,
+        v: &[[f64; 6]; 2],
+    ) {
+        let nk = sh.budget_vars.len();
+        let mut m = [[[0.0f64; 6]; 6]; 2];
+        for (s, side) in sides.iter().enumerate() {
+            let Some(side) = side else { continue };
+            // M = Ψ K, then S_jj += M Ψᵀ.
+            for r in 0..6 {
+                for c in 0..6 {
+                    let mut acc = 0.0;
+                    for k in 0..6 {
+                        acc += side.psi[r][k] * k6[k][c];
+                    }
+                    m[s][r][c] = acc;
+                }
+            }
+            let mut d = [[0.0f64; 6]; 6];
+            for r in 0..6 {
+                for c in 0..=r {
+                    let mut acc = 0.0;
+                    for k in 0..6 {
+                        acc += m[s][r][k] * side.psi[c][k];
+                    }
+                    d[r][c] = acc;
+                }
+            }
+            self.scatter(side.block, side.block, &d, None);
+            for kb in 0..nk {
+                let mut w = [0.0; 6];
+                psi_mul(&side.psi, &v[kb], &mut w);
+                for (c, wc) in w.iter().enumerate() {
+                    let at = self.col_ptr[6 * side.block + c + 1] - nk + kb;
+                    self.values[at] += wc;
+                }
+            }
+        }
+        if let (Some(a), Some(b)) = (&sides[0], &sides[1])
+            && a.block != b.block
+        {
+            // S_ab = Ψ_a K Ψ_bᵀ.
+            let mut o = [[0.0f64; 6]; 6];
+            for r in 0..6 {
+                for c in 0..6 {
+                    let mut acc = 0.0;
+                    for k in 0..6 {
+                        acc += m[0][r][k] * b.psi[c][k];
+                    }
+                    o[r][c] = acc;
+                }
+            }
+            let slots = self.slots[ci];
+            self.scatter(a.block, b.block, &o, slots);
+        }
+    }
+
+    /// The budget rows: each slack σ (P = 0, one row −σ ≤ 0: H_σ = ε + z/s) on the diagonal,
+    /// then the accumulated block `bb` into S.
+    fn add_budgets(&mut self, sh: &Shape<C>, sc: &Scaling, bb: &mut [[f64; 2]; 2]) {
+        let nb = sh.blocks;
+        let nk = sh.budget_vars.len();
         for kb in 0..nk {
-            let d_inv = sc.dinv[sh.points() * mp + kb];
-            // σ: P = 0, one row −σ ≤ 0: H_σ = ε + z/s.
+            let d_inv = sc.dinv[sh.points() * sh.m_p + kb];
             let h = EPS + d_inv;
             self.hinv_sigma[kb] = 1.0 / h;
             bb[kb][kb] += 1.0 / h;
@@ -483,6 +531,11 @@ impl<const C: usize> Kkt<C> {
                 self.values[at] += bb[kb][kb2];
             }
         }
+    }
+
+    /// faer's numeric Cholesky of S on the symbolic analysis made once per problem (dynamic
+    /// regularisation only for the zero pivots of a singular S).
+    fn factor_numeric(&mut self) -> bool {
         let mat = SparseColMatRef::new(
             SymbolicSparseColMatRef::new_checked(self.m_e, self.m_e, &self.col_ptr, None, &self.row_idx),
             &self.values,
@@ -501,7 +554,6 @@ impl<const C: usize> Kkt<C> {
             .is_ok()
     }
 
-    /// `S⁻¹ rhs_s` into `ze` by the Cholesky factor.
     fn solve_s(&mut self, ze: &mut [f64]) {
         let llt = LltRef::new(&self.symbolic, &self.l_values);
         llt.solve_in_place_with_conj(

@@ -2,14 +2,14 @@
 //! stage produces: 1, 3, 4 and 5 variables per point, budgets (their slacks σ), the pyramid,
 //! box and cone rows, standing and failing designs.
 
-use super::solve;
+use super::assemble::{Stage, System, contact_problem};
+use super::backend::structured::solve;
+use super::backend::{Backend, run};
+use super::components::components;
+use super::problem::{Accuracy, FrictionModel, SolverStatus};
+use super::settings::StaticsSettings;
 use crate::interfaces::detect;
 use crate::model::{Assembly, builtin};
-use crate::statics::assemble::{Stage, System, contact_problem};
-use crate::statics::components::components;
-use crate::statics::result::SolverStatus;
-use crate::statics::settings::{Backend, FrictionModel, StaticsSettings};
-use crate::statics::solve::{Accuracy, run};
 
 /// The accuracy the stages ask of their LPs.
 const LP: Accuracy = Accuracy { feas: 1e-10, gap_abs: 1e-10, gap_rel: 1e-8, pure_relative: true };
@@ -27,7 +27,7 @@ fn both(sys: &System, stage: Stage) -> (SolverStatus, f64, f64) {
     let settings = StaticsSettings::default();
     let cp = contact_problem(sys, stage, &settings);
     let s = solve(&cp, LP, 200).expect("the structured solver takes every stage");
-    let c = run(&cp, &StaticsSettings { backend: Backend::Clarabel, ..settings }, LP);
+    let c = run(&cp, Backend::Clarabel, LP, settings.max_iterations);
     let solved = |st: SolverStatus| matches!(st, SolverStatus::Solved | SolverStatus::AlmostSolved);
     let status = match (s.status, c.status) {
         (a, b) if solved(a) && solved(b) => SolverStatus::Solved,
@@ -86,6 +86,6 @@ fn the_cone_slope_excess_is_sin_minus_mu_cos() {
     // The idealised sin θ − μ cos θ; the scene's geometry (detected interface, mass
     // properties) puts the optimum 2.3e-6 off it, on clarabel too.
     assert!((o.objective - (th.sin() - 0.5 * th.cos())).abs() < 1e-6, "{}", o.objective);
-    let c = run(&cp, &StaticsSettings { backend: Backend::Clarabel, ..Default::default() }, LP);
+    let c = run(&cp, Backend::Clarabel, LP, 200);
     assert!((o.objective - c.objective).abs() < 1e-9, "{} vs clarabel {}", o.objective, c.objective);
 }

@@ -1,46 +1,12 @@
-//! The only clarabel touchpoint: a plain-data [`ContactProblem`] in, a plain-data
-//! [`QpOutcome`] out (x in the problem's own variables).
+//! The only clarabel touchpoint: a plain-data [`ContactProblem`] in (as its general conic
+//! form, [`ContactProblem::to_conic`]), a plain-data [`QpOutcome`] out (x in the problem's own
+//! variables).
 
-use super::assemble::Cone;
-use super::problem::ContactProblem;
-use super::result::SolverStatus;
-use super::settings::{Backend, StaticsSettings};
+use super::outcome::{Backend, QpOutcome};
+use crate::statics::problem::{Accuracy, Cone, ContactProblem, SolverStatus};
 use clarabel::algebra::CscMatrix;
 use clarabel::solver::{DefaultSettings, DefaultSolver, IPSolver, SolverStatus as ClStatus, SupportedConeT};
 use std::time::Instant;
-
-/// What a solve must reach: clarabel's feasibility and duality-gap tolerances. The relative
-/// gap is taken against max(1, |objective|) (clarabel's definition), or with `pure_relative`
-/// against |objective| itself — then near a zero optimum only `gap_abs` decides, and a large
-/// optimum needs only `gap_rel` of itself (the structured solver; clarabel keeps its own).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Accuracy {
-    pub feas: f64,
-    pub gap_abs: f64,
-    pub gap_rel: f64,
-    pub pure_relative: bool,
-}
-
-impl Accuracy {
-    /// clarabel's definition with one tolerance for all three.
-    pub fn uniform(tol: f64) -> Self {
-        Self { feas: tol, gap_abs: tol, gap_rel: tol, pure_relative: false }
-    }
-}
-
-/// Result of one conic solve.
-#[derive(Clone, Debug)]
-pub struct QpOutcome {
-    pub status: SolverStatus,
-    pub x: Vec<f64>,
-    pub objective: f64,
-    pub iterations: u32,
-    /// Which solver ran it.
-    pub backend: Backend,
-    /// Seconds converting to clarabel's matrices, and in clarabel (set-up and solve).
-    pub convert_seconds: f64,
-    pub solver_seconds: f64,
-}
 
 fn csc_from_triplets(m: usize, n: usize, triplets: &[(usize, usize, f64)]) -> CscMatrix<f64> {
     // Counting sort by column (O(nnz)), then each short column sorted by row, duplicates summed.
@@ -77,23 +43,8 @@ fn csc_from_triplets(m: usize, n: usize, triplets: &[(usize, usize, f64)]) -> Cs
     CscMatrix::new(m, n, out_colptr, rowval, nzval)
 }
 
-/// Solves one problem: the structured interior-point method when the settings ask for it and
-/// the problem has its shape, else clarabel (verbose off, presolve on).
-pub fn run(cp: &ContactProblem, settings: &StaticsSettings, acc: Accuracy) -> QpOutcome {
-    if settings.backend == Backend::Structured {
-        let t = Instant::now();
-        if let Some(o) = super::ipm::solve(cp, acc, settings.max_iterations) {
-            return QpOutcome {
-                status: o.status,
-                x: o.x,
-                objective: o.objective,
-                iterations: o.iterations,
-                backend: Backend::Structured,
-                convert_seconds: 0.0,
-                solver_seconds: t.elapsed().as_secs_f64(),
-            };
-        }
-    }
+/// Solves `cp` on clarabel (verbose off, presolve on) to `acc`, at most `max_iter` iterations.
+pub fn solve(cp: &ContactProblem, acc: Accuracy, max_iter: u32) -> QpOutcome {
     let t0 = Instant::now();
     let p = &cp.to_conic();
     let diag: Vec<(usize, usize, f64)> =
@@ -114,7 +65,7 @@ pub fn run(cp: &ContactProblem, settings: &StaticsSettings, acc: Accuracy) -> Qp
     let t1 = Instant::now();
     let cl = DefaultSettings {
         verbose: false,
-        max_iter: settings.max_iterations,
+        max_iter,
         tol_feas: acc.feas,
         tol_gap_abs: acc.gap_abs,
         tol_gap_rel: acc.gap_rel,

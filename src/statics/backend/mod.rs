@@ -1,0 +1,37 @@
+//! The interior-point solvers of the equilibrium problems, behind one call ([`run`]). Each
+//! takes a plain-data [`ContactProblem`] (the leaf vocabulary of [`crate::statics::problem`],
+//! the only statics module the backends import) and returns a [`QpOutcome`] in the problem's
+//! own variables:
+//! - [`structured`]: clarabel's algorithm with the Newton system reduced to the 6-per-block
+//!   equilibrium rows (the default, for every problem of its shape);
+//! - [`clarabel`]: clarabel itself on the same data (general sparse LDL of the whole KKT matrix),
+//!   to cross-check, and for any problem the structured solver does not take.
+
+mod clarabel;
+mod outcome;
+pub(crate) mod structured;
+
+pub use outcome::{Backend, QpOutcome};
+
+use crate::statics::problem::{Accuracy, ContactProblem};
+use std::time::Instant;
+
+/// Solves one problem on `backend` to `acc`, at most `max_iter` interior-point iterations: the
+/// structured solver when asked for and the problem has its shape, else clarabel.
+pub fn run(cp: &ContactProblem, backend: Backend, acc: Accuracy, max_iter: u32) -> QpOutcome {
+    if backend == Backend::Structured {
+        let t = Instant::now();
+        if let Some(o) = structured::solve(cp, acc, max_iter) {
+            return QpOutcome {
+                status: o.status,
+                x: o.x,
+                objective: o.objective,
+                iterations: o.iterations,
+                backend: Backend::Structured,
+                convert_seconds: 0.0,
+                solver_seconds: t.elapsed().as_secs_f64(),
+            };
+        }
+    }
+    clarabel::solve(cp, acc, max_iter)
+}

@@ -1,0 +1,50 @@
+//! Which solver ran a problem, and what it returned.
+
+use crate::statics::problem::SolverStatus;
+
+/// The interior-point solver of the equilibrium problems.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Backend {
+    /// clarabel's algorithm with the Newton system reduced to the equilibrium rows
+    /// (`backend::structured`); falls back to clarabel for any problem of another shape.
+    #[default]
+    Structured,
+    /// clarabel with its general sparse LDL (QDLDL) on the whole KKT matrix.
+    Clarabel,
+}
+
+impl std::str::FromStr for Backend {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s {
+            "structured" => Ok(Self::Structured),
+            "clarabel" => Ok(Self::Clarabel),
+            _ => Err(format!("unknown solver '{s}' (structured or clarabel)")),
+        }
+    }
+}
+
+impl std::fmt::Display for Backend {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Self::Structured => "structured",
+            Self::Clarabel => "clarabel",
+        })
+    }
+}
+
+/// Result of one conic solve.
+#[derive(Clone, Debug)]
+pub struct QpOutcome {
+    pub status: SolverStatus,
+    pub x: Vec<f64>,
+    pub objective: f64,
+    pub iterations: u32,
+    /// Which solver ran it.
+    pub backend: Backend,
+    /// Seconds converting to clarabel's matrices (0 on the structured backend), and in the
+    /// solver that ran (set-up and solve).
+    pub convert_seconds: f64,
+    pub solver_seconds: f64,
+}

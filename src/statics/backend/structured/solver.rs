@@ -1,0 +1,364 @@
+//! clarabel's solver loop as named steps over the reduced Newton system ([`solve_c`]): initial
+//! point, termination check, scaling update, predictor–corrector step, finish.
+
+// Numerical kernels index several parallel arrays with one loop variable.
+#![allow(clippy::needless_range_loop)]
+
+use super::cones::{Layout, Scaling, shift_to_interior};
+use super::iterate::{Vars, dot};
+use super::kkt::Kkt;
+use super::measures::{Info, Tolerances, convergence, info};
+use super::shape::Shape;
+use crate::statics::problem::{Accuracy, ContactProblem, SolverStatus};
+
+/// Outcome in the problem's variables (the points', then the budgets' slacks).
+pub struct IpmOutcome {
+    pub status: SolverStatus,
+    pub x: Vec<f64>,
+    pub objective: f64,
+    pub iterations: u32,
+}
+
+pub(super) fn solve_c<const C: usize>(cp: &ContactProblem, acc: Accuracy, max_iter: u32) -> Option<IpmOutcome> {
+    let sh = Shape::<C>::new(cp)?;
+    let kkt = Kkt::<C>::new(&sh)?;
+    let mut ip = Solver::new(&sh, kkt, acc);
+    if !ip.initial_point() {
+        return Some(ip.outcome(SolverStatus::NumericalError, 0));
+    }
+    let mut iter = 0u32;
+    let status = loop {
+        if let Some(status) = ip.check_termination(iter, max_iter) {
+            break status;
+        }
+        if !ip.sc.update(&ip.v.s, &ip.v.z) {
+            break SolverStatus::NumericalError;
+        }
+        iter += 1;
+        if let Err(status) = ip.step(iter) {
+            break status;
+        }
+    };
+    Some(ip.finish(status, iter))
+}
+
+/// The right-hand side of one Newton solve: the residuals (rx, r_E, r_G), the Δs constant term
+/// `c`, rτ and rκ (clarabel's `DefaultKKTSystem::solve`).
+struct Rhs<'a> {
+    rx: &'a [f64],
+    re: &'a [f64],
+    rg: &'a [f64],
+    c: &'a [f64],
+    r_tau: f64,
+    r_kappa: f64,
+}
+
+/// What every Newton solve of an iteration shares: its variable part (x1, z1), its constant
+/// part (x2, z2), x / τ, and the right-hand side buffers.
+struct Newton {
+    c1: Vars,
+    c2: Vars,
+    xi: Vec<f64>,
+    we: Vec<f64>,
+    wg: Vec<f64>,
+}
+
+/// The corrector's right-hand side (the residuals scaled by 1 − σ, the Δs constant term).
+struct Corrector {
+    rx: Vec<f64>,
+    re: Vec<f64>,
+    rg: Vec<f64>,
+    c: Vec<f64>,
+}
+
+/// The interior-point method's state over one problem: clarabel's solver loop as named steps
+/// ([`solve_c`]: initial point, termination check, scaling update, predictor–corrector step,
+/// finish).
+struct Solver<'a, const C: usize> {
+    sh: &'a Shape<'a, C>,
+    kkt: Kkt<C>,
+    sc: Scaling,
+    layout: Layout,
+    tol: Tolerances,
+    v: Vars,
+    inf: Info,
+    /// The previous iterate and its measures (for the progress tests and the fall-back).
+    prev: Option<(Vars, Info)>,
+    /// The barrier parameter of the current iterate.
+    mu: f64,
+    newton: Newton,
+    corrector: Corrector,
+    /// The affine (predictor) and combined (corrector) directions.
+    aff: Vars,
+    comb: Vars,
+    /// −q over all points.
+    minus_q: Vec<f64>,
+    info_work: [Vec<f64>; 3],
+}
+
+impl<'a, const C: usize> Solver<'a, C> {
+    fn new(sh: &'a Shape<'a, C>, kkt: Kkt<C>, acc: Accuracy) -> Self {
+        let (n, me, mg) = (sh.n(), sh.m_e(), sh.m_g());
+        let layout = Layout {
+            points: sh.points(),
+            per_point: sh.m_p,
+            nonneg: sh.nonneg.len(),
+            soc: sh.soc.is_some(),
+            tail: sh.budgets(),
+        };
+        let mut minus_q = vec![0.0; n];
+        for p in 0..sh.points() {
+            for k in 0..C {
+                minus_q[p * C + k] = -sh.q[k];
+            }
+        }
+        let newton = Newton {
+            c1: Vars::zeros(n, me, mg),
+            c2: Vars::zeros(n, me, mg),
+            xi: vec![0.0; n],
+            we: vec![0.0; me],
+            wg: vec![0.0; mg],
+        };
+        let corrector = Corrector { rx: vec![0.0; n], re: vec![0.0; me], rg: vec![0.0; mg], c: vec![0.0; mg] };
+        let mut v = Vars::zeros(n, me, mg);
+        v.tau = 1.0;
+        v.kappa = 1.0;
+        Self {
+            sh,
+            kkt,
+            sc: Scaling::identity(layout),
+            layout,
+            tol: Tolerances::full(acc),
+            v,
+            inf: Info { rx: vec![0.0; n], re: vec![0.0; me], rg: vec![0.0; mg], ..Default::default() },
+            prev: None,
+            mu: 0.0,
+            newton,
+            corrector,
+            aff: Vars::zeros(n, me, mg),
+            comb: Vars::zeros(n, me, mg),
+            minus_q,
+            info_work: [vec![0.0; n], vec![0.0; me], vec![0.0; mg]],
+        }
+    }
+
+    /// The outcome for `status` at the current iterate, x scaled back by τ.
+    fn outcome(&self, status: SolverStatus, iterations: u32) -> IpmOutcome {
+        let v = &self.v;
+        let scale = if v.tau > 0.0 { 1.0 / v.tau } else { 1.0 };
+        let x: Vec<f64> = v.x.iter().map(|x| x * scale).collect();
+        let objective = 0.5 * self.sh.p_quad(&x, &x) + self.sh.q_dot(&x);
+        IpmOutcome { status, x, objective, iterations }
+    }
+
+    /// Initial point: identity scaling, then the shifted least-squares points (clarabel's).
+    fn initial_point(&mut self) -> bool {
+        let sh = self.sh;
+        let (n, me, mg) = (sh.n(), sh.m_e(), sh.m_g());
+        if !self.kkt.factor(sh, &self.sc) {
+            return false;
+        }
+        let (zeros_n, zeros_e, zeros_g) = (vec![0.0; n], vec![0.0; me], vec![0.0; mg]);
+        let (v, sc, minus_q) = (&mut self.v, &self.sc, &self.minus_q);
+        if sh.p.iter().any(|p| *p != 0.0) {
+            self.kkt.solve(sh, sc, minus_q, &sh.b_e, &zeros_g, &mut v.x, &mut v.ze, &mut v.z, true);
+            for i in 0..mg {
+                v.s[i] = -v.z[i];
+            }
+        } else {
+            let mut tmp_e = vec![0.0; me];
+            self.kkt.solve(sh, sc, &zeros_n, &sh.b_e, &zeros_g, &mut v.x, &mut tmp_e, &mut v.s, true);
+            v.s.iter_mut().for_each(|s| *s = -*s);
+            let mut xt = vec![0.0; n];
+            self.kkt.solve(sh, sc, minus_q, &zeros_e, &zeros_g, &mut xt, &mut v.ze, &mut v.z, true);
+        }
+        shift_to_interior(&self.layout, &mut v.s);
+        shift_to_interior(&self.layout, &mut v.z);
+        true
+    }
+
+    /// Measures the current iterate; a status when the solve ends here: converged or
+    /// infeasible, insufficient progress (clarabel's tests), or the iteration limit.
+    fn check_termination(&mut self, iter: u32, max_iter: u32) -> Option<SolverStatus> {
+        info(self.sh, &self.v, &mut self.inf, &mut self.info_work);
+        let inf = &self.inf;
+        self.mu = (inf.dot_sz + self.v.tau * self.v.kappa) / (self.layout.degree() as f64 + 1.0);
+        if let Some(s) = convergence(inf, &self.tol, false) {
+            return Some(s);
+        }
+        if let (Some((_, pi)), true) = (&self.prev, iter > 1)
+            && (inf.res_dual > pi.res_dual || inf.res_primal > pi.res_primal)
+        {
+            let full = &self.tol;
+            let stalled = inf.ktratio < f64::EPSILON * 100.0 && pi.gap_small(full);
+            let blowing = inf.ktratio < 1.0
+                && ((inf.res_dual > full.feas * 100.0 && inf.res_dual > pi.res_dual * 100.0)
+                    || (inf.res_primal > full.feas * 100.0 && inf.res_primal > pi.res_primal * 100.0));
+            if stalled || blowing {
+                return Some(SolverStatus::InsufficientProgress);
+            }
+        }
+        (iter >= max_iter).then_some(SolverStatus::MaxIterations)
+    }
+
+    /// One predictor–corrector step (the scaling already updated): factor, the constant part
+    /// of the Newton solves, the affine direction, the combined direction, the step.
+    fn step(&mut self, iter: u32) -> Result<(), SolverStatus> {
+        let sh = self.sh;
+        let (n, me, mg) = (sh.n(), sh.m_e(), sh.m_g());
+        if !self.kkt.factor(sh, &self.sc) {
+            return Err(SolverStatus::NumericalError);
+        }
+        // Constant part of the step: K [x2; z2] = [−q; b].
+        let zeros_g = vec![0.0; mg];
+        let c2 = &mut self.newton.c2;
+        if !self.kkt.solve(sh, &self.sc, &self.minus_q, &sh.b_e, &zeros_g, &mut c2.x, &mut c2.ze, &mut c2.z, true) {
+            return Err(SolverStatus::NumericalError);
+        }
+        for j in 0..n {
+            self.newton.xi[j] = self.v.x[j] / self.v.tau;
+        }
+        // Affine (predictor) step: Δs constant term s.
+        let (inf, v) = (&self.inf, &self.v);
+        let rhs = Rhs { rx: &inf.rx, re: &inf.re, rg: &inf.rg, c: &v.s, r_tau: inf.rtau, r_kappa: v.tau * v.kappa };
+        if !newton(sh, &mut self.kkt, &self.sc, v, &mut self.newton, &rhs, false, &mut self.aff) {
+            return Err(SolverStatus::NumericalError);
+        }
+        let alpha_aff = self.step_length(&self.aff);
+        let sigma = (1.0 - alpha_aff).powi(3);
+        let mfac = if iter > 1 { 1.0 } else { alpha_aff };
+        // Combined (corrector) step.
+        let (v, inf, aff, cr) = (&self.v, &self.inf, &self.aff, &mut self.corrector);
+        self.sc.combined_const(&v.s, &v.z, &aff.s, &aff.z, mfac, sigma * self.mu, &mut cr.c);
+        for j in 0..n {
+            cr.rx[j] = (1.0 - sigma) * inf.rx[j];
+        }
+        for i in 0..me {
+            cr.re[i] = (1.0 - sigma) * inf.re[i];
+        }
+        for i in 0..mg {
+            cr.rg[i] = (1.0 - sigma) * inf.rg[i];
+        }
+        let r_kappa = -sigma * self.mu + mfac * aff.tau * aff.kappa + v.tau * v.kappa;
+        let rhs = Rhs { rx: &cr.rx, re: &cr.re, rg: &cr.rg, c: &cr.c, r_tau: (1.0 - sigma) * inf.rtau, r_kappa };
+        if !newton(sh, &mut self.kkt, &self.sc, v, &mut self.newton, &rhs, true, &mut self.comb) {
+            return Err(SolverStatus::NumericalError);
+        }
+        let alpha = self.step_length(&self.comb) * 0.99;
+        if alpha < 1e-4 {
+            return Err(SolverStatus::InsufficientProgress);
+        }
+        self.take_step(alpha);
+        Ok(())
+    }
+
+    /// The longest step in [0, 1] along `dv` that keeps τ, κ, s and z in their cones.
+    fn step_length(&self, dv: &Vars) -> f64 {
+        let v = &self.v;
+        let mut a: f64 = 1.0;
+        if dv.tau < 0.0 {
+            a = a.min(-v.tau / dv.tau);
+        }
+        if dv.kappa < 0.0 {
+            a = a.min(-v.kappa / dv.kappa);
+        }
+        let az = self.sc.step_length(&v.z, &dv.z, a);
+        let as_ = self.sc.step_length(&v.s, &dv.s, a);
+        az.min(as_)
+    }
+
+    /// v ← v + α Δ (the combined direction), keeping the previous iterate.
+    fn take_step(&mut self, alpha: f64) {
+        self.prev = Some((self.v.clone(), self.inf.clone()));
+        let (v, d) = (&mut self.v, &self.comb);
+        for (x, dx) in v.x.iter_mut().zip(&d.x) {
+            *x += alpha * dx;
+        }
+        for (z, dz) in v.ze.iter_mut().zip(&d.ze) {
+            *z += alpha * dz;
+        }
+        for i in 0..v.s.len() {
+            v.s[i] += alpha * d.s[i];
+            v.z[i] += alpha * d.z[i];
+        }
+        v.tau += alpha * d.tau;
+        v.kappa += alpha * d.kappa;
+    }
+
+    /// Like clarabel: on insufficient progress go back to the last iterate; on trouble or the
+    /// iteration limit, accept the reduced tolerances.
+    fn finish(mut self, status: SolverStatus, iterations: u32) -> IpmOutcome {
+        let mut status = status;
+        let mut last = std::mem::take(&mut self.inf);
+        if status == SolverStatus::InsufficientProgress
+            && let Some((pv, pi)) = self.prev.take()
+        {
+            self.v = pv;
+            last = pi;
+        }
+        if matches!(
+            status,
+            SolverStatus::InsufficientProgress | SolverStatus::NumericalError | SolverStatus::MaxIterations
+        ) && let Some(s) = convergence(&last, &Tolerances::reduced(), true)
+        {
+            status = match s {
+                SolverStatus::Solved => SolverStatus::AlmostSolved,
+                other => other,
+            };
+        }
+        self.outcome(status, iterations)
+    }
+}
+
+/// One Newton solve for `rhs` into `out` (clarabel's `DefaultKKTSystem::solve`): the variable
+/// part from the factored system, then Δτ from the constant part, Δs and Δκ.
+#[allow(clippy::too_many_arguments)]
+fn newton<const C: usize>(
+    sh: &Shape<C>,
+    kkt: &mut Kkt<C>,
+    sc: &Scaling,
+    v: &Vars,
+    w: &mut Newton,
+    rhs: &Rhs,
+    refine: bool,
+    out: &mut Vars,
+) -> bool {
+    let (n, me, mg) = (sh.n(), sh.m_e(), sh.m_g());
+    // The z right-hand side is c − r_z (c = 0 on the equality rows).
+    for i in 0..me {
+        w.we[i] = -rhs.re[i];
+    }
+    for i in 0..mg {
+        w.wg[i] = rhs.c[i] - rhs.rg[i];
+    }
+    let c1 = &mut w.c1;
+    if !kkt.solve(sh, sc, rhs.rx, &w.we, &w.wg, &mut c1.x, &mut c1.ze, &mut c1.z, refine) {
+        return false;
+    }
+    let (c1, c2, xi) = (&w.c1, &w.c2, &w.xi);
+    let b_z = |ze: &[f64]| dot(&sh.b_e, ze);
+    let num = rhs.r_tau - rhs.r_kappa / v.tau + sh.q_dot(&c1.x) + b_z(&c1.ze) + 2.0 * sh.p_quad(xi, &c1.x);
+    let mut quad = 0.0;
+    for p in 0..sh.points() {
+        for k in 0..C {
+            let j = p * C + k;
+            let d = xi[j] - c2.x[j];
+            quad += sh.p[k] * (d * d - c2.x[j] * c2.x[j]);
+        }
+    }
+    let den = v.kappa / v.tau - sh.q_dot(&c2.x) - b_z(&c2.ze) + quad;
+    let dtau = num / den;
+    for j in 0..n {
+        out.x[j] = c1.x[j] + dtau * c2.x[j];
+    }
+    for i in 0..me {
+        out.ze[i] = c1.ze[i] + dtau * c2.ze[i];
+    }
+    for i in 0..mg {
+        out.z[i] = c1.z[i] + dtau * c2.z[i];
+    }
+    sc.ds_from_dz(&out.z, rhs.c, &mut out.s);
+    out.tau = dtau;
+    out.kappa = -(rhs.r_kappa + v.kappa * dtau) / v.tau;
+    dtau.is_finite() && out.kappa.is_finite()
+}
