@@ -1,5 +1,6 @@
 //! The analysis pipeline: scene → cut history replayed → validated assembly → interfaces →
-//! statics, with timings. [`Pipeline`] keeps its work between runs (split pieces, block-pair
+//! statics, with timings; blocks that interpenetrate are a warning on the assembly, or with
+//! [`AnalysisSettings::strict`] an error. [`Pipeline`] keeps its work between runs (split pieces, block-pair
 //! interfaces and component solutions, each by content), so re-running after an edit
 //! recomputes only what the edit touched and reports how much in [`Work`]; [`analyze`] is one
 //! run of a fresh pipeline. The CLI and the ECS layer both go through [`Pipeline::run`] (one
@@ -8,7 +9,7 @@
 use crate::decompose;
 use crate::geometry::Tolerances;
 use crate::interfaces::{self, Interface};
-use crate::model::{Assembly, ModelError, Scene};
+use crate::model::{Assembly, ModelError, Scene, Warning};
 use crate::statics::{self, StaticsError, StaticsResult, StaticsSettings};
 use serde::Serialize;
 use std::time::Instant;
@@ -19,6 +20,10 @@ use thiserror::Error;
 pub struct AnalysisSettings {
     pub tolerances: Tolerances,
     pub statics: StaticsSettings,
+    /// Blocks that interpenetrate beyond the coplanarity tolerance
+    /// ([`crate::interfaces::penetration`]) are an error ([`ModelError::Overlap`], naming the
+    /// deepest pair) instead of a warning on the assembly. Default false.
+    pub strict: bool,
 }
 
 /// Why the pipeline could not run (bad input or settings, never solver trouble).
@@ -37,6 +42,7 @@ pub enum AnalysisError {
 pub struct Timings {
     /// Replaying the cut history.
     pub cut: f64,
+    /// Validating the blocks and checking that they do not interpenetrate.
     pub validate: f64,
     pub detect: f64,
     /// Building the equilibrium problems (summed over components).
@@ -78,6 +84,7 @@ pub struct Analysis {
 pub struct Pipeline {
     cuts: decompose::CutCache,
     pairs: interfaces::DetectCache,
+    overlaps: interfaces::OverlapCache,
     components: statics::StaticsCache,
 }
 
@@ -97,8 +104,16 @@ impl Pipeline {
         let tc = Instant::now();
         let (resolved, cut_stats) = decompose::resolve(scene, &settings.tolerances, &mut self.cuts)?;
         let t0 = Instant::now();
-        let assembly = Assembly::new(&resolved, &settings.tolerances)?;
+        let mut assembly = Assembly::new(&resolved, &settings.tolerances)?;
         let keys = interfaces::block_keys(&assembly);
+        let overlaps = interfaces::overlaps_cached(&assembly, &keys, &mut self.overlaps);
+        if settings.strict
+            && let Some(deepest) = overlaps.iter().max_by(|a, b| a.relative().total_cmp(&b.relative()))
+        {
+            return Err(ModelError::Overlap { overlap: deepest.clone(), others: overlaps.len() - 1 }.into());
+        }
+        // Ahead of the load and repair warnings: the one that can make the statics wrong.
+        assembly.warnings.splice(0..0, overlaps.into_iter().map(Warning::Overlap));
         let t1 = Instant::now();
         let (interfaces, detect_stats) = interfaces::detect_cached(&assembly, &keys, &mut self.pairs);
         let t2 = Instant::now();

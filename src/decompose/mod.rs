@@ -278,6 +278,8 @@ pub fn resolve(
     if scene.cuts.is_empty() && scene.removed.is_empty() && scene.supports.is_empty() {
         return Ok((scene.clone(), ReplayStats::default()));
     }
+    crate::model::coordinates::check(&scene.blocks, tolerances.coplanar)
+        .map_err(|(b, source)| CutError::Source { block: scene.blocks[b].name.clone(), source })?;
     let tol = tolerances.resolve(tolerances.scale(scene.scale()));
     let mut sources = scene.blocks.clone();
     for b in &mut sources {

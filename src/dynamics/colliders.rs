@@ -4,15 +4,14 @@
 
 use super::DropSettings;
 use crate::geometry::cut::{SplitResult, split};
-use crate::geometry::{Mesh, Plane, Point3, Vector3};
+use crate::geometry::{Mesh, Plane, Point3};
 use crate::interfaces::Body;
+use crate::interfaces::penetration::overlap_depth;
 use crate::model::Assembly;
 use rapier3d::math::{Pose, Vector};
 use rapier3d::prelude::*;
 
-pub(super) fn v32(v: Vector3) -> Vector {
-    Vector::new(v.x as f32, v.y as f32, v.z as f32)
-}
+pub(super) use crate::interfaces::penetration::v32;
 
 /// Every block's collider shape (relative to its centroid), in block order.
 pub(super) struct Colliders {
@@ -101,24 +100,6 @@ fn convex_parts(assembly: &Assembly, i: usize) -> ColliderBuilder {
     }
 }
 
-/// How far block `j`'s collider overlaps block `i`'s (m; ≤ 0 when apart), the two shapes
-/// placed at their centroids relative to `i`'s, in f64 before rapier's f32: a model far from
-/// the origin keeps its precision.
-fn overlap_depth(assembly: &Assembly, i: usize, a: &SharedShape, j: usize, b: &SharedShape) -> f64 {
-    let offset = assembly.blocks[j].mass.centroid - assembly.blocks[i].mass.centroid;
-    let c = rapier3d::parry::query::contact(
-        &Pose::IDENTITY,
-        a.as_ref(),
-        &Pose::from_translation(v32(offset)),
-        b.as_ref(),
-        0.0,
-    );
-    match c {
-        Ok(Some(c)) => -c.dist as f64,
-        _ => 0.0,
-    }
-}
-
 /// Block `i`'s convex hull, relative to its centroid, as a mesh.
 fn hull_mesh(assembly: &Assembly, i: usize) -> Option<Mesh> {
     use rapier3d::parry::transformation::try_convex_hull;
@@ -149,7 +130,7 @@ fn joint_hulls(assembly: &Assembly, depth: f64, keep: f64) -> Vec<Option<(Shared
     let mut meshes: Vec<Option<Mesh>> = (0..n).map(|i| hull_mesh(assembly, i)).collect();
     let plain: Vec<Option<SharedShape>> = meshes.iter().map(|m| m.as_ref().and_then(shape_of)).collect();
     let overlap = |a: usize, b: usize| match (&plain[a], &plain[b]) {
-        (Some(sa), Some(sb)) => overlap_depth(assembly, a, sa, b, sb) > depth,
+        (Some(sa), Some(sb)) => overlap_depth(assembly, a, sa, b, sb, 1.0) > depth,
         _ => false,
     };
     let mut cut = vec![false; n];
@@ -202,7 +183,7 @@ fn overlapping_hulls(
         .into_iter()
         .filter_map(|(i, j)| {
             let (Some((si, _)), Some((sj, _))) = (&hulls[i], &hulls[j]) else { return None };
-            let d = overlap_depth(assembly, i, si, j, sj);
+            let d = overlap_depth(assembly, i, si, j, sj, 1.0);
             (d > depth).then_some((i, j, d))
         })
         .collect()

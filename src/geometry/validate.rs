@@ -17,6 +17,15 @@ pub enum MeshError {
     Empty { vertices: usize, faces: usize },
     #[error("vertex {vertex} has a non-finite coordinate {coords:?}")]
     NonFinite { vertex: usize, coords: [f64; 3] },
+    #[error("vertex {vertex} at {coords:?} is out of range: coordinates are limited to ±{limit:e} (m)")]
+    OutOfRange { vertex: usize, coords: [f64; 3], limit: f64 },
+    #[error(
+        "vertex {vertex} at {coords:?} lies {} m beyond the rest of the model along {axis}, more than \
+         {} times the rest's size ({} m): every tolerance is relative to the model size, so it would \
+         set them for every block (a corrupt or misplaced coordinate?)",
+        crate::model::significant(*.gap), crate::model::significant(*.limit), crate::model::significant(*.size)
+    )]
+    FarOutside { vertex: usize, coords: [f64; 3], axis: char, gap: f64, size: f64, limit: f64 },
     #[error("face {face} refers to vertex {index}, but there are only {count} vertices")]
     BadIndex { face: usize, index: usize, count: usize },
     #[error("face {face} has {count} vertices; a face needs at least 3")]

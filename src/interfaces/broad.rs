@@ -1,5 +1,6 @@
 //! Broad phase: candidate block pairs whose loosened bounding boxes overlap, through parry's
-//! BVH (the only parry touchpoint of interface detection). Cost about n log n.
+//! BVH (with [`super::penetration`]'s overlap query, the parry touchpoints of interface
+//! detection and of the checks at load). Cost about n log n.
 
 use crate::model::Assembly;
 use rapier3d::parry::bounding_volume::Aabb;

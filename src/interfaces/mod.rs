@@ -14,11 +14,13 @@
 pub(crate) mod broad;
 mod cache;
 pub(crate) mod overlap;
+pub mod penetration;
 
 use crate::geometry::polygon::{Frame, Plane, centroid, signed_area_2d};
 use crate::geometry::{Point3, Vector3};
 use crate::model::{Assembly, BlockId};
 pub use cache::{DetectCache, DetectStats, block_keys, detect_cached};
+pub use penetration::{OverlapCache, overlaps, overlaps_cached};
 use serde::Serialize;
 
 /// One side of an interface: a block or the ground plane z = 0.

@@ -13,12 +13,18 @@
 //! (names of pieces left out after the history, default none), `supports` (names of pieces
 //! made supports after the history, default none), and
 //! per block `support` (false) and `density` are optional, so the neutral shape without
-//! `schema` and `ground` loads as is. Unknown keys are errors (a
-//! typo must not be ignored silently).
+//! `schema` and `ground` loads as is.
+//!
+//! Unknown keys, at every level (the scene, a block, a cut): a key within a typo of a known
+//! one — edit distance at most 2, at most 1 when either is four letters or shorter (`note` is
+//! not `name`) — is an error suggesting the known key (`frction`: "did you mean
+//! `friction`?"), since a misspelt setting must not be dropped silently; any other is
+//! metadata (a `params` object, a tool's name, colours): ignored, with a warning naming it
+//! ([`Scene::warnings`]).
 
 use super::IoError;
 use crate::geometry::{Mesh, Point3, Vector3};
-use crate::model::{Block, Cut, Material, Scene};
+use crate::model::{Block, Cut, Material, Scene, Warning};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
@@ -74,7 +80,88 @@ pub fn scene_from_str(path: &Path, text: &str) -> Result<Scene, IoError> {
     scene_from_value(path, value)
 }
 
-pub(crate) fn scene_from_value(path: &Path, value: serde_json::Value) -> Result<Scene, IoError> {
+/// Keys of the format at each level.
+const SCENE_KEYS: &[&str] =
+    &["schema", "name", "blocks", "density", "friction", "gravity", "ground", "cuts", "removed", "supports", "order"];
+const BLOCK_KEYS: &[&str] = &["name", "vertices", "faces", "support", "density"];
+const CUT_KEYS: &[&str] = &["point", "normal", "apex", "segments", "target"];
+
+/// Levenshtein distance (insertions, deletions, substitutions of characters).
+fn edit_distance(a: &str, b: &str) -> usize {
+    let b: Vec<char> = b.chars().collect();
+    let mut row: Vec<usize> = (0..=b.len()).collect();
+    for (i, ca) in a.chars().enumerate() {
+        let mut diagonal = row[0];
+        row[0] = i + 1;
+        for (j, &cb) in b.iter().enumerate() {
+            let next = (diagonal + usize::from(ca != cb)).min(row[j] + 1).min(row[j + 1] + 1);
+            diagonal = row[j + 1];
+            row[j + 1] = next;
+        }
+    }
+    row[b.len()]
+}
+
+/// The known key `key` is a typo of, if any: the closest within 2 edits, or within 1 when either
+/// of the two has at most four characters (two edits make `name` of `note` or `date`).
+fn typo_of(key: &str, known: &'static [&'static str]) -> Option<&'static str> {
+    known
+        .iter()
+        .map(|&k| (edit_distance(key, k), k))
+        .filter(|&(d, k)| d <= if key.chars().count().min(k.len()) <= 4 { 1 } else { 2 })
+        .min_by_key(|&(d, _)| d)
+        .map(|(_, k)| k)
+}
+
+/// Removes from `object` the keys not in `known`, each with a warning; a typo of a known key is
+/// an error instead. `place` names the object in messages (`None`: the top level).
+fn screen(
+    path: &Path,
+    object: &mut serde_json::Map<String, serde_json::Value>,
+    known: &'static [&'static str],
+    place: Option<String>,
+    warnings: &mut Vec<Warning>,
+) -> Result<(), IoError> {
+    let unknown: Vec<String> = object.keys().filter(|k| !known.contains(&k.as_str())).cloned().collect();
+    for key in unknown {
+        if let Some(meant) = typo_of(&key, known) {
+            let at = place.as_ref().map(|p| format!("{p}: ")).unwrap_or_default();
+            return Err(IoError::format(path, format!("{at}unknown key `{key}`: did you mean `{meant}`?")));
+        }
+        object.remove(&key);
+        warnings.push(Warning::UnknownKey { file: path.to_path_buf(), place: place.clone(), key });
+    }
+    Ok(())
+}
+
+/// Screens the keys of the scene, of each block and of each cut (see the module docs); the
+/// shapes themselves are left to the typed parse, which names what is wrong with them.
+fn screen_keys(path: &Path, value: &mut serde_json::Value) -> Result<Vec<Warning>, IoError> {
+    let mut warnings = Vec::new();
+    let Some(scene) = value.as_object_mut() else { return Ok(warnings) };
+    screen(path, scene, SCENE_KEYS, None, &mut warnings)?;
+    if let Some(blocks) = scene.get_mut("blocks").and_then(|b| b.as_array_mut()) {
+        for (i, block) in blocks.iter_mut().enumerate() {
+            let Some(block) = block.as_object_mut() else { continue };
+            let place = match block.get("name").and_then(|n| n.as_str()) {
+                Some(name) => format!("block '{name}'"),
+                None => format!("block #{i}"),
+            };
+            screen(path, block, BLOCK_KEYS, Some(place), &mut warnings)?;
+        }
+    }
+    if let Some(cuts) = scene.get_mut("cuts").and_then(|c| c.as_array_mut()) {
+        for (i, cut) in cuts.iter_mut().enumerate() {
+            if let Some(cut) = cut.as_object_mut() {
+                screen(path, cut, CUT_KEYS, Some(format!("cut {i}")), &mut warnings)?;
+            }
+        }
+    }
+    Ok(warnings)
+}
+
+pub(crate) fn scene_from_value(path: &Path, mut value: serde_json::Value) -> Result<Scene, IoError> {
+    let warnings = screen_keys(path, &mut value)?;
     let file: SceneFile =
         serde_json::from_value(value).map_err(|e| IoError::format(path, format!("not a voussoir scene: {e}")))?;
     if file.schema == 0 || file.schema > SCHEMA_VERSION {
@@ -97,6 +184,7 @@ pub(crate) fn scene_from_value(path: &Path, value: serde_json::Value) -> Result<
     scene.removed = file.removed;
     scene.supports = file.supports;
     scene.order = file.order;
+    scene.warnings = warnings;
     scene.blocks = file
         .blocks
         .into_iter()
@@ -136,4 +224,31 @@ pub fn scene_to_string(scene: &Scene) -> String {
         order: scene.order.clone(),
     };
     serde_json::to_string_pretty(&file).expect("a scene always serialises")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn edit_distances() {
+        assert_eq!(edit_distance("frction", "friction"), 1);
+        assert_eq!(edit_distance("firction", "friction"), 2);
+        assert_eq!(edit_distance("", "abc"), 3);
+        assert_eq!(edit_distance("kitten", "sitting"), 3);
+        assert_eq!(edit_distance("note", "name"), 2);
+    }
+
+    #[test]
+    fn typos_and_metadata() {
+        assert_eq!(typo_of("frction", SCENE_KEYS), Some("friction"));
+        assert_eq!(typo_of("Friction", SCENE_KEYS), Some("friction"));
+        assert_eq!(typo_of("support", SCENE_KEYS), Some("supports"));
+        assert_eq!(typo_of("supports", BLOCK_KEYS), Some("support"));
+        assert_eq!(typo_of("nme", BLOCK_KEYS), Some("name"));
+        for metadata in ["params", "note", "date", "color", "colour", "tool", "tags", "units", "mu", "id", "meta"] {
+            assert_eq!(typo_of(metadata, SCENE_KEYS), None, "{metadata}");
+            assert_eq!(typo_of(metadata, BLOCK_KEYS), None, "{metadata}");
+        }
+    }
 }

@@ -5,6 +5,7 @@ use crate::geometry::polygon::{area_vector, centroid};
 use crate::geometry::tolerances::AbsTolerances;
 use crate::geometry::{Aabb3, MassProperties, Mesh, MeshError, MeshWarning, Point3, Tolerances, Vector3, repair};
 use std::collections::HashSet;
+use std::path::PathBuf;
 use thiserror::Error;
 
 /// Why a scene cannot be analysed. Each variant names the block.
@@ -30,19 +31,112 @@ pub enum ModelError {
     BadGravity([f64; 3]),
     #[error("reference length {0} is not a positive finite number (m)")]
     BadReferenceLength(f64),
+    #[error(
+        "the model is only {0:.2e} across (its bounding-box diagonal; at least 1e-15 keeps its areas, \
+         volumes and moments within floating-point range): give the coordinates in a smaller unit \
+         (mm instead of m)"
+    )]
+    TooSmall(f64),
+    /// Two blocks interpenetrate (an error only with `AnalysisSettings::strict`); the deepest
+    /// pair relative to its size, and how many other pairs overlap.
+    #[error("{overlap}{}", others_note(.others))]
+    Overlap { overlap: Overlap, others: usize },
 }
 
-/// A repair made while loading, with the block it concerns.
+/// Something the analysis let pass but the user should know, naming the file, block or pair.
 #[derive(Debug, Clone, PartialEq)]
-pub struct Warning {
-    pub block: String,
-    pub warning: MeshWarning,
+pub enum Warning {
+    /// A repair of a block's mesh made while validating it.
+    Repair { block: String, warning: MeshWarning },
+    /// A key the scene file format does not know, ignored (metadata such as a `params` object,
+    /// tool names or colours). `place` is where it was: `None` at the top level, else e.g.
+    /// `block 'top'` or `cut 2`.
+    UnknownKey { file: PathBuf, place: Option<String>, key: String },
+    /// Two blocks interpenetrate beyond the coplanarity tolerance: the statics see only their
+    /// interfaces, not the overlap.
+    Overlap(Overlap),
+}
+
+impl Warning {
+    /// The block a repair warning concerns.
+    pub fn block(&self) -> Option<&str> {
+        match self {
+            Warning::Repair { block, .. } => Some(block),
+            _ => None,
+        }
+    }
 }
 
 impl std::fmt::Display for Warning {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "block '{}': {}", self.block, self.warning)
+        match self {
+            Warning::Repair { block, warning } => write!(f, "block '{block}': {warning}"),
+            Warning::UnknownKey { file, place, key } => {
+                write!(f, "{}: ", file.display())?;
+                if let Some(place) = place {
+                    write!(f, "{place}: ")?;
+                }
+                write!(f, "unknown key `{key}` ignored")
+            }
+            Warning::Overlap(o) => write!(f, "{o}"),
+        }
     }
+}
+
+/// Two blocks that interpenetrate: how deep (the shortest translation that would separate
+/// them, m) and how that compares with the smaller block and the tolerance.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Overlap {
+    pub a: String,
+    pub b: String,
+    /// Penetration depth, m.
+    pub depth: f64,
+    /// The thinner block's thickness (volume / largest face area: a cube's edge), m.
+    pub size: f64,
+    /// The pair's coplanarity tolerance, m: a joint open or closed by less is an interface.
+    pub tolerance: f64,
+}
+
+impl Overlap {
+    /// Depth relative to the thinner block's thickness.
+    pub fn relative(&self) -> f64 {
+        self.depth / self.size
+    }
+}
+
+impl std::fmt::Display for Overlap {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "blocks '{}' and '{}' interpenetrate {} m deep ({} of the thinner one's thickness {} m; the \
+             coplanarity tolerance is {} m): the statics see their interfaces, not the overlap",
+            self.a,
+            self.b,
+            significant(self.depth),
+            significant(self.relative()),
+            significant(self.size),
+            significant(self.tolerance)
+        )
+    }
+}
+
+fn others_note(others: &usize) -> String {
+    match others {
+        0 => String::new(),
+        n => format!("; {n} other pair(s) interpenetrate too"),
+    }
+}
+
+/// `x` with three significant digits, without an exponent for ordinary magnitudes.
+pub(crate) fn significant(x: f64) -> String {
+    if x == 0.0 || !x.is_finite() {
+        return format!("{x}");
+    }
+    let magnitude = x.abs().log10().floor();
+    if !(-6.0..=9.0).contains(&magnitude) {
+        return format!("{x:.2e}");
+    }
+    format!("{x:.*}", (2.0 - magnitude).max(0.0) as usize)
 }
 
 /// One face of a validated block, with its plane data precomputed for interface detection.
@@ -89,6 +183,8 @@ pub struct Assembly {
     /// Bounding-box diagonal of all blocks: the length every tolerance is relative to.
     pub scale: f64,
     pub tolerances: AbsTolerances,
+    /// The scene's load warnings, then the repairs made here; a [`crate::analysis::Pipeline`]
+    /// run puts the interpenetrating pairs ahead of them.
     pub warnings: Vec<Warning>,
 }
 
@@ -117,17 +213,24 @@ impl Assembly {
         if let Some(l) = tolerances.reference_length.filter(|l| !(*l > 0.0 && l.is_finite())) {
             return Err(ModelError::BadReferenceLength(l));
         }
+        // Before the model size is taken from the bounding box: a stray vertex is named, not
+        // the block its tolerances would break.
+        super::coordinates::check(&scene.blocks, tolerances.coplanar)
+            .map_err(|(b, source)| ModelError::Mesh { block: scene.blocks[b].name.clone(), source })?;
+        if scene.scale() < super::coordinates::MIN_MODEL_SIZE {
+            return Err(ModelError::TooSmall(scene.scale()));
+        }
         let scale = tolerances.scale(scene.scale());
         let tol = tolerances.resolve(scale);
         let mut blocks = Vec::with_capacity(scene.blocks.len());
-        let mut warnings = Vec::new();
+        let mut warnings = scene.warnings.clone();
         for b in &scene.blocks {
             let density = b.density.unwrap_or(scene.material.density);
             if !(density > 0.0 && density.is_finite()) {
                 return Err(ModelError::BadDensity { block: b.name.clone(), density });
             }
             let r = repair(&b.mesh, &tol).map_err(|source| ModelError::Mesh { block: b.name.clone(), source })?;
-            warnings.extend(r.warnings.into_iter().map(|w| Warning { block: b.name.clone(), warning: w }));
+            warnings.extend(r.warnings.into_iter().map(|w| Warning::Repair { block: b.name.clone(), warning: w }));
             let faces = face_data(&r.mesh);
             let largest = faces.iter().map(|f| f.area).fold(0.0, f64::max);
             blocks.push(AssemblyBlock {

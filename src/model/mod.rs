@@ -7,10 +7,12 @@
 mod assembly;
 pub mod builtin;
 pub mod cases;
+pub mod coordinates;
 pub mod cut;
 pub mod edit;
 
-pub use assembly::{Assembly, AssemblyBlock, ModelError, Warning};
+pub(crate) use assembly::significant;
+pub use assembly::{Assembly, AssemblyBlock, ModelError, Overlap, Warning};
 pub use builtin::{BuiltinError, builtin};
 pub use cut::{Cut, CutShape};
 
@@ -90,6 +92,9 @@ pub struct Scene {
     /// An assembly order (piece names, or source-shape names standing for all their pieces
     /// bottom-up) for [`crate::sequence`]; empty when none is given.
     pub order: Vec<String>,
+    /// What reading the file let pass (unknown keys ignored); the [`Assembly`] carries them
+    /// on, ahead of its repair warnings. Never written back to a file.
+    pub warnings: Vec<Warning>,
 }
 
 impl Scene {
@@ -104,6 +109,7 @@ impl Scene {
             removed: Vec::new(),
             supports: Vec::new(),
             order: Vec::new(),
+            warnings: Vec::new(),
         }
     }
 
