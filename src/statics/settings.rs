@@ -4,16 +4,23 @@ use super::StaticsError;
 use serde::{Deserialize, Serialize};
 
 /// How the friction capacity |f_t| ≤ μ f_n⁺ is modelled at each interface vertex.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, Default)]
+///
+/// The names (`pyramid8`, `cone`, `box4`) are the same in the scene and report JSON, on the
+/// command line (`clap::ValueEnum`, which also takes `pyramid` and `box`) and in [`Display`].
+///
+/// [`Display`]: std::fmt::Display
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, Default, clap::ValueEnum)]
 #[serde(rename_all = "lowercase")]
 pub enum FrictionModel {
     /// 8-sided outer pyramid (the seed paper's default): up to 8.2 % more friction than
     /// Coulomb in diagonal directions.
     #[default]
+    #[value(alias = "pyramid")]
     Pyramid8,
     /// Exact Coulomb cone, as a second-order cone.
     Cone,
     /// 4-sided box |f_u|, |f_v| ≤ μ f_n⁺ (older tools): up to 41 % more than Coulomb.
+    #[value(alias = "box")]
     Box4,
 }
 
@@ -30,18 +37,6 @@ impl FrictionModel {
     }
 }
 
-impl std::str::FromStr for FrictionModel {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
-        match s {
-            "pyramid8" | "pyramid" => Ok(Self::Pyramid8),
-            "cone" => Ok(Self::Cone),
-            "box4" | "box" => Ok(Self::Box4),
-            _ => Err(format!("unknown friction model '{s}' (pyramid8, cone or box4)")),
-        }
-    }
-}
-
 impl std::fmt::Display for FrictionModel {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.write_str(match self {
@@ -49,17 +44,6 @@ impl std::fmt::Display for FrictionModel {
             Self::Cone => "cone",
             Self::Box4 => "box4",
         })
-    }
-}
-
-impl std::str::FromStr for Backend {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
-        match s {
-            "structured" => Ok(Self::Structured),
-            "clarabel" => Ok(Self::Clarabel),
-            _ => Err(format!("unknown solver '{s}' (structured or clarabel)")),
-        }
     }
 }
 
@@ -131,8 +115,8 @@ pub enum FirstStage {
     Relaxed,
 }
 
-/// The interior-point solver of the equilibrium problems.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+/// The interior-point solver of the equilibrium problems (`--solver structured|clarabel`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize, clap::ValueEnum)]
 #[serde(rename_all = "lowercase")]
 pub enum Backend {
     /// clarabel's algorithm with the Newton system reduced to the equilibrium rows
@@ -146,7 +130,7 @@ pub enum Backend {
 impl Default for StaticsSettings {
     fn default() -> Self {
         Self {
-            friction_model: FrictionModel::Pyramid8,
+            friction_model: FrictionModel::default(),
             friction: None,
             w_compression: 1.0,
             w_tension: 1e6,
@@ -158,8 +142,8 @@ impl Default for StaticsSettings {
             parallel: true,
             split_components: true,
             distribution: true,
-            backend: Backend::Structured,
-            first_stage: FirstStage::Strict,
+            backend: Backend::default(),
+            first_stage: FirstStage::default(),
         }
     }
 }
