@@ -383,3 +383,46 @@ fn a_disagreement_says_whether_the_drop_test_came_to_rest() {
     let agree = verdict_line(&["drop", &shared("compas_assembly/stack_assembly.json")]);
     assert!(agree.ends_with("AGREE") && !agree.contains("DISAGREE"), "{agree}");
 }
+
+#[test]
+fn the_command_line_is_well_formed() {
+    use clap::CommandFactory;
+    voussoir::cli::Cli::command().debug_assert();
+}
+
+/// One source per default: what the command line gives without options is the library's.
+#[test]
+fn the_options_default_to_the_librarys_settings() {
+    use clap::Parser;
+    use voussoir::cli::{AnalyzeArgs, Cli, Command as Cmd};
+    let args = AnalyzeArgs::defaults();
+    assert_eq!(args.solver.settings(), voussoir::analysis::AnalysisSettings::default());
+    assert_eq!(args.drop.settings(None), voussoir::dynamics::DropSettings::default());
+    let Ok(Cli { command: Some(Cmd::Analyze(parsed)) }) = Cli::try_parse_from(["voussoir", "analyze"]) else {
+        panic!("analyze parses")
+    };
+    assert_eq!(parsed, args, "`voussoir` alone runs `analyze` with its defaults");
+    let Ok(Cli { command: Some(Cmd::Export(export)) }) =
+        Cli::try_parse_from(["voussoir", "export", "builtin:stack", "--gltf", "x.glb"])
+    else {
+        panic!("export parses")
+    };
+    assert_eq!(export.diagram.mode().unwrap(), voussoir::viz::DiagramMode::default());
+    assert_eq!(export.diagram.threshold, voussoir::viz::DiagramMode::DEFAULT_THRESHOLD);
+}
+
+#[test]
+fn a_wrong_name_is_an_input_error_naming_option_and_value() {
+    let out = voussoir(&["analyze", "builtin:stack", "--friction-model", "pyramid9"]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.starts_with("error: --friction-model pyramid9: expected pyramid8, cone or box4"), "{err}");
+    let out = voussoir(&["sweep", "dome"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("arch, slope, harmonic or tilt"));
+    // The short spellings stay accepted.
+    for model in ["pyramid", "box"] {
+        let out = voussoir(&["analyze", "builtin:stack?n=2", "--friction-model", model]);
+        assert_eq!(out.status.code(), Some(0), "{model}: {}", String::from_utf8_lossy(&out.stderr));
+    }
+}
