@@ -383,3 +383,82 @@ fn a_disagreement_says_whether_the_drop_test_came_to_rest() {
     let agree = verdict_line(&["drop", &compas_data("compas_assembly/stack_assembly.json")]);
     assert!(agree.ends_with("AGREE") && !agree.contains("DISAGREE"), "{agree}");
 }
+
+#[test]
+fn the_command_line_is_well_formed() {
+    use clap::CommandFactory;
+    voussoir::cli::Cli::command().debug_assert();
+}
+
+/// One source per default: what the command line gives without options is the library's.
+#[test]
+fn the_options_default_to_the_librarys_settings() {
+    use clap::Parser;
+    use voussoir::cli::{AnalyzeArgs, Cli, Command as Cmd};
+    let args = AnalyzeArgs::defaults();
+    assert_eq!(args.solver.settings(), voussoir::analysis::AnalysisSettings::default());
+    assert_eq!(args.drop.settings(None), voussoir::dynamics::DropSettings::default());
+    let Ok(Cli { command: Some(Cmd::Analyze(parsed)) }) = Cli::try_parse_from(["voussoir", "analyze"]) else {
+        panic!("analyze parses")
+    };
+    assert_eq!(parsed, args, "`voussoir` alone runs `analyze` with its defaults");
+    let Ok(Cli { command: Some(Cmd::Export(export)) }) =
+        Cli::try_parse_from(["voussoir", "export", "builtin:stack", "--gltf", "x.glb"])
+    else {
+        panic!("export parses")
+    };
+    assert_eq!(export.diagram.mode().unwrap(), voussoir::viz::DiagramMode::default());
+    assert_eq!(export.diagram.threshold, voussoir::viz::DiagramMode::DEFAULT_THRESHOLD);
+}
+
+#[test]
+fn a_wrong_name_is_an_input_error_naming_option_and_value() {
+    let out = voussoir(&["analyze", "builtin:stack", "--friction-model", "pyramid9"]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.starts_with("error: --friction-model pyramid9: expected pyramid8, cone or box4"), "{err}");
+    let out = voussoir(&["sweep", "dome"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("arch, slope, harmonic or tilt"));
+    // The short spellings stay accepted.
+    for model in ["pyramid", "box"] {
+        let out = voussoir(&["analyze", "builtin:stack?n=2", "--friction-model", model]);
+        assert_eq!(out.status.code(), Some(0), "{model}: {}", String::from_utf8_lossy(&out.stderr));
+    }
+}
+
+/// A box block as scene JSON: corners `lo`, `hi`, faces counter-clockwise seen from outside.
+fn box_json(name: &str, lo: [f64; 3], hi: [f64; 3], support: bool) -> String {
+    let v: Vec<String> = (0..8)
+        .map(|i| {
+            let x = if matches!(i % 4, 1 | 2) { hi[0] } else { lo[0] };
+            let y = if matches!(i % 4, 2 | 3) { hi[1] } else { lo[1] };
+            let z = if i >= 4 { hi[2] } else { lo[2] };
+            format!("[{x},{y},{z}]")
+        })
+        .collect();
+    format!(
+        r#"{{"name":"{name}","support":{support},"vertices":[{}],"faces":[[0,3,2,1],[4,5,6,7],[0,1,5,4],[1,2,6,5],[2,3,7,6],[3,0,4,7]]}}"#,
+        v.join(",")
+    )
+}
+
+/// Invariant: interpenetrating blocks are a warning in the text report (naming the pair) and,
+/// with `--strict`, an input error (exit 2) naming the same pair.
+#[test]
+fn overlaps_warn_and_strict_refuses_them() {
+    let scene = tmp("overlap.json");
+    let blocks = [
+        box_json("base", [-1.0, -1.0, -1.0], [3.0, 2.0, 0.0], true),
+        box_json("a", [0.0, 0.0, 0.0], [1.0, 1.0, 1.0], false),
+        box_json("b", [0.8, 0.0, 0.0], [1.8, 1.0, 1.0], false),
+    ];
+    std::fs::write(&scene, format!(r#"{{"blocks":[{}]}}"#, blocks.join(","))).unwrap();
+    let out = voussoir(&["analyze", scene.to_str().unwrap()]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains("warning: blocks 'a' and 'b' interpenetrate"), "{text}");
+    let out = voussoir(&["analyze", scene.to_str().unwrap(), "--strict"]);
+    assert_eq!(out.status.code(), Some(2), "{}", String::from_utf8_lossy(&out.stdout));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("overlap.json") && err.contains("blocks 'a' and 'b' interpenetrate"), "{err}");
+}

@@ -300,7 +300,7 @@ fn a_pipeline_rerun_gives_the_fresh_overlaps() {
 #[test]
 fn shipped_scenes_pass_the_checks() {
     for rel in assembly_files() {
-        let scene = load_scene(&shared(&rel)).unwrap();
+        let scene = load_scene(&compas_data(&rel)).unwrap();
         assert!(scene.warnings.is_empty(), "{rel}: {:?}", scene.warnings);
         Assembly::new(&scene, &Default::default()).unwrap_or_else(|e| panic!("{rel}: {e}"));
     }

@@ -25,15 +25,9 @@ impl Plugin for DiagramPlugin {
 #[derive(SystemSet, Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub struct DiagramSystems;
 
-/// The diagram mode (default: compression–tension).
-#[derive(Resource, Clone, Copy, Debug, PartialEq)]
+/// The diagram mode (default: [`DiagramMode`]'s, compression–tension).
+#[derive(Resource, Clone, Copy, Debug, PartialEq, Default)]
 pub struct DiagramSettings(pub DiagramMode);
-
-impl Default for DiagramSettings {
-    fn default() -> Self {
-        Self(DiagramMode::Compression)
-    }
-}
 
 /// A request to switch the diagram.
 #[derive(Message, Clone, Copy, Debug)]

@@ -9,6 +9,7 @@ mod obj;
 pub mod report;
 pub mod scene_json;
 mod stl;
+pub mod text_report;
 
 use crate::model::Scene;
 use std::path::{Path, PathBuf};

@@ -24,7 +24,8 @@ use std::collections::HashSet;
 /// Settings of the order search.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SearchSettings {
-    /// Static checks allowed; `None` (default) allows 20 per block + 200.
+    /// Static checks allowed; `None` (default) allows [`Self::CHECKS_PER_BLOCK`] per free
+    /// block + [`Self::BASE_CHECKS`].
     pub max_checks: Option<usize>,
     /// Prop candidates tried one by one at a failing step before adding props greedily.
     /// Default 24.
@@ -34,6 +35,18 @@ pub struct SearchSettings {
 impl Default for SearchSettings {
     fn default() -> Self {
         Self { max_checks: None, prop_candidates: 24 }
+    }
+}
+
+impl SearchSettings {
+    /// The default budget: this many static checks per free block…
+    pub const CHECKS_PER_BLOCK: usize = 20;
+    /// … and this many more.
+    pub const BASE_CHECKS: usize = 200;
+
+    /// The static checks allowed for a design of `free` free blocks.
+    pub fn budget(&self, free: usize) -> usize {
+        self.max_checks.unwrap_or(Self::CHECKS_PER_BLOCK * free + Self::BASE_CHECKS)
     }
 }
 
@@ -139,7 +152,7 @@ pub(crate) fn search_order<'a>(
         rank[index[name].0] = r;
     }
     let free: Vec<usize> = (0..n).filter(|&k| !resolved.blocks[k].support).collect();
-    let budget = stepper.checks + search.max_checks.unwrap_or(20 * free.len() + 200);
+    let budget = stepper.checks + search.budget(free.len());
     let mut dfs = Dfs {
         stepper,
         names: resolved.blocks.iter().map(|b| b.name.as_str()).collect(),

@@ -27,16 +27,23 @@
 use serde::{Deserialize, Serialize};
 
 /// How the friction capacity |f_t| ≤ μ f_n⁺ is modelled at each interface vertex.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, Default)]
+///
+/// The names (`pyramid8`, `cone`, `box4`) are the same in the scene and report JSON, on the
+/// command line (`clap::ValueEnum`, which also takes `pyramid` and `box`) and in [`Display`].
+///
+/// [`Display`]: std::fmt::Display
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, Default, clap::ValueEnum)]
 #[serde(rename_all = "lowercase")]
 pub enum FrictionModel {
     /// 8-sided outer pyramid (the seed paper's default): up to 8.2 % more friction than
     /// Coulomb in diagonal directions.
     #[default]
+    #[value(alias = "pyramid")]
     Pyramid8,
     /// Exact Coulomb cone, as a second-order cone.
     Cone,
     /// 4-sided box |f_u|, |f_v| ≤ μ f_n⁺ (older tools): up to 41 % more than Coulomb.
+    #[value(alias = "box")]
     Box4,
 }
 
@@ -49,18 +56,6 @@ impl FrictionModel {
             Self::Pyramid8 => 1.0 / std::f64::consts::FRAC_PI_8.cos(),
             Self::Cone => 1.0,
             Self::Box4 => std::f64::consts::SQRT_2,
-        }
-    }
-}
-
-impl std::str::FromStr for FrictionModel {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
-        match s {
-            "pyramid8" | "pyramid" => Ok(Self::Pyramid8),
-            "cone" => Ok(Self::Cone),
-            "box4" | "box" => Ok(Self::Box4),
-            _ => Err(format!("unknown friction model '{s}' (pyramid8, cone or box4)")),
         }
     }
 }

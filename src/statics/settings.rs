@@ -68,7 +68,7 @@ pub enum FirstStage {
 impl Default for StaticsSettings {
     fn default() -> Self {
         Self {
-            friction_model: FrictionModel::Pyramid8,
+            friction_model: FrictionModel::default(),
             friction: None,
             w_compression: 1.0,
             w_tension: 1e6,
@@ -80,8 +80,8 @@ impl Default for StaticsSettings {
             parallel: true,
             split_components: true,
             distribution: true,
-            backend: Backend::Structured,
-            first_stage: FirstStage::Strict,
+            backend: Backend::default(),
+            first_stage: FirstStage::default(),
         }
     }
 }

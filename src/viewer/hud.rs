@@ -66,7 +66,7 @@ fn row() -> Node {
 
 fn spawn_panel(mut commands: Commands) {
     let text = |line: Line, size: f32| (Text::new(""), font(size), TextColor(Color::srgb(0.9, 0.9, 0.9)), line);
-    let friction = DiagramMode::Friction { threshold: 0.5 };
+    let friction = DiagramMode::Friction { threshold: DiagramMode::DEFAULT_THRESHOLD };
     commands
         .spawn((
             Node {

@@ -33,7 +33,9 @@ fn keys(keys: Res<ButtonInput<KeyCode>>, mut actions: MessageWriter<ViewerAction
             (KeyCode::KeyS, true) => send(ViewerAction::Save),
             (_, true) => {}
             (KeyCode::Digit1, _) => send(ViewerAction::SetMode(DiagramMode::Compression)),
-            (KeyCode::Digit2, _) => send(ViewerAction::SetMode(DiagramMode::Friction { threshold: 0.5 })),
+            (KeyCode::Digit2, _) => {
+                send(ViewerAction::SetMode(DiagramMode::Friction { threshold: DiagramMode::DEFAULT_THRESHOLD }))
+            }
             (KeyCode::Digit3, _) => send(ViewerAction::SetMode(DiagramMode::Vectors)),
             (KeyCode::KeyT, _) => send(ViewerAction::ToggleTranslucent),
             (KeyCode::KeyM, _) => send(ViewerAction::ToggleMassCentres),

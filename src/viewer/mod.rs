@@ -64,7 +64,7 @@ impl ViewerOptions {
             save_to: None,
             save_over_input: false,
             settings: AnalysisSettings::default(),
-            mode: DiagramMode::Compression,
+            mode: DiagramMode::default(),
             translucent: true,
             size: (1280, 800),
             script: None,

@@ -11,15 +11,22 @@ use crate::analysis::Analysis;
 use crate::statics::{FrictionModel, InterfaceResult};
 use colors::Rgb;
 
-/// Which diagram colours the interfaces.
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// Which diagram colours the interfaces (default: compression–tension).
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
 pub enum DiagramMode {
     /// Blue compression, red tension, grey nothing, normalised per face.
+    #[default]
     Compression,
     /// Grey / yellow up to `threshold` of the capacity / orange / red beyond μ.
     Friction { threshold: f64 },
     /// Force arrows (resultants, relative magnitude) over the compression colours.
     Vectors,
+}
+
+impl DiagramMode {
+    /// The friction diagram's "low friction" limit unless one is given (`--threshold`, the
+    /// viewer's key 2): half of μ · compression.
+    pub const DEFAULT_THRESHOLD: f64 = 0.5;
 }
 
 /// The colour of every force point of `r` (in `r.vertices` order) in `mode`; `mu` and `model`

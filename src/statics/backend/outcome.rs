@@ -2,8 +2,8 @@
 
 use crate::statics::problem::SolverStatus;
 
-/// The interior-point solver of the equilibrium problems.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+/// The interior-point solver of the equilibrium problems (`--solver structured|clarabel`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize, clap::ValueEnum)]
 #[serde(rename_all = "lowercase")]
 pub enum Backend {
     /// clarabel's algorithm with the Newton system reduced to the equilibrium rows
@@ -12,17 +12,6 @@ pub enum Backend {
     Structured,
     /// clarabel with its general sparse LDL (QDLDL) on the whole KKT matrix.
     Clarabel,
-}
-
-impl std::str::FromStr for Backend {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
-        match s {
-            "structured" => Ok(Self::Structured),
-            "clarabel" => Ok(Self::Clarabel),
-            _ => Err(format!("unknown solver '{s}' (structured or clarabel)")),
-        }
-    }
 }
 
 impl std::fmt::Display for Backend {

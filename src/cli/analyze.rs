@@ -1,0 +1,106 @@
+//! `voussoir analyze` (also `drop`, and `voussoir` without a command): the statics of one
+//! design, its text report and JSON report, and on request the drop test beside it.
+
+use super::options::{DropOptions, SolverOptions};
+use super::{BadInput, load, refuse_overwrite, scene_name, write_output};
+use crate::analysis::{AnalysisSettings, analyze};
+use crate::io::{self, text_report};
+use crate::model::Scene;
+use clap::{Args, FromArgMatches};
+use std::path::PathBuf;
+
+#[derive(Args, Debug, Clone, PartialEq)]
+pub struct AnalyzeArgs {
+    /// Scene file (.json voussoir or compas Assembly, .obj, .stl) or `builtin:NAME?k=v&...`
+    /// (stack, harmonic, arch, wall, slope, dome). Default: the embedded default scene.
+    pub scene: Option<String>,
+    /// Write the JSON report here (atomically).
+    #[arg(long)]
+    pub json: Option<PathBuf>,
+    #[command(flatten)]
+    pub solver: SolverOptions,
+    /// Density for every block, kg/m³ (default: the scene's).
+    #[arg(long)]
+    pub density: Option<f64>,
+    /// Supports: `lowest` (blocks at the lowest level) or a comma-separated list of block
+    /// names; replaces the supports given in the scene.
+    #[arg(long)]
+    pub supports: Option<String>,
+    /// The ground plane z = 0 supports faces lying on it.
+    #[arg(long)]
+    pub ground: bool,
+    /// How many of the worst interfaces to list.
+    #[arg(long, default_value_t = 5)]
+    pub worst: usize,
+    /// Also run the rapier drop test and compare the verdicts.
+    #[arg(long)]
+    pub dynamic: bool,
+    #[command(flatten)]
+    pub drop: DropOptions,
+}
+
+impl AnalyzeArgs {
+    /// `analyze` with every option at its default, as the parser gives it: what `voussoir`
+    /// without a command runs (so the defaults are not written a second time).
+    pub fn defaults() -> Self {
+        let command = <Self as Args>::augment_args(clap::Command::new("analyze"));
+        Self::from_arg_matches(&command.get_matches_from(["analyze"])).expect("every option is optional")
+    }
+}
+
+pub fn run(args: &AnalyzeArgs) -> Result<i32, BadInput> {
+    if let Some(out) = &args.json {
+        refuse_overwrite(args.scene.as_deref(), out, "--json")?;
+    }
+    let mut scene = load(args.scene.as_deref())?;
+    let settings = args.solver.settings();
+    apply_scene_options(&mut scene, args, &settings)?;
+    let analysis =
+        analyze(&scene, &settings).map_err(|e| BadInput(format!("{}: {e}", scene_name(args.scene.as_deref()))))?;
+    print!("{}", text_report::summary(&analysis, args.worst));
+    let dynamic = if args.dynamic {
+        let d = crate::dynamics::drop_test(&analysis.assembly, &args.drop.settings(args.solver.mu))
+            .map_err(|e| BadInput(e.to_string()))?;
+        print!("{}", text_report::side_by_side(&analysis, &d));
+        Some(d)
+    } else {
+        None
+    };
+    if let Some(out) = &args.json {
+        write_output(out, io::report::to_json_with(&analysis, dynamic.as_ref()).as_bytes())?;
+        println!("report written to {}", out.display());
+    }
+    // Exit 0 only when it stands by every test that ran.
+    let stands = analysis.statics.stands && dynamic.as_ref().is_none_or(|d| d.stands);
+    Ok(if stands { 0 } else { 1 })
+}
+
+/// `--density`, `--ground` and `--supports`: the scene as the command line amends it.
+fn apply_scene_options(scene: &mut Scene, args: &AnalyzeArgs, settings: &AnalysisSettings) -> Result<(), BadInput> {
+    if let Some(d) = args.density {
+        scene.material.density = d;
+        scene.blocks.iter_mut().for_each(|b| b.density = None);
+    }
+    if args.ground {
+        scene.ground = true;
+    }
+    match args.supports.as_deref() {
+        None => {}
+        Some("lowest") => {
+            scene.blocks.iter_mut().for_each(|b| b.support = false);
+            // "The lowest level" within the coplanarity tolerance: the Armadillo's 33 supports
+            // sit within 2.5 cm (1.2e-3 of its size) of each other.
+            scene.mark_lowest_as_supports(settings.tolerances.coplanar);
+        }
+        Some(list) => {
+            let names: Vec<&str> = list.split(',').map(str::trim).filter(|s| !s.is_empty()).collect();
+            if let Some(missing) = names.iter().find(|n| scene.find(n).is_none()) {
+                return Err(BadInput(format!("--supports: the scene has no block named '{missing}'")));
+            }
+            for b in &mut scene.blocks {
+                b.support = names.contains(&b.name.as_str());
+            }
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,144 @@
+//! Command line: `voussoir [analyze] [SCENE] [options]`. Exit codes: 0 the assembly stands,
+//! 1 it does not (or the solver could not tell), 2 bad input.
+//!
+//! One file per command ([`analyze`], [`cut`], [`export`], [`sequence`], [`sweep`], [`view`]);
+//! the options several commands share are flattened structs in [`options`] that turn into the
+//! library's settings in one place. Every default is the library's (`default_value_t` reads its
+//! `Default` or constant), so `--help` prints it and it is written once.
+
+// `print!`/`println!` panic when stdout is a closed pipe (`voussoir analyze … | head`); the
+// report is what matters then: write what can be written, still write the JSON and exit with
+// the verdict's code. Defined before the command modules so that they use these.
+macro_rules! print {
+    ($($t:tt)*) => { $crate::cli::write_stdout(format_args!($($t)*)) };
+}
+macro_rules! println {
+    ($($t:tt)*) => { $crate::cli::write_stdout(format_args!("{}\n", format_args!($($t)*))) };
+}
+
+pub mod analyze;
+mod choice;
+pub mod cut;
+pub mod export;
+pub mod options;
+pub mod sequence;
+pub mod sweep;
+pub mod view;
+
+pub use analyze::AnalyzeArgs;
+pub use cut::CutArgs;
+pub use export::ExportArgs;
+pub use options::{Diagram, DiagramOptions, DropOptions, SolverOptions};
+pub use sequence::SequenceArgs;
+pub use sweep::{FamilyName, SweepArgs};
+pub use view::ViewArgs;
+
+use crate::io;
+use crate::model::{Scene, builtin};
+use clap::{Parser, Subcommand};
+use std::path::Path;
+
+fn write_stdout(args: std::fmt::Arguments) {
+    use std::io::Write;
+    let _ = std::io::stdout().lock().write_fmt(args);
+}
+
+/// The default scene of `voussoir` without arguments (embedded, so it runs from anywhere).
+pub const DEFAULT_SCENE: &str = include_str!("../../assets/default.json");
+
+#[derive(Parser, Debug)]
+#[command(name = "voussoir", version, about = "Do these blocks stand by compression and friction alone?")]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Option<Command>,
+}
+
+#[derive(Subcommand, Debug)]
+pub enum Command {
+    /// Detect interfaces, solve the equilibrium, print the verdict (and write a JSON report).
+    Analyze(AnalyzeArgs),
+    /// Statics and the rapier drop test side by side (= `analyze --dynamic`).
+    Drop(AnalyzeArgs),
+    /// Check every step of an assembly order (static, and with --dynamic the drop test).
+    Sequence(SequenceArgs),
+    /// Static and drop-test thresholds of a parametric family, by bisection.
+    Sweep(SweepArgs),
+    /// Add a plane or pattern cut to the scene's cut history and write the design (never over
+    /// the input).
+    Cut(CutArgs),
+    /// Export the analysed design without a window: glTF binary with the blocks and the
+    /// interface polygons coloured by a diagram mode.
+    Export(ExportArgs),
+    /// The interactive 3D viewer (built with `--features viewer`): diagrams, live cut editing,
+    /// drop test and sequence stepper side by side.
+    View(ViewArgs),
+}
+
+/// A failure that is the input's fault: exit code 2.
+#[derive(Debug)]
+pub struct BadInput(pub String);
+
+/// Runs the CLI; returns the process exit code.
+pub fn run(cli: Cli) -> i32 {
+    let result = match cli.command {
+        None => analyze::run(&AnalyzeArgs::defaults()),
+        Some(Command::Analyze(args)) => analyze::run(&args),
+        Some(Command::Drop(args)) => analyze::run(&AnalyzeArgs { dynamic: true, ..args }),
+        Some(Command::Cut(args)) => cut::run(&args),
+        Some(Command::Sweep(args)) => sweep::run(&args),
+        Some(Command::Sequence(args)) => sequence::run(&args),
+        Some(Command::Export(args)) => export::run(&args),
+        Some(Command::View(args)) => view::run(&args),
+    };
+    match result {
+        Ok(code) => code,
+        Err(BadInput(msg)) => {
+            eprintln!("error: {msg}");
+            2
+        }
+    }
+}
+
+/// Loads the scene named on the command line.
+pub fn load(spec: Option<&str>) -> Result<Scene, BadInput> {
+    match spec {
+        None => io::scene_json::scene_from_str(Path::new("assets/default.json"), DEFAULT_SCENE)
+            .map_err(|e| BadInput(e.to_string())),
+        Some(s) if s.starts_with("builtin:") => builtin(&s["builtin:".len()..]).map_err(|e| BadInput(e.to_string())),
+        Some(path) => io::load_scene(Path::new(path)).map_err(|e| BadInput(e.to_string())),
+    }
+}
+
+/// How messages name the scene given on the command line (or the default one).
+fn scene_name(spec: Option<&str>) -> &str {
+    spec.unwrap_or("default scene")
+}
+
+/// Refuses to write `out` when it is the input scene file (by canonical path, so `./a.json`
+/// and `a.json` match); `option` names the flag in the message. Inputs are never overwritten.
+fn refuse_overwrite(input: Option<&str>, out: &Path, option: &str) -> Result<(), BadInput> {
+    let Some(input) = input else { return Ok(()) };
+    let same = match (std::fs::canonicalize(input), std::fs::canonicalize(out)) {
+        (Ok(a), Ok(b)) => a == b,
+        _ => Path::new(input) == out,
+    };
+    if same {
+        return Err(BadInput(format!("{option} {} would overwrite the input; write elsewhere", out.display())));
+    }
+    Ok(())
+}
+
+/// Writes `bytes` to `out` atomically; a failure is the output path's fault.
+fn write_output(out: &Path, bytes: &[u8]) -> Result<(), BadInput> {
+    io::write_atomic(out, bytes).map_err(|e| BadInput(e.to_string()))
+}
+
+/// `N` comma-separated numbers from option `option`.
+fn numbers<const N: usize>(option: &str, text: &str, form: &str) -> Result<[f64; N], BadInput> {
+    let v: Vec<f64> = text
+        .split(',')
+        .map(|x| x.trim().parse::<f64>())
+        .collect::<Result<_, _>>()
+        .map_err(|_| BadInput(format!("{option} '{text}': expected {N} numbers {form}")))?;
+    v.try_into().map_err(|v: Vec<f64>| BadInput(format!("{option} '{text}': expected {N} numbers, got {}", v.len())))
+}

@@ -1,0 +1,132 @@
+//! The options several commands share, as structs flattened into each command's arguments,
+//! and the one place where each becomes the library's settings. Defaults are read from the
+//! library's `Default`s, so `--help` prints the value the library uses.
+
+use super::BadInput;
+use super::choice::Choice;
+use crate::analysis::AnalysisSettings;
+use crate::dynamics::DropSettings;
+use crate::geometry::Tolerances;
+use crate::statics::{Backend, FrictionModel, StaticsSettings};
+use crate::viz::DiagramMode;
+use clap::{Args, ValueEnum};
+
+/// How the statics run (`analyze`, `drop`, `sequence`, `export`, `view`).
+#[derive(Args, Debug, Clone, PartialEq)]
+pub struct SolverOptions {
+    /// Friction model.
+    #[arg(
+        long,
+        value_enum,
+        value_parser = Choice::<FrictionModel>::new(),
+        default_value_t = StaticsSettings::default().friction_model
+    )]
+    pub friction_model: FrictionModel,
+    /// Interior-point solver: structured (the Newton system reduced to the equilibrium rows) or
+    /// clarabel (its general LDL), to cross-check.
+    #[arg(long, value_enum, value_parser = Choice::<Backend>::new(), default_value_t = StaticsSettings::default().backend)]
+    pub solver: Backend,
+    /// Friction coefficient μ (default: the scene's).
+    #[arg(long)]
+    pub mu: Option<f64>,
+    /// Coplanarity tolerance relative to the model size.
+    #[arg(long, default_value_t = Tolerances::default().coplanar)]
+    pub coplanar: f64,
+    /// Angle tolerance between opposite faces, degrees.
+    #[arg(long, default_value_t = Tolerances::default().angle_deg)]
+    pub angle: f64,
+    /// Interpenetrating blocks are an error (otherwise a warning, listed first).
+    #[arg(long)]
+    pub strict: bool,
+}
+
+impl SolverOptions {
+    /// The analysis settings: the library's defaults with these options applied. The values
+    /// are checked where the library validates its settings (an error names the setting).
+    pub fn settings(&self) -> AnalysisSettings {
+        let mut settings = AnalysisSettings::default();
+        settings.statics.friction_model = self.friction_model;
+        settings.statics.backend = self.solver;
+        settings.statics.friction = self.mu;
+        settings.tolerances.coplanar = self.coplanar;
+        settings.tolerances.angle_deg = self.angle;
+        settings.strict = self.strict;
+        settings
+    }
+}
+
+/// How the drop test runs (`analyze --dynamic`, `drop`, `sequence --dynamic`, `sweep`).
+#[derive(Args, Debug, Clone, PartialEq)]
+pub struct DropOptions {
+    /// Drop test: simulated seconds (per evaluation in a sweep).
+    #[arg(long, default_value_t = DropSettings::default().duration)]
+    pub duration: f64,
+    /// Drop test: time step, s.
+    #[arg(long, default_value_t = DropSettings::default().dt)]
+    pub dt: f64,
+}
+
+impl DropOptions {
+    /// The drop-test settings: the library's defaults with these options and the friction
+    /// coefficient `friction` (`--mu`, the same as the statics'; `None`: the scene's).
+    pub fn settings(&self, friction: Option<f64>) -> DropSettings {
+        DropSettings { duration: self.duration, dt: self.dt, friction, ..Default::default() }
+    }
+}
+
+/// A diagram by name (`--mode`): the library's [`DiagramMode`] without the friction threshold.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum Diagram {
+    /// blue compression, red tension, grey nothing
+    Compression,
+    /// grey, yellow up to --threshold of μ, orange up to μ, red beyond
+    Friction,
+    /// force arrows over the compression colours
+    Vectors,
+}
+
+impl From<DiagramMode> for Diagram {
+    fn from(mode: DiagramMode) -> Self {
+        match mode {
+            DiagramMode::Compression => Self::Compression,
+            DiagramMode::Friction { .. } => Self::Friction,
+            DiagramMode::Vectors => Self::Vectors,
+        }
+    }
+}
+
+impl std::fmt::Display for Diagram {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&super::choice::name(self))
+    }
+}
+
+/// Which diagram colours the interfaces (`export`, `view`).
+#[derive(Args, Debug, Clone, PartialEq)]
+pub struct DiagramOptions {
+    /// Diagram colouring the interfaces (in the viewer the one at start; keys 1/2/3 switch).
+    #[arg(
+        long,
+        value_enum,
+        value_parser = Choice::<Diagram>::new(),
+        default_value_t = Diagram::from(DiagramMode::default())
+    )]
+    pub mode: Diagram,
+    /// Friction mode: the "low friction" limit as a fraction of μ · compression.
+    #[arg(long, default_value_t = DiagramMode::DEFAULT_THRESHOLD)]
+    pub threshold: f64,
+}
+
+impl DiagramOptions {
+    /// The diagram mode; the threshold must be a fraction when the friction diagram uses it.
+    pub fn mode(&self) -> Result<DiagramMode, BadInput> {
+        Ok(match self.mode {
+            Diagram::Compression => DiagramMode::Compression,
+            Diagram::Vectors => DiagramMode::Vectors,
+            Diagram::Friction if (0.0..=1.0).contains(&self.threshold) => {
+                DiagramMode::Friction { threshold: self.threshold }
+            }
+            Diagram::Friction => return Err(BadInput(format!("--threshold {} must be within [0, 1]", self.threshold))),
+        })
+    }
+}

@@ -1,0 +1,129 @@
+//! `voussoir sequence`: every step of an assembly order checked (statics, and the drop test
+//! with `--dynamic`), or an order searched, with temporary supports where none stands.
+
+use super::options::{DropOptions, SolverOptions};
+use super::{BadInput, load, refuse_overwrite, write_output};
+use crate::sequence::{OrderSpec, SearchSettings, check, check_with_props, search};
+use clap::Args;
+use std::path::PathBuf;
+
+#[derive(Args, Debug, Clone, PartialEq)]
+pub struct SequenceArgs {
+    /// Scene file or `builtin:…`.
+    pub scene: String,
+    /// `bottom-up` (by height), `from-supports` (by graph distance from the supports) or
+    /// block names in placing order, comma-separated (a source shape's name stands for all its
+    /// pieces, bottom-up). Default: the scene file's `order`, else bottom-up.
+    #[arg(long, conflicts_with = "search", value_parser = order_spec)]
+    pub order: Option<OrderSpec>,
+    /// Search an order in which every step stands; when none exists, propose temporary
+    /// supports (exit code 1).
+    #[arg(long)]
+    pub search: bool,
+    /// Propose temporary supports (props) for the order wherever a step would not stand.
+    #[arg(long)]
+    pub props: bool,
+    // The default budget is the library's, printed from its constants.
+    #[arg(long, help = format!(
+        "Static checks the search may run (default {} per block + {})",
+        SearchSettings::CHECKS_PER_BLOCK,
+        SearchSettings::BASE_CHECKS
+    ))]
+    pub max_checks: Option<usize>,
+    /// Also drop-test every step.
+    #[arg(long)]
+    pub dynamic: bool,
+    #[command(flatten)]
+    pub solver: SolverOptions,
+    #[command(flatten)]
+    pub drop: DropOptions,
+    /// Write the report as JSON here (atomically).
+    #[arg(long)]
+    pub json: Option<PathBuf>,
+}
+
+/// `--order`: one of the two named orders, else a list of names.
+fn order_spec(text: &str) -> Result<OrderSpec, std::convert::Infallible> {
+    Ok(match text {
+        "bottom-up" => OrderSpec::BottomUp,
+        "from-supports" => OrderSpec::FromSupports,
+        list => OrderSpec::Given(list.split(',').map(|s| s.trim().to_string()).filter(|s| !s.is_empty()).collect()),
+    })
+}
+
+pub fn run(args: &SequenceArgs) -> Result<i32, BadInput> {
+    if let Some(out) = &args.json {
+        refuse_overwrite(Some(&args.scene), out, "--json")?;
+    }
+    let scene = load(Some(&args.scene))?;
+    let spec = match &args.order {
+        Some(spec) => spec.clone(),
+        None if !scene.order.is_empty() => OrderSpec::Given(scene.order.clone()),
+        None => OrderSpec::BottomUp,
+    };
+    let settings = args.solver.settings();
+    let drop = args.drop.settings(args.solver.mu);
+    let dynamic = args.dynamic.then_some(&drop);
+    let search_settings = SearchSettings { max_checks: args.max_checks, ..Default::default() };
+    // The number of steps is known only after the cut history is replayed: a counting spinner.
+    let bar = indicatif::ProgressBar::new_spinner();
+    bar.set_style(
+        indicatif::ProgressStyle::with_template("{spinner} {pos} {msg} ({elapsed})")
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_spinner()),
+    );
+    bar.set_message(if args.search { "static checks (searching an order)" } else { "steps checked" });
+    let tick = || bar.inc(1);
+    let report = if args.search {
+        search(&scene, &settings, &search_settings, dynamic, &tick)
+    } else if args.props {
+        check_with_props(&scene, &spec, &settings, &search_settings, dynamic, &tick)
+    } else {
+        check(&scene, &spec, &settings, dynamic, &tick)
+    };
+    bar.finish_and_clear();
+    let r = report.map_err(|e| BadInput(format!("{}: {e}", args.scene)))?;
+    print_report(&r, args.dynamic);
+    if let Some(out) = &args.json {
+        write_output(out, serde_json::to_string_pretty(&r).unwrap_or_default().as_bytes())?;
+    }
+    let dyn_ok = r.steps.iter().all(|s| s.dynamic.as_ref().is_none_or(|d| d.stands));
+    Ok(if r.stands_unpropped() && dyn_ok { 0 } else { 1 })
+}
+
+/// The search's outcome, one line per step, the props and the first failure.
+fn print_report(r: &crate::sequence::SequenceReport, dynamic: bool) {
+    if let Some(info) = &r.search {
+        let what = match (info.found, info.exhaustive) {
+            (true, _) => "found an order in which every step stands".to_string(),
+            (false, true) => "no order stands at every step (the search was exhaustive)".to_string(),
+            (false, false) => format!("no standing order found within {} checks", info.checks),
+        };
+        println!("search: {what}; {} static checks, longest standing prefix {}", info.checks, info.deepest);
+    }
+    println!(
+        "step  placed                 statics  tension      friction excess{}  props",
+        if dynamic { "  drop test" } else { "" }
+    );
+    for (i, s) in r.steps.iter().enumerate() {
+        let d = s.dynamic.as_ref().map(|d| if d.stands { "  stands" } else { "  falls " }).unwrap_or("");
+        let word = if s.stands { "stands" } else { "FAILS " };
+        println!(
+            "{i:>4}  {:<22} {word}   {:.3e} W  {:.3e} W{d}  {}",
+            s.placed,
+            s.tension_ratio,
+            s.friction_excess_ratio,
+            s.props.join(", ")
+        );
+    }
+    for p in &r.temporary_supports {
+        println!("prop '{}' from step {} until step {}", p.block, p.from, p.until);
+    }
+    match r.first_failure {
+        None if r.temporary_supports.is_empty() => println!("every step stands"),
+        None => println!("every step stands with {} temporary support(s)", r.temporary_supports.len()),
+        Some(k) => {
+            let s = &r.steps[k];
+            println!("first failure at step {k} ({}): {:?} {}", s.placed, s.verdict, s.offending.join(", "))
+        }
+    }
+}
