@@ -36,6 +36,7 @@ pub mod interfaces;
 pub mod io;
 pub mod model;
 pub mod plot;
+pub mod robustness;
 pub mod sequence;
 pub mod statics;
 pub mod sweep;

@@ -462,3 +462,75 @@ fn overlaps_warn_and_strict_refuses_them() {
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("overlap.json") && err.contains("blocks 'a' and 'b' interpenetrate"), "{err}");
 }
+
+/// Invariant: `robustness` prints λ* first and writes it (with the mechanism) to the JSON
+/// report: a column of two unit blocks under a horizontal 1 g tips at b/(n h) = 0.5; a
+/// vertical load on top is carried at any size (λ* = ∞, `null`); the worst direction writes
+/// the polar plot and the mechanism picture; bad loads exit 2 naming the problem.
+#[test]
+fn robustness_reports_the_load_factor_and_mechanism() {
+    let json = tmp("robust.json");
+    let out = voussoir(&["robustness", "builtin:stack?n=2", "--direction", "0", "--json", json.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stderr));
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.starts_with("LOAD FACTOR λ* = 0.5000"), "{text}");
+    let v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let r = &v["robustness"];
+    assert_eq!(r["safety"]["kind"], "collapses");
+    assert!((r["load_factor"].as_f64().unwrap() - 0.5).abs() < 1e-6);
+    assert_eq!(r["mechanism"]["blocks"].as_array().unwrap().len(), 2);
+    let states: Vec<&str> =
+        r["mechanism"]["interfaces"].as_array().unwrap().iter().map(|i| i["state"].as_str().unwrap()).collect();
+    assert!(states.contains(&"hinging"), "{states:?}");
+    for key in ["load", "residual", "iterations", "solver_seconds"] {
+        assert!(r.get(key).is_some(), "robustness has '{key}'");
+    }
+
+    let out = voussoir(&[
+        "robustness",
+        "builtin:stack?n=2",
+        "--load",
+        "box1:0,0,2:0,0,-1000",
+        "--json",
+        json.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(0));
+    let v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    assert_eq!(v["robustness"]["safety"]["kind"], "unlimited");
+    assert!(v["robustness"]["load_factor"].is_null());
+
+    let (plot, picture) = (tmp("polar.png"), tmp("mechanism.svg"));
+    let out = voussoir(&[
+        "robustness",
+        "builtin:stack?n=2",
+        "--directions",
+        "8",
+        "--plot",
+        plot.to_str().unwrap(),
+        "--mechanism",
+        picture.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(String::from_utf8_lossy(&out.stdout).contains("worst direction"));
+    assert!(std::fs::read(&plot).unwrap().starts_with(b"\x89PNG"));
+    assert!(std::fs::read_to_string(&picture).unwrap().contains("<svg"));
+
+    for (args, message) in [
+        (vec!["--load", "nope:0,0,0:1,0,0"], "no block named 'nope'"),
+        (vec!["--load", "box1:1,2"], "expected BLOCK:X,Y,Z:FX,FY,FZ[:dead]"),
+        (vec!["--accel", "0.2,0"], "--accel '0.2,0': expected 3 numbers"),
+        (vec!["--load", "box1:0,0,9:1,0,0"], "outside block 'box1'"),
+    ] {
+        let mut all = vec!["robustness", "builtin:stack?n=2"];
+        all.extend(args);
+        let out = voussoir(&all);
+        assert_eq!(out.status.code(), Some(2), "{all:?}");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(err.contains(message), "{all:?}: {err}");
+    }
+    // A dead acceleration of 0.6 g tips the column in `analyze` (b/(n h) = 0.5).
+    let out = voussoir(&["analyze", "builtin:stack?n=2", "--accel", "0.6,0,0:dead"]);
+    assert_eq!(out.status.code(), Some(1));
+    let out = voussoir(&["analyze", "builtin:stack?n=2", "--accel", "0.4,0,0:dead"]);
+    assert_eq!(out.status.code(), Some(0));
+}

@@ -268,3 +268,42 @@ fn interfaces_are_coloured_by_the_diagram_mode() {
     }
     assert_ne!(before[0].1, after[0].1, "the mode switch recoloured the interface");
 }
+
+/// Invariant: with a robustness request the app holds the core's load factor and writes the
+/// mechanism on the block and interface entities; after an edit of one component only that
+/// component's load factor is solved again.
+#[test]
+fn the_load_factor_follows_edits_component_by_component() {
+    use voussoir::model::Load;
+    // Two separate blocks b × b × h on their own bases, 3 m apart: two components.
+    let pillar = |name: &str, x: f64, h: f64| {
+        vec![
+            cuboid(&format!("{name}-base"), [x - 1.0, -1.0, -1.0], [x + 1.5, 1.5, 0.0]).support(true),
+            cuboid(name, [x, 0.0, 0.0], [x + 0.5, 0.5, h]),
+        ]
+    };
+    let mut blocks = pillar("left", 0.0, 1.0);
+    blocks.extend(pillar("right", 4.0, 2.0));
+    let mut scene = Scene::new("pillars", blocks);
+    scene.loads.push(Load::horizontal(0.0, 1.0));
+    let mut app = app();
+    app.insert_resource(RobustnessRequest::LiveLoads);
+    send(&mut app, Edit::Load(scene.clone()));
+    let r = app.world().resource::<RobustnessStatus>().clone();
+    // The taller pillar tips first: λ* = b/h = 0.25.
+    assert_close(r.load_factor(), 0.25, 1e-6, "the ECS load factor");
+    assert_eq!((r.solved, r.reused), (2, 0));
+    let mut q = app.world_mut().query::<(&BlockName, &MechanismMotion)>();
+    let moving: Vec<String> = q.iter(app.world()).map(|(n, _)| n.0.clone()).collect();
+    assert_eq!(moving, vec!["right".to_string()]);
+    let mut q = app.world_mut().query::<&JointMotion>();
+    assert!(q.iter(app.world()).any(|j| j.0 == voussoir::robustness::JointState::Hinging));
+
+    // Shorten the left pillar's neighbour: a new block on the left base touches only the left
+    // component's base (a support): the right component is reused.
+    send(&mut app, Edit::AddBlock(cuboid("cap", [-0.9, 1.0, 0.0], [-0.4, 1.4, 0.3])));
+    let r = app.world().resource::<RobustnessStatus>().clone();
+    assert_close(r.load_factor(), 0.25, 1e-6, "unchanged");
+    assert_eq!(r.reused, 2, "both old components reused; {} solved (the new block)", r.solved);
+    assert_eq!(r.solved, 1);
+}

@@ -110,17 +110,17 @@ fn main() {
         Shot(path("default_vectors")),
         // Thinner than Milankovitch's minimum (t/R ≈ 0.1075): needs tension.
         Act(A::SetMode(DiagramMode::Compression)),
-        Load(builtin("arch?n=15&t=0.08").unwrap()),
+        Load(Box::new(builtin("arch?n=15&t=0.08").unwrap())),
         Settle(5),
         Shot(path("tension_compression")),
         // tan 35° = 0.70 > μ = 0.5: slides, friction exceeded.
         Act(A::SetMode(friction)),
-        Load(builtin("slope?angle=35&mu=0.5").unwrap()),
+        Load(Box::new(builtin("slope?angle=35&mu=0.5").unwrap())),
         Settle(5),
         Shot(path("sliding_friction")),
         // Editing: cut the top cube of a stack, move the cut, undo, redo, undo, save.
         Act(A::SetMode(DiagramMode::Compression)),
-        Load(builtin("stack?n=2").unwrap()),
+        Load(Box::new(builtin("stack?n=2").unwrap())),
         Settle(3),
         // Picked as a click would: the ray towards box1's centre meets box1 first.
         Act(A::ClickToward([0.0, 0.0, 1.5])),
@@ -144,7 +144,7 @@ fn main() {
         Settle(3),
         Shot(path("restored")),
         // The drop test beside the statics, then the sequence stepper, on the default arch.
-        Load(default_scene.clone()),
+        Load(Box::new(default_scene.clone())),
         Act(A::DropTest),
         Settle(3),
         Shot(path("drop")),
@@ -154,6 +154,11 @@ fn main() {
         Act(A::Step(8)),
         Settle(3),
         Shot(path("sequence")),
+        // The collapse mechanism of the default arch's worst horizontal direction, beside it.
+        Act(A::ExitSequence),
+        Act(A::ToggleMechanism),
+        Settle(5),
+        Shot(path("mechanism")),
     ];
     let report_path = dir.join("report.json");
     let mut options = ViewerOptions::new(default_scene);
@@ -251,4 +256,24 @@ fn check(report: &Value, saved: &Path) {
     let c = picture(&s, "main_viewport");
     println!("sequence step 9: {c:?}");
     assert!(c.red > 20, "the step's own diagram shows its tension: {c:?}");
+    // The mechanism view: the arch's worst direction and λ* (the core's), the blocks moved
+    // along the mechanism in the second view.
+    let s = shot(report, "mechanism");
+    let arch = voussoir::analysis::analyze(&voussoir::cli::load(None).unwrap(), &Default::default()).unwrap();
+    let sweep = voussoir::robustness::worst_direction(
+        &arch.assembly,
+        &arch.interfaces,
+        &Default::default(),
+        &Default::default(),
+        &|_, _| {},
+    )
+    .unwrap();
+    let shown = s["load_factor"].as_f64().expect("a load factor");
+    assert!((shown - sweep.worst_load_factor).abs() < 1e-9, "{s}");
+    assert!(s["worst_azimuth"].is_number(), "{s}");
+    let physics = rect(&s["physics_viewport"]);
+    assert!(physics[0] >= rect(&s["main_viewport"])[2], "the mechanism is beside the design: {s}");
+    let c = picture(&s, "physics_viewport");
+    println!("mechanism view: {c:?}");
+    assert!(c.sandstone > c.total / 100, "the moved blocks are drawn: {c:?}");
 }

@@ -1,11 +1,11 @@
 //! `voussoir analyze` (also `drop`, and `voussoir` without a command): the statics of one
 //! design, its text report and JSON report, and on request the drop test beside it.
 
-use super::options::{DropOptions, SolverOptions};
+use super::options::{DropOptions, LoadOptions, SolverOptions};
 use super::{BadInput, load, refuse_overwrite, scene_name, write_output};
 use crate::analysis::{AnalysisSettings, analyze};
 use crate::io::{self, text_report};
-use crate::model::Scene;
+use crate::model::{LoadKind, Scene};
 use clap::{Args, FromArgMatches};
 use std::path::PathBuf;
 
@@ -19,6 +19,8 @@ pub struct AnalyzeArgs {
     pub json: Option<PathBuf>,
     #[command(flatten)]
     pub solver: SolverOptions,
+    #[command(flatten)]
+    pub loads: LoadOptions,
     /// Density for every block, kg/m³ (default: the scene's).
     #[arg(long)]
     pub density: Option<f64>,
@@ -55,9 +57,14 @@ pub fn run(args: &AnalyzeArgs) -> Result<i32, BadInput> {
     let mut scene = load(args.scene.as_deref())?;
     let settings = args.solver.settings();
     apply_scene_options(&mut scene, args, &settings)?;
+    scene.loads.extend(args.loads.loads()?);
+    let live = scene.loads.iter().filter(|l| l.kind() == LoadKind::Live).count();
     let analysis =
         analyze(&scene, &settings).map_err(|e| BadInput(format!("{}: {e}", scene_name(args.scene.as_deref()))))?;
     print!("{}", text_report::summary(&analysis, args.worst));
+    if live > 0 {
+        println!("  {live} live load(s) not applied: `voussoir robustness` gives their load factor");
+    }
     let dynamic = if args.dynamic {
         let d = crate::dynamics::drop_test(&analysis.assembly, &args.drop.settings(args.solver.mu))
             .map_err(|e| BadInput(e.to_string()))?;

@@ -1,7 +1,8 @@
 //! Command line: `voussoir [analyze] [SCENE] [options]`. Exit codes: 0 the assembly stands,
 //! 1 it does not (or the solver could not tell), 2 bad input.
 //!
-//! One file per command ([`analyze`], [`cut`], [`export`], [`sequence`], [`sweep`], [`view`]);
+//! One file per command ([`analyze`], [`cut`], [`export`], [`robustness`], [`sequence`], [`sweep`],
+//! [`view`]);
 //! the options several commands share are flattened structs in [`options`] that turn into the
 //! library's settings in one place. Every default is the library's (`default_value_t` reads its
 //! `Default` or constant), so `--help` prints it and it is written once.
@@ -21,6 +22,7 @@ mod choice;
 pub mod cut;
 pub mod export;
 pub mod options;
+pub mod robustness;
 pub mod sequence;
 pub mod sweep;
 pub mod view;
@@ -28,7 +30,8 @@ pub mod view;
 pub use analyze::AnalyzeArgs;
 pub use cut::CutArgs;
 pub use export::ExportArgs;
-pub use options::{Diagram, DiagramOptions, DropOptions, SolverOptions};
+pub use options::{Diagram, DiagramOptions, DropOptions, LoadOptions, SolverOptions};
+pub use robustness::RobustnessArgs;
 pub use sequence::SequenceArgs;
 pub use sweep::{FamilyName, SweepArgs};
 pub use view::ViewArgs;
@@ -59,6 +62,9 @@ pub enum Command {
     Analyze(AnalyzeArgs),
     /// Statics and the rapier drop test side by side (= `analyze --dynamic`).
     Drop(AnalyzeArgs),
+    /// How safely it stands: the load factor of the live loads (or of a horizontal
+    /// acceleration, or its worst direction) and the collapse mechanism.
+    Robustness(RobustnessArgs),
     /// Check every step of an assembly order (static, and with --dynamic the drop test).
     Sequence(SequenceArgs),
     /// Static and drop-test thresholds of a parametric family, by bisection.
@@ -87,6 +93,7 @@ pub fn run(cli: Cli) -> i32 {
         Some(Command::Cut(args)) => cut::run(&args),
         Some(Command::Sweep(args)) => sweep::run(&args),
         Some(Command::Sequence(args)) => sequence::run(&args),
+        Some(Command::Robustness(args)) => robustness::run(&args),
         Some(Command::Export(args)) => export::run(&args),
         Some(Command::View(args)) => view::run(&args),
     };

@@ -6,7 +6,8 @@ use super::BadInput;
 use super::choice::Choice;
 use crate::analysis::AnalysisSettings;
 use crate::dynamics::DropSettings;
-use crate::geometry::Tolerances;
+use crate::geometry::{Point3, Tolerances, Vector3};
+use crate::model::{Load, LoadKind};
 use crate::statics::{Backend, FrictionModel, StaticsSettings};
 use crate::viz::DiagramMode;
 use clap::{Args, ValueEnum};
@@ -128,5 +129,57 @@ impl DiagramOptions {
             }
             Diagram::Friction => return Err(BadInput(format!("--threshold {} must be within [0, 1]", self.threshold))),
         })
+    }
+}
+
+/// Loads from the command line, added to the scene's (`analyze`, `drop`, `robustness`).
+#[derive(Args, Debug, Clone, PartialEq, Default)]
+pub struct LoadOptions {
+    /// A point load BLOCK:X,Y,Z:FX,FY,FZ — point (m) on the block, force (N) — live (scaled by
+    /// the load factor) unless it ends in `:dead`. Repeatable.
+    #[arg(long = "load", value_name = "BLOCK:X,Y,Z:FX,FY,FZ[:dead]")]
+    pub loads: Vec<String>,
+    /// An acceleration AX,AY,AZ in g on every free block's mass, live unless it ends in `:dead`
+    /// (e.g. `0.2,0,0:dead` is a pseudo-static seismic load). Repeatable.
+    #[arg(long, value_name = "AX,AY,AZ[:dead]")]
+    pub accel: Vec<String>,
+}
+
+impl LoadOptions {
+    /// The loads as the library's, each option checked for its form (the library checks the
+    /// rest: the block, the point, finite numbers).
+    pub fn loads(&self) -> Result<Vec<Load>, BadInput> {
+        let kind = |text: &str| -> (String, LoadKind) {
+            match text.strip_suffix(":dead") {
+                Some(rest) => (rest.to_string(), LoadKind::Dead),
+                None => (text.strip_suffix(":live").unwrap_or(text).to_string(), LoadKind::Live),
+            }
+        };
+        let mut out = Vec::new();
+        for text in &self.loads {
+            let (body, kind) = kind(text);
+            let form = "BLOCK:X,Y,Z:FX,FY,FZ[:dead]";
+            let parts: Vec<&str> = body.rsplitn(3, ':').collect();
+            let [force, point, block] = parts[..] else {
+                return Err(BadInput(format!("--load '{text}': expected {form}")));
+            };
+            if block.is_empty() {
+                return Err(BadInput(format!("--load '{text}': no block named (expected {form})")));
+            }
+            let p = super::numbers::<3>("--load", point, "X,Y,Z (the point, m)")?;
+            let f = super::numbers::<3>("--load", force, "FX,FY,FZ (the force, N)")?;
+            out.push(Load::Point {
+                block: block.to_string(),
+                point: Point3::new(p[0], p[1], p[2]),
+                force: Vector3::new(f[0], f[1], f[2]),
+                kind,
+            });
+        }
+        for text in &self.accel {
+            let (body, kind) = kind(text);
+            let a = super::numbers::<3>("--accel", &body, "AX,AY,AZ (in g)")?;
+            out.push(Load::Acceleration { accel: Vector3::new(a[0], a[1], a[2]), kind });
+        }
+        Ok(out)
     }
 }

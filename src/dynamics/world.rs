@@ -84,6 +84,15 @@ impl Simulation {
             }
             bodies.push(world.insert(body, collider).0);
         }
+        // Dead loads (self-weight is the gravity): a constant world force and torque about the
+        // centroid — the small motions of a drop test do not turn a point load's arm.
+        for (i, &h) in bodies.iter().enumerate() {
+            let d = assembly.loads[i].dead;
+            if let Some(body) = world.bodies.get_mut(h).filter(|_| d != [0.0; 6]) {
+                body.add_force(v32(Vector3::new(d[0], d[1], d[2])), true);
+                body.add_torque(v32(Vector3::new(d[3], d[4], d[5])), true);
+            }
+        }
         if assembly.ground {
             let half = (10.0 * all.diagonal()).max(1.0) as f32;
             let depth = (0.5 * unit) as f32;

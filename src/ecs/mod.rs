@@ -13,11 +13,13 @@
 
 pub mod diagram;
 pub mod dynamics;
+pub mod robustness;
 pub mod sequence;
 mod systems;
 
 pub use diagram::{DiagramPlugin, DiagramSettings, InterfaceColors, SetDiagram};
 pub use dynamics::{BlockPose, DropStatus, DynamicsPlugin, RunDropTest};
+pub use robustness::{JointMotion, MechanismMotion, RobustnessPlugin, RobustnessRequest, RobustnessStatus};
 pub use sequence::{Placed, SequencePlugin, SequenceSettings, SequenceStatus, StartSequence, StepSequence};
 
 use crate::analysis::{AnalysisSettings, Pipeline, Timings, Work};
@@ -34,7 +36,12 @@ pub struct VoussoirPlugins;
 
 impl PluginGroup for VoussoirPlugins {
     fn build(self) -> PluginGroupBuilder {
-        PluginGroupBuilder::start::<Self>().add(DesignPlugin).add(DiagramPlugin).add(DynamicsPlugin).add(SequencePlugin)
+        PluginGroupBuilder::start::<Self>()
+            .add(DesignPlugin)
+            .add(DiagramPlugin)
+            .add(DynamicsPlugin)
+            .add(SequencePlugin)
+            .add(RobustnessPlugin)
     }
 }
 
@@ -147,6 +154,10 @@ pub struct InterfaceOf {
     pub a: Option<Entity>,
     pub b: Option<Entity>,
 }
+
+/// An interface entity's index in the analysis's interface list.
+#[derive(Component, Clone, Copy, Debug, PartialEq, Eq)]
+pub struct InterfaceIndex(pub usize);
 
 /// An interface's forces and utilisation as the statics computed them.
 #[derive(Component, Clone, Debug, PartialEq)]

@@ -109,7 +109,7 @@ pub fn write_entities(
     // Interfaces between fixed bodies are never solved: they get no forces.
     let mut results = a.statics.interfaces.iter().peekable();
     for (k, i) in a.interfaces.iter().enumerate() {
-        let mut e = commands.spawn(InterfaceOf { a: entity_of(i.a), b: entity_of(i.b) });
+        let mut e = commands.spawn((InterfaceOf { a: entity_of(i.a), b: entity_of(i.b) }, InterfaceIndex(k)));
         if let Some(r) = results.next_if(|r| r.index == k) {
             e.insert(InterfaceForces(r.clone()));
         }

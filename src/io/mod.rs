@@ -7,6 +7,7 @@
 pub mod compas;
 mod obj;
 pub mod report;
+pub mod robustness_report;
 pub mod scene_json;
 mod stl;
 pub mod text_report;

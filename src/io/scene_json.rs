@@ -11,11 +11,13 @@
 //! [nx,ny,nz], "target": "name"?}` or `{"apex": [x,y,z], "segments": [[[x,y,z],[x,y,z]], …],
 //! "target": "name"?}`, …], default none: then `blocks` are the source shapes), `removed`
 //! (names of pieces left out after the history, default none), `supports` (names of pieces
-//! made supports after the history, default none), and
-//! per block `support` (false) and `density` are optional, so the neutral shape without
+//! made supports after the history, default none), `loads` (default none: `[{"block": "top",
+//! "point": [x,y,z], "force": [fx,fy,fz], "kind": "dead"}, {"acceleration": [ax,ay,az]}, …]`,
+//! forces in N, accelerations in g, `kind` dead or live — the default; [`crate::model::loads`]),
+//! and per block `support` (false) and `density` are optional, so the neutral shape without
 //! `schema` and `ground` loads as is.
 //!
-//! Unknown keys, at every level (the scene, a block, a cut): a key within a typo of a known
+//! Unknown keys, at every level (the scene, a block, a cut, a load): a key within a typo of a known
 //! one — edit distance at most 2, at most 1 when either is four letters or shorter (`note` is
 //! not `name`) — is an error suggesting the known key (`frction`: "did you mean
 //! `friction`?"), since a misspelt setting must not be dropped silently; any other is
@@ -24,7 +26,7 @@
 
 use super::IoError;
 use crate::geometry::{Mesh, Point3, Vector3};
-use crate::model::{Block, Cut, Material, Scene, Warning};
+use crate::model::{Block, Cut, Load, LoadKind, Material, Scene, Warning};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
@@ -55,6 +57,63 @@ struct SceneFile {
     supports: Vec<String>,
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     order: Vec<String>,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    loads: Vec<LoadFile>,
+}
+
+/// A load: `block`, `point` and `force` (a point load) or `acceleration` (a field, in g);
+/// `kind` `dead` or `live` (default).
+#[derive(Debug, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct LoadFile {
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    block: Option<String>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    point: Option<[f64; 3]>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    force: Option<[f64; 3]>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    acceleration: Option<[f64; 3]>,
+    #[serde(default)]
+    kind: LoadKind,
+}
+
+impl LoadFile {
+    fn to_load(&self, path: &Path, index: usize) -> Result<Load, IoError> {
+        let v = |a: [f64; 3]| Vector3::new(a[0], a[1], a[2]);
+        match (&self.block, self.point, self.force, self.acceleration) {
+            (Some(block), Some(p), Some(f), None) => Ok(Load::Point {
+                block: block.clone(),
+                point: Point3::new(p[0], p[1], p[2]),
+                force: v(f),
+                kind: self.kind,
+            }),
+            (None, None, None, Some(a)) => Ok(Load::Acceleration { accel: v(a), kind: self.kind }),
+            _ => Err(IoError::format(
+                path,
+                format!(
+                    "load #{index}: give either `block`, `point` and `force` (a point load) or \
+                     `acceleration` (a field in g), not a mix"
+                ),
+            )),
+        }
+    }
+
+    fn from_load(load: &Load) -> Self {
+        let a = |v: &Vector3| Some([v.x, v.y, v.z]);
+        match load {
+            Load::Point { block, point, force, kind } => LoadFile {
+                block: Some(block.clone()),
+                point: Some([point.x, point.y, point.z]),
+                force: a(force),
+                kind: *kind,
+                ..Default::default()
+            },
+            Load::Acceleration { accel, kind } => {
+                LoadFile { acceleration: a(accel), kind: *kind, ..Default::default() }
+            }
+        }
+    }
 }
 
 #[derive(Debug, Serialize, Deserialize)]
@@ -81,10 +140,13 @@ pub fn scene_from_str(path: &Path, text: &str) -> Result<Scene, IoError> {
 }
 
 /// Keys of the format at each level.
-const SCENE_KEYS: &[&str] =
-    &["schema", "name", "blocks", "density", "friction", "gravity", "ground", "cuts", "removed", "supports", "order"];
+const SCENE_KEYS: &[&str] = &[
+    "schema", "name", "blocks", "density", "friction", "gravity", "ground", "cuts", "removed", "supports", "order",
+    "loads",
+];
 const BLOCK_KEYS: &[&str] = &["name", "vertices", "faces", "support", "density"];
 const CUT_KEYS: &[&str] = &["point", "normal", "apex", "segments", "target"];
+const LOAD_KEYS: &[&str] = &["block", "point", "force", "acceleration", "kind"];
 
 /// Levenshtein distance (insertions, deletions, substitutions of characters).
 fn edit_distance(a: &str, b: &str) -> usize {
@@ -157,6 +219,13 @@ fn screen_keys(path: &Path, value: &mut serde_json::Value) -> Result<Vec<Warning
             }
         }
     }
+    if let Some(loads) = scene.get_mut("loads").and_then(|c| c.as_array_mut()) {
+        for (i, load) in loads.iter_mut().enumerate() {
+            if let Some(load) = load.as_object_mut() {
+                screen(path, load, LOAD_KEYS, Some(format!("load #{i}")), &mut warnings)?;
+            }
+        }
+    }
     Ok(warnings)
 }
 
@@ -184,6 +253,7 @@ pub(crate) fn scene_from_value(path: &Path, mut value: serde_json::Value) -> Res
     scene.removed = file.removed;
     scene.supports = file.supports;
     scene.order = file.order;
+    scene.loads = file.loads.iter().enumerate().map(|(i, l)| l.to_load(path, i)).collect::<Result<_, _>>()?;
     scene.warnings = warnings;
     scene.blocks = file
         .blocks
@@ -222,6 +292,7 @@ pub fn scene_to_string(scene: &Scene) -> String {
         removed: scene.removed.clone(),
         supports: scene.supports.clone(),
         order: scene.order.clone(),
+        loads: scene.loads.iter().map(LoadFile::from_load).collect(),
     };
     serde_json::to_string_pretty(&file).expect("a scene always serialises")
 }

@@ -152,3 +152,73 @@ fn disagreement(statics_stand: bool, d: &DropResult) -> &'static str {
         }
     }
 }
+
+/// The text report of `voussoir robustness`: the load factor first, then the mechanism and,
+/// for a direction sweep, the worst direction. `load` says what the live load was.
+pub fn robustness(
+    analysis: &Analysis,
+    r: &crate::robustness::Robustness,
+    sweep: Option<&crate::robustness::DirectionSweep>,
+    load: &str,
+) -> String {
+    use crate::robustness::{JointState, Safety};
+    use std::fmt::Write;
+    let mut o = String::new();
+    let s = &analysis.statics;
+    let _ = match r.safety {
+        Safety::Collapses { load_factor } => {
+            writeln!(o, "LOAD FACTOR λ* = {load_factor:.4}: collapses at {load_factor:.4} × {load}")
+        }
+        Safety::Unlimited => writeln!(o, "LOAD FACTOR λ* = ∞: no multiple of {load} makes it collapse"),
+        Safety::DoesNotStand => writeln!(
+            o,
+            "DOES NOT STAND under its dead load: tension {:.3e} W, friction excess {:.3e} W (no load factor)",
+            s.tension_ratio, s.friction_excess_ratio
+        ),
+        Safety::SolverFailed { status, residual } => {
+            writeln!(o, "UNDECIDED: the load-factor solve ended with {status:?} (residual {residual:.2e} N)")
+        }
+    };
+    let _ = writeln!(
+        o,
+        "  {} blocks, friction {} μ = {:.4}; {} iterations, {:.1} ms in the solver",
+        analysis.assembly.blocks.len(),
+        s.friction_model,
+        s.friction_coefficient,
+        r.iterations,
+        1e3 * r.solver_seconds
+    );
+    if let Some(sw) = sweep {
+        let _ = writeln!(
+            o,
+            "  worst direction {:.2}° (λ* = {:.4}); over {} directions λ* from {:.4} to {:.4} ({} solves)",
+            sw.worst_azimuth,
+            sw.worst_load_factor,
+            sw.azimuths.len(),
+            sw.load_factors.iter().copied().fold(f64::INFINITY, f64::min),
+            sw.load_factors.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+            sw.solves
+        );
+    }
+    match &r.mechanism {
+        None => {
+            let _ = writeln!(o, "  no collapse mechanism");
+        }
+        Some(m) => {
+            let count = |state| m.interfaces.iter().filter(|i| i.state == state).count();
+            let _ = writeln!(
+                o,
+                "  mechanism: {} moving block(s); interfaces {} hinging, {} opening, {} sliding, {} closed",
+                m.blocks.len(),
+                count(JointState::Hinging),
+                count(JointState::Opening),
+                count(JointState::Sliding),
+                count(JointState::Closed)
+            );
+            for i in m.interfaces.iter().filter(|i| i.state != JointState::Closed).take(5) {
+                let _ = writeln!(o, "    {} → {}: {:?}", i.a, i.b, i.state);
+            }
+        }
+    }
+    o
+}

@@ -1,6 +1,6 @@
 //! Validated scene: repaired meshes, mass properties, model size, face planes.
 
-use super::{BlockId, Material, Scene};
+use super::{BlockId, BlockLoads, Material, Scene};
 use crate::geometry::polygon::{area_vector, centroid};
 use crate::geometry::tolerances::AbsTolerances;
 use crate::geometry::{Aabb3, MassProperties, Mesh, MeshError, MeshWarning, Point3, Tolerances, Vector3, repair};
@@ -41,6 +41,9 @@ pub enum ModelError {
     /// pair relative to its size, and how many other pairs overlap.
     #[error("{overlap}{}", others_note(.others))]
     Overlap { overlap: Overlap, others: usize },
+    /// A load (`index` in the scene's list) that cannot be applied.
+    #[error("load #{index}: {message}")]
+    BadLoad { index: usize, message: String },
 }
 
 /// Something the analysis let pass but the user should know, naming the file, block or pair.
@@ -55,6 +58,9 @@ pub enum Warning {
     /// Two blocks interpenetrate beyond the coplanarity tolerance: the statics see only their
     /// interfaces, not the overlap.
     Overlap(Overlap),
+    /// A load (`index` in the scene's list) on a support block: ignored, a support takes any
+    /// reaction.
+    LoadOnSupport { index: usize, block: String },
 }
 
 impl Warning {
@@ -79,6 +85,9 @@ impl std::fmt::Display for Warning {
                 write!(f, "unknown key `{key}` ignored")
             }
             Warning::Overlap(o) => write!(f, "{o}"),
+            Warning::LoadOnSupport { index, block } => {
+                write!(f, "load #{index} on support block '{block}' ignored (a support takes any reaction)")
+            }
         }
     }
 }
@@ -183,6 +192,8 @@ pub struct Assembly {
     /// Bounding-box diagonal of all blocks: the length every tolerance is relative to.
     pub scale: f64,
     pub tolerances: AbsTolerances,
+    /// Loads besides self-weight, per block (zero on supports): [`super::loads`].
+    pub loads: Vec<BlockLoads>,
     /// The scene's load warnings, then the repairs made here; a [`crate::analysis::Pipeline`]
     /// run puts the interpenetrating pairs ahead of them.
     pub warnings: Vec<Warning>,
@@ -244,8 +255,11 @@ impl Assembly {
                 faces,
             });
         }
+        let (loads, load_warnings) = super::loads::resolve(&scene.loads, &blocks, scene.gravity.norm(), tol.coplanar)?;
+        warnings.extend(load_warnings);
         Ok(Self {
             name: scene.name.clone(),
+            loads,
             blocks,
             material: scene.material,
             gravity: scene.gravity,
@@ -275,6 +289,11 @@ impl Assembly {
         let mut bb = Aabb3::empty();
         self.blocks.iter().for_each(|b| bb.merge(&b.mesh.aabb()));
         bb
+    }
+
+    /// Whether any free block carries a live load.
+    pub fn has_live_loads(&self) -> bool {
+        self.loads.iter().any(|l| l.live.iter().any(|&v| v != 0.0))
     }
 
     pub fn supports(&self) -> impl Iterator<Item = BlockId> + '_ {

@@ -1,7 +1,7 @@
 //! Edits of a design, as data: what the ECS layer's requests and the CLI carry. Applying one is
 //! a pure function of the scene; names are checked when the design is next resolved.
 
-use super::{Block, Cut, Material, Scene};
+use super::{Block, Cut, Load, Material, Scene};
 use crate::statics::FrictionModel;
 use thiserror::Error;
 
@@ -26,6 +26,10 @@ pub enum Edit {
     AddBlock(Block),
     /// Set the friction coefficient μ of the material.
     SetFriction(f64),
+    /// Add a load (checked when the design is resolved, like names).
+    AddLoad(Load),
+    /// Drop load `index`.
+    RemoveLoad(usize),
 }
 
 /// Settings-level edits (they do not change the design itself).
@@ -45,6 +49,8 @@ pub enum EditError {
     Duplicate(String),
     #[error("friction coefficient {0} must be a finite number ≥ 0")]
     BadFriction(f64),
+    #[error("there is no load {index} (the design has {len})")]
+    NoLoad { index: usize, len: usize },
 }
 
 /// Applies `edit` to `scene`. Names of pieces are checked when the design is resolved.
@@ -87,6 +93,13 @@ pub fn apply(scene: &mut Scene, edit: &Edit) -> Result<(), EditError> {
                 return Err(EditError::BadFriction(*mu));
             }
             scene.material.friction = *mu;
+        }
+        Edit::AddLoad(load) => scene.loads.push(load.clone()),
+        Edit::RemoveLoad(index) => {
+            if *index >= scene.loads.len() {
+                return Err(EditError::NoLoad { index: *index, len: scene.loads.len() });
+            }
+            scene.loads.remove(*index);
         }
     }
     Ok(())

@@ -10,11 +10,13 @@ pub mod cases;
 pub mod coordinates;
 pub mod cut;
 pub mod edit;
+pub mod loads;
 
 pub(crate) use assembly::significant;
 pub use assembly::{Assembly, AssemblyBlock, ModelError, Overlap, Warning};
 pub use builtin::{BuiltinError, builtin};
 pub use cut::{Cut, CutShape};
+pub use loads::{BlockLoads, Load, LoadKind};
 
 use crate::geometry::{Mesh, Vector3};
 use serde::{Deserialize, Serialize};
@@ -92,6 +94,9 @@ pub struct Scene {
     /// An assembly order (piece names, or source-shape names standing for all their pieces
     /// bottom-up) for [`crate::sequence`]; empty when none is given.
     pub order: Vec<String>,
+    /// Point loads and acceleration fields besides self-weight ([`loads`]); dead ones are part
+    /// of every analysis, live ones are what a load factor scales.
+    pub loads: Vec<Load>,
     /// What reading the file let pass (unknown keys ignored); the [`Assembly`] carries them
     /// on, ahead of its repair warnings. Never written back to a file.
     pub warnings: Vec<Warning>,
@@ -109,6 +114,7 @@ impl Scene {
             removed: Vec::new(),
             supports: Vec::new(),
             order: Vec::new(),
+            loads: Vec::new(),
             warnings: Vec::new(),
         }
     }

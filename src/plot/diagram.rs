@@ -47,7 +47,7 @@ struct Prim {
     outline: Option<RGBAColor>,
 }
 
-fn rgba(c: Rgb, alpha: f64) -> RGBAColor {
+pub(super) fn rgba(c: Rgb, alpha: f64) -> RGBAColor {
     RGBAColor(
         (c[0].clamp(0.0, 1.0) * 255.0) as u8,
         (c[1].clamp(0.0, 1.0) * 255.0) as u8,
@@ -56,24 +56,24 @@ fn rgba(c: Rgb, alpha: f64) -> RGBAColor {
     )
 }
 
-struct View {
+pub(super) struct View {
     right: Vector3<f64>,
     up: Vector3<f64>,
     toward_eye: Vector3<f64>,
 }
 
 impl View {
-    fn new(azimuth_deg: f64, elevation_deg: f64) -> Self {
+    pub(super) fn new(azimuth_deg: f64, elevation_deg: f64) -> Self {
         let (a, e) = (azimuth_deg.to_radians(), elevation_deg.to_radians());
         let toward_eye = Vector3::new(e.cos() * a.cos(), e.cos() * a.sin(), e.sin());
         let right = Vector3::new(-a.sin(), a.cos(), 0.0);
         let up = toward_eye.cross(&right);
         Self { right, up, toward_eye }
     }
-    fn xy(&self, p: &Point3<f64>) -> (f64, f64) {
+    pub(super) fn xy(&self, p: &Point3<f64>) -> (f64, f64) {
         (p.coords.dot(&self.right), p.coords.dot(&self.up))
     }
-    fn depth(&self, p: &Point3<f64>) -> f64 {
+    pub(super) fn depth(&self, p: &Point3<f64>) -> f64 {
         p.coords.dot(&self.toward_eye)
     }
 }

@@ -4,9 +4,11 @@
 //! Sans Mono (assets/fonts, so no system fonts are needed). Writes are atomic.
 
 pub mod diagram;
+pub mod robustness;
 pub mod sweep;
 
 pub use diagram::{DiagramPicture, write_diagram};
+pub use robustness::{MechanismPicture, PolarPlot, write_mechanism, write_polar};
 pub use sweep::{SweepPlot, write_sweep};
 
 use plotters::coord::Shift;

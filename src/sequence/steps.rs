@@ -5,7 +5,7 @@
 use super::{SequenceError, Step};
 use crate::analysis::{Analysis, AnalysisSettings, Pipeline};
 use crate::dynamics::{DropSettings, drop_test};
-use crate::model::Scene;
+use crate::model::{Load, Scene};
 use crate::statics::FirstStage;
 use std::collections::HashSet;
 
@@ -59,6 +59,20 @@ impl<'a> Stepper<'a> {
                 b
             })
             .collect();
+        // A point load acts once its block is placed (by name, or a piece of the source shape it names).
+        let placed_block = |name: &str| {
+            let prefix = format!("{name}.");
+            scene.blocks.iter().any(|b| b.name == name || b.name.starts_with(&prefix))
+        };
+        let loads = std::mem::take(&mut scene.loads);
+        let loads = loads
+            .into_iter()
+            .filter(|l| match l {
+                Load::Point { block, .. } => placed_block(block),
+                Load::Acceleration { .. } => true,
+            })
+            .collect();
+        scene.loads = loads;
         scene
     }
 

@@ -126,13 +126,7 @@ impl System {
                 }
             }
         }
-        let mut eq_rhs = vec![0.0; 6 * comp.blocks.len()];
-        for (i, &b) in comp.blocks.iter().enumerate() {
-            let w = g * assembly.block(b).mass() / force_scale;
-            for k in 0..3 {
-                eq_rhs[6 * i + k] = -w[k];
-            }
-        }
+        let eq_rhs = dead_load_rhs(assembly, comp, force_scale);
         let geometry = contact_geometry(assembly, interfaces, comp, &local, eq_rhs.clone());
         Self { points, layout, mu, model, eq, eq_rhs, force_scale, geometry }
     }
@@ -246,6 +240,38 @@ impl System {
             x.copy_from_slice(&candidate);
         }
     }
+}
+
+/// Minus the dead load of each block of `comp` — self-weight and the dead [`BlockLoads`] —
+/// non-dimensional (forces by `force_scale`, moments also by the model size): the right-hand
+/// side of the equilibrium rows.
+///
+/// [`BlockLoads`]: crate::model::BlockLoads
+pub fn dead_load_rhs(assembly: &Assembly, comp: &Component, force_scale: f64) -> Vec<f64> {
+    let mut rhs = vec![0.0; 6 * comp.blocks.len()];
+    for (i, &b) in comp.blocks.iter().enumerate() {
+        let w = assembly.gravity * assembly.block(b).mass();
+        let dead = assembly.loads[b.0].dead;
+        for k in 0..3 {
+            rhs[6 * i + k] = -(w[k] + dead[k]) / force_scale;
+            rhs[6 * i + 3 + k] = -dead[3 + k] / (force_scale * assembly.scale);
+        }
+    }
+    rhs
+}
+
+/// The live load of each block of `comp` in the same rows and scaling as [`dead_load_rhs`]
+/// (with the opposite sign: the load itself, what λ multiplies).
+pub fn live_load(assembly: &Assembly, comp: &Component, force_scale: f64) -> Vec<f64> {
+    let mut out = vec![0.0; 6 * comp.blocks.len()];
+    for (i, &b) in comp.blocks.iter().enumerate() {
+        let live = assembly.loads[b.0].live;
+        for k in 0..3 {
+            out[6 * i + k] = live[k] / force_scale;
+            out[6 * i + 3 + k] = live[3 + k] / (force_scale * assembly.scale);
+        }
+    }
+    out
 }
 
 /// The contact form of a component's rows (module docs of [`super::problem`]).

@@ -1,5 +1,5 @@
 //! Statics that remembers: each component's outcome is kept by the component's content — its
-//! blocks (geometry, support flag, density, name), its interfaces (which of its blocks, or a
+//! blocks (geometry, support flag, density, name, dead loads), its interfaces (which of its blocks, or a
 //! fixed body, on each side; the polygon), gravity, μ and the settings — so after an edit only
 //! the components whose blocks or interfaces changed are solved again.
 
@@ -26,7 +26,7 @@ pub struct SolveStats {
     pub reused: usize,
 }
 
-fn component_key(
+pub(crate) fn component_key(
     assembly: &Assembly,
     interfaces: &[Interface],
     comp: &Component,
@@ -38,6 +38,7 @@ fn component_key(
     for &b in &comp.blocks {
         let blk = assembly.block(b);
         (block_keys[b.0], blk.density.to_bits(), &blk.name).hash(&mut h);
+        assembly.loads[b.0].dead.iter().for_each(|c| c.to_bits().hash(&mut h));
     }
     let side = |body: Body| match body {
         Body::Block(b) if !assembly.block(b).support => comp.blocks.binary_search(&b).map_or(u64::MAX, |i| i as u64),

@@ -46,7 +46,8 @@
 //! 2. [`backend`]: the solvers, over `problem` only; [`settings`], over `backend`'s
 //!    [`Backend`] and `problem`.
 //! 3. `assemble`: a component's rows and each stage's problem.
-//! 4. `stages`: a component's solve stage by stage, and the verdict rule.
+//! 4. `stages`: a component's solve stage by stage, and the verdict rule; `load_factor`: a
+//!    component's load factor and collapse mechanism (an LP/SOCP on the same rows, its dual).
 //! 5. `result`: per-interface results and the global answer from the stages' outcomes;
 //!    `cache`: outcomes kept by component content ([`analyze_cached`]).
 
@@ -57,15 +58,18 @@ mod backend_tests;
 mod cache;
 mod components;
 mod error;
+mod load_factor;
 mod problem;
 mod result;
 mod settings;
 mod stages;
 
 pub use backend::Backend;
+pub(crate) use cache::component_key;
 pub use cache::{SolveStats, StaticsCache, analyze_cached};
 pub use components::{Component, components};
 pub use error::StaticsError;
+pub use load_factor::{FactorOutcome, Motion, component_load_factor, failure_mechanism};
 pub use problem::{FrictionModel, SolverStatus};
 pub use result::{InterfaceResult, SolverReport, StaticsResult, VertexForce};
 pub use settings::{FirstStage, StaticsSettings};

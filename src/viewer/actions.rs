@@ -6,8 +6,8 @@
 use super::ViewerOptions;
 use crate::dynamics::DropSettings;
 use crate::ecs::{
-    DropStatus, EditDesign, PipelineState, RunDropTest, SequenceStatus, SetDiagram, StartSequence, StepSequence,
-    VoussoirSet,
+    DropStatus, EditDesign, PipelineState, RobustnessRequest, RunDropTest, SequenceStatus, SetDiagram, StartSequence,
+    StepSequence, VoussoirSet,
 };
 use crate::model::Scene;
 use crate::model::cut::{Cut, CutShape};
@@ -39,6 +39,9 @@ pub enum ViewerAction {
     ToggleMassCentres,
     ToggleVertexArrows,
     ToggleLabels,
+    /// Show the collapse mechanism beside the design (the load factor of the live loads, or of
+    /// the worst horizontal direction when there are none), or hide it.
+    ToggleMechanism,
     /// Select a block by name (`None`: clear).
     Select(Option<String>),
     /// Click where this world point (m) appears in the view: selects the block the ray from
@@ -113,6 +116,7 @@ pub struct ViewerState {
     pub message: Option<String>,
     pub drop_view: bool,
     pub sequence_view: bool,
+    pub mechanism_view: bool,
     /// Set when the camera should fit the design at the next analysis.
     pub frame_pending: bool,
 }
@@ -136,6 +140,7 @@ impl ViewerState {
             message: None,
             drop_view: false,
             sequence_view: false,
+            mechanism_view: false,
             frame_pending: true,
         }
     }
@@ -209,6 +214,7 @@ fn apply_actions(
     mut drops: MessageWriter<RunDropTest>,
     mut starts: MessageWriter<StartSequence>,
     mut steps: MessageWriter<StepSequence>,
+    mut robustness: ResMut<RobustnessRequest>,
 ) {
     for action in actions.read() {
         let s = &mut *state;
@@ -221,6 +227,15 @@ fn apply_actions(
             ViewerAction::ToggleMassCentres => s.mass_centres = !s.mass_centres,
             ViewerAction::ToggleVertexArrows => s.vertex_arrows = !s.vertex_arrows,
             ViewerAction::ToggleLabels => s.labels = !s.labels,
+            ViewerAction::ToggleMechanism => {
+                s.mechanism_view = !s.mechanism_view;
+                let live = s.design.loads.iter().any(|l| l.kind() == crate::model::LoadKind::Live);
+                *robustness = match (s.mechanism_view, live) {
+                    (false, _) => RobustnessRequest::Off,
+                    (true, true) => RobustnessRequest::LiveLoads,
+                    (true, false) => RobustnessRequest::Worst(crate::robustness::SweepSettings::default().directions),
+                };
+            }
             ViewerAction::Select(name) => s.selected = name.clone(),
             // Done by the picking system (it has the ray caster).
             ViewerAction::ClickToward(_) => {}

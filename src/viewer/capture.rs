@@ -5,7 +5,9 @@
 
 use super::actions::{ViewerAction, ViewerState};
 use super::camera::{MainCamera, PhysicsCamera};
-use crate::ecs::{DropStatus, EditDesign, InterfaceColors, PipelineState, SceneStatus, SequenceStatus};
+use crate::ecs::{
+    DropStatus, EditDesign, InterfaceColors, PipelineState, RobustnessStatus, SceneStatus, SequenceStatus,
+};
 use crate::model::Scene;
 use crate::model::edit::Edit;
 use bevy::prelude::*;
@@ -22,7 +24,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 pub enum ScriptStep {
     Act(ViewerAction),
     /// Replace the design (the viewer's undo history starts again).
-    Load(Scene),
+    Load(Box<Scene>),
     /// Wait until the analysis, the colours, a running drop test and a requested sequence are
     /// done, then this many frames more (for the renderer to catch up).
     Settle(u32),
@@ -132,6 +134,7 @@ fn run_script(
                 actions.write(a);
             }
             ScriptStep::Load(scene) => {
+                let scene = *scene;
                 state.design = scene.clone();
                 state.undo.clear();
                 state.redo.clear();
@@ -179,6 +182,7 @@ struct ShotInfo<'w, 's> {
     pipeline: Res<'w, PipelineState>,
     drop: Res<'w, DropStatus>,
     sequence: Res<'w, SequenceStatus>,
+    robustness: Res<'w, RobustnessStatus>,
     main: Query<'w, 's, &'static Camera, With<MainCamera>>,
     physics: Query<'w, 's, &'static Camera, With<PhysicsCamera>>,
 }
@@ -212,6 +216,8 @@ impl ShotInfo<'_, '_> {
                 "stands": s.stands,
                 "drop_stands": s.dynamic.as_ref().map(|d| d.stands),
             })),
+            "load_factor": Some(self.robustness.load_factor()).filter(|l| !l.is_nan()),
+            "worst_azimuth": self.robustness.worst_azimuth,
             "main_viewport": self.main.single().ok().and_then(rect),
             "physics_viewport": self.physics.single().ok().and_then(rect),
         })

@@ -7,7 +7,7 @@
 use super::ViewerState;
 use super::camera::PHYSICS_LAYER;
 use crate::ecs::{BlockMesh, BlockName, BlockPose, InterfaceColors, InterfaceForces, MassCentre, PipelineState};
-use crate::ecs::{DropStatus, Placed, SequenceStatus, Support, VoussoirSet};
+use crate::ecs::{DropStatus, MechanismMotion, Placed, RobustnessStatus, SequenceStatus, Support, VoussoirSet};
 use crate::statics::InterfaceResult;
 use crate::viz::{ColouredTriangle, DiagramMode};
 use bevy::asset::RenderAssetUsages;
@@ -244,36 +244,59 @@ fn ground(
 }
 
 /// A block as its drop-test copy needs it.
-type GhostSource<'a> = (Entity, &'a Mesh3d, &'a MassCentre, Option<&'a BlockPose>, Has<Support>);
+type GhostSource<'a> =
+    (Entity, &'a Mesh3d, &'a MassCentre, Option<&'a BlockPose>, Option<&'a MechanismMotion>, Has<Support>);
+
+/// The largest drawn motion of the mechanism view, as a fraction of the model size.
+const MECHANISM_EXAGGERATION: f64 = 0.08;
 
 /// The drop-test view: a copy of every block, moved by its [`BlockPose`] (a pose is the
-/// rotation about the centroid since the start and the centroid now).
+/// rotation about the centroid since the start and the centroid now); or the mechanism view:
+/// the copies moved along the collapse mechanism, exaggerated so that the largest motion is
+/// [`MECHANISM_EXAGGERATION`] of the model size.
+#[allow(clippy::too_many_arguments)]
 fn ghosts(
     mut commands: Commands,
     state: Res<ViewerState>,
     drop: Res<DropStatus>,
+    robustness: Res<RobustnessStatus>,
+    pipeline: Res<PipelineState>,
     palette: Res<Palette>,
     blocks: Query<GhostSource, Without<Ghost>>,
     mut ghosts: Query<(Entity, &Ghost, &mut Transform)>,
 ) {
-    let show = state.drop_view && (drop.running.is_some() || drop.result.is_some());
+    let dropping = state.drop_view && (drop.running.is_some() || drop.result.is_some());
+    let mechanism = robustness.result.as_ref().and_then(|r| r.mechanism.as_ref()).filter(|_| state.mechanism_view);
+    let scale = match (mechanism, &pipeline.analysis) {
+        (Some(m), Some(a)) if !dropping => {
+            let largest = m.largest_motion(&a.assembly);
+            (largest > 0.0).then(|| MECHANISM_EXAGGERATION * a.assembly.scale / largest)
+        }
+        _ => None,
+    };
+    let show = dropping || scale.is_some();
     if !show {
         ghosts.iter().for_each(|(e, _, _)| commands.entity(e).despawn());
         return;
     }
     let mut have = std::collections::HashSet::new();
     for (e, ghost, mut transform) in &mut ghosts {
-        let Ok((_, _, mass, pose, _)) = blocks.get(ghost.0) else {
+        let Ok((_, _, mass, pose, motion, _)) = blocks.get(ghost.0) else {
             commands.entity(e).despawn();
             continue;
         };
         have.insert(ghost.0);
-        let t = pose.map_or(Transform::IDENTITY, |p| pose_transform(mass.centroid.coords.into(), p));
+        let pose = match (scale, motion) {
+            (Some(s), Some(m)) => Some(mechanism_pose(mass, m, s)),
+            (Some(_), None) => None,
+            (None, _) => pose.copied(),
+        };
+        let t = pose.map_or(Transform::IDENTITY, |p| pose_transform(mass.centroid.coords.into(), &p));
         if *transform != t {
             *transform = t;
         }
     }
-    for (e, mesh, _, _, support) in &blocks {
+    for (e, mesh, _, _, _, support) in &blocks {
         if !have.contains(&e) {
             let material = if support { palette.support.clone() } else { palette.ghost.clone() };
             commands.spawn((
@@ -285,6 +308,14 @@ fn ghosts(
             ));
         }
     }
+}
+
+/// A block's pose `scale` × along its mechanism motion: centroid moved by the translation,
+/// turned by the rotation vector.
+fn mechanism_pose(mass: &MassCentre, m: &MechanismMotion, scale: f64) -> BlockPose {
+    let t = crate::geometry::Vector3::from(m.translation) * scale;
+    let q = Quat::from_scaled_axis(vec(m.rotation) * scale as f32);
+    BlockPose { centroid: mass.centroid + t, rotation: [q.w, q.x, q.y, q.z].map(f64::from) }
 }
 
 /// x ↦ c + R (x − c₀): the mesh is in world coordinates at rest.

@@ -5,7 +5,7 @@
 use super::PANEL_WIDTH;
 use super::actions::{ViewerAction, ViewerState};
 use super::camera::MainCamera;
-use crate::ecs::{DropStatus, InterfaceForces, PipelineState, SceneStatus, SequenceStatus};
+use crate::ecs::{DropStatus, InterfaceForces, PipelineState, RobustnessStatus, SceneStatus, SequenceStatus};
 use crate::statics::Verdict;
 use crate::viz::DiagramMode;
 use bevy::prelude::*;
@@ -30,6 +30,7 @@ enum Line {
     Verdict,
     Numbers,
     Dynamics,
+    Robustness,
     Sequence,
     Edit,
 }
@@ -44,7 +45,7 @@ const KEYS: &str = "mouse: left click select · right drag orbit · shift+right 
 1/2/3 compression/friction/vectors · T translucent · M mass centres · V vertex arrows · L labels · F frame\n\
 C cut selected · PgUp/PgDn move cut · arrows turn cut · Backspace drop cut\n\
 G support · X remove · R restore · Ctrl+Z/Y undo/redo · Ctrl+S save\n\
-D drop test · Esc leave drop / sequence · Q sequence · ,/. step";
+D drop test · Esc leave drop / sequence · Q sequence · ,/. step · K collapse mechanism";
 
 fn font(size: f32) -> TextFont {
     TextFont { font_size: FontSize::Px(size), ..default() }
@@ -85,6 +86,7 @@ fn spawn_panel(mut commands: Commands) {
             p.spawn(text(Line::Verdict, 22.0));
             p.spawn(text(Line::Numbers, 12.0));
             p.spawn(text(Line::Dynamics, 12.0));
+            p.spawn(text(Line::Robustness, 12.0));
             p.spawn(text(Line::Sequence, 12.0));
             p.spawn((
                 row(),
@@ -101,6 +103,7 @@ fn spawn_panel(mut commands: Commands) {
                     button("T Translucent", ViewerAction::ToggleTranslucent),
                     button("M Centres", ViewerAction::ToggleMassCentres),
                     button("L Labels", ViewerAction::ToggleLabels),
+                    button("K Mechanism", ViewerAction::ToggleMechanism),
                 ],
             ));
             p.spawn((
@@ -169,6 +172,7 @@ fn write_texts(
     pipeline: Res<PipelineState>,
     drop: Res<DropStatus>,
     sequence: Res<SequenceStatus>,
+    robustness: Res<RobustnessStatus>,
     mut texts: Query<(&Line, &mut Text, &mut TextColor)>,
 ) {
     let a = pipeline.analysis.as_ref();
@@ -226,6 +230,7 @@ fn write_texts(
                 ),
                 _ => drop.error.clone().unwrap_or_else(|| "drop test: not run (D)".into()),
             },
+            Line::Robustness => robustness_text(&state, &robustness),
             Line::Sequence => match (&sequence.report, sequence.step()) {
                 (Some(r), Some(step)) => {
                     let dynamic = step
@@ -265,6 +270,28 @@ fn write_texts(
             text.0 = value;
         }
     }
+}
+
+/// The load factor line: λ* (and the worst direction) while the mechanism view is on.
+fn robustness_text(state: &ViewerState, r: &RobustnessStatus) -> String {
+    use crate::robustness::Safety;
+    if !state.mechanism_view {
+        return "load factor: not computed (K)".into();
+    }
+    if let Some(e) = &r.error {
+        return format!("load factor: {e}");
+    }
+    let Some(result) = &r.result else { return "load factor: …".into() };
+    let mut s = match result.safety {
+        Safety::Collapses { load_factor } => format!("load factor λ* = {load_factor:.4}"),
+        Safety::Unlimited => "load factor λ* = ∞".into(),
+        Safety::DoesNotStand => "does not stand: failure mechanism".into(),
+        Safety::SolverFailed { status, .. } => format!("load factor: solver {status:?}"),
+    };
+    if let Some(az) = r.worst_azimuth {
+        s += &format!(" · worst direction {az:.1}°");
+    }
+    s
 }
 
 fn legend(

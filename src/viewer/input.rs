@@ -41,6 +41,7 @@ fn keys(keys: Res<ButtonInput<KeyCode>>, mut actions: MessageWriter<ViewerAction
             (KeyCode::KeyM, _) => send(ViewerAction::ToggleMassCentres),
             (KeyCode::KeyV, _) => send(ViewerAction::ToggleVertexArrows),
             (KeyCode::KeyL, _) => send(ViewerAction::ToggleLabels),
+            (KeyCode::KeyK, _) => send(ViewerAction::ToggleMechanism),
             (KeyCode::KeyF, _) => send(ViewerAction::Frame),
             (KeyCode::KeyC, _) => send(ViewerAction::AddCut),
             (KeyCode::PageUp, _) => send(ViewerAction::ShiftCut(step)),

@@ -1,9 +1,10 @@
 //! The only clarabel touchpoint: a plain-data [`ContactProblem`] in (as its general conic
 //! form, [`ContactProblem::to_conic`]), a plain-data [`QpOutcome`] out (x in the problem's own
-//! variables).
+//! variables); or any [`ConicProblem`] in, its primal and dual solution out ([`solve_conic`]:
+//! the load factor, whose dual is the collapse mechanism).
 
 use super::outcome::{Backend, QpOutcome};
-use crate::statics::problem::{Accuracy, Cone, ContactProblem, SolverStatus};
+use crate::statics::problem::{Accuracy, Cone, ConicProblem, ContactProblem, SolverStatus};
 use clarabel::algebra::CscMatrix;
 use clarabel::solver::{DefaultSettings, DefaultSolver, IPSolver, SolverStatus as ClStatus, SupportedConeT};
 use std::time::Instant;
@@ -46,7 +47,37 @@ fn csc_from_triplets(m: usize, n: usize, triplets: &[(usize, usize, f64)]) -> Cs
 /// Solves `cp` on clarabel (verbose off, presolve on) to `acc`, at most `max_iter` iterations.
 pub fn solve(cp: &ContactProblem, acc: Accuracy, max_iter: u32) -> QpOutcome {
     let t0 = Instant::now();
-    let p = &cp.to_conic();
+    let p = cp.to_conic();
+    let convert = t0.elapsed().as_secs_f64();
+    let o = solve_conic(&p, acc, max_iter);
+    QpOutcome {
+        status: o.status,
+        x: o.x,
+        objective: o.objective,
+        iterations: o.iterations,
+        backend: Backend::Clarabel,
+        convert_seconds: convert + o.convert_seconds,
+        solver_seconds: o.solver_seconds,
+    }
+}
+
+/// What clarabel returned for a [`ConicProblem`]: the primal `x`, and the duals `z` of every
+/// row (A x + s = b, s in the cones; z in the dual cones, P x + Aᵀ z + q = 0).
+#[derive(Clone, Debug)]
+pub struct ConicOutcome {
+    pub status: SolverStatus,
+    pub x: Vec<f64>,
+    pub z: Vec<f64>,
+    pub objective: f64,
+    pub iterations: u32,
+    pub convert_seconds: f64,
+    pub solver_seconds: f64,
+}
+
+/// Solves a general conic problem on clarabel (verbose off, presolve on) to `acc`, at most
+/// `max_iter` iterations.
+pub fn solve_conic(p: &ConicProblem, acc: Accuracy, max_iter: u32) -> ConicOutcome {
+    let t0 = Instant::now();
     let diag: Vec<(usize, usize, f64)> =
         p.p_diag.iter().enumerate().filter(|(_, v)| **v != 0.0).map(|(i, &v)| (i, i, v)).collect();
     let pm = csc_from_triplets(p.n, p.n, &diag);
@@ -74,12 +105,12 @@ pub fn solve(cp: &ContactProblem, acc: Accuracy, max_iter: u32) -> QpOutcome {
     let mut solver = match DefaultSolver::new(&pm, &p.q, &am, &p.b, &cones, cl) {
         Ok(s) => s,
         Err(_) => {
-            return QpOutcome {
+            return ConicOutcome {
                 status: SolverStatus::NumericalError,
                 x: vec![0.0; p.n],
+                z: vec![0.0; p.m()],
                 objective: f64::NAN,
                 iterations: 0,
-                backend: Backend::Clarabel,
                 convert_seconds,
                 solver_seconds: t1.elapsed().as_secs_f64(),
             };
@@ -96,12 +127,12 @@ pub fn solve(cp: &ContactProblem, acc: Accuracy, max_iter: u32) -> QpOutcome {
         ClStatus::InsufficientProgress => SolverStatus::InsufficientProgress,
         _ => SolverStatus::NumericalError,
     };
-    QpOutcome {
+    ConicOutcome {
         status,
         x: s.x.clone(),
+        z: s.z.clone(),
         objective: s.obj_val,
         iterations: s.iterations,
-        backend: Backend::Clarabel,
         convert_seconds,
         solver_seconds: t1.elapsed().as_secs_f64(),
     }

@@ -1,0 +1,47 @@
+//! The load factor (issue #21): the Armadillo vault's λ* for a horizontal 1 g along x beside its
+//! `analyze` time (statics alone, the same settings, measured in the same run), and its
+//! worst-direction sweep over 36 azimuths with the Brent refinement.
+
+use criterion::{Criterion, criterion_group, criterion_main};
+use std::hint::black_box;
+use std::time::Duration;
+use voussoir::analysis::{AnalysisSettings, analyze};
+use voussoir::robustness::{self, SweepSettings, sweep};
+
+fn load_factor(c: &mut Criterion) {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/compas/compas_cra/armadillo_cra.json");
+    let mut scene = voussoir::io::load_scene(&path).unwrap();
+    scene.material.friction = 0.84;
+    let settings = AnalysisSettings::default();
+    let a = analyze(&scene, &settings).unwrap();
+    let field = sweep::with_horizontal_field(&a.assembly, 0.0);
+    let mut g = c.benchmark_group("robustness/armadillo");
+    g.sample_size(10).measurement_time(Duration::from_secs(20));
+    g.bench_function("statics", |b| {
+        b.iter(|| black_box(voussoir::statics::analyze(&a.assembly, &a.interfaces, &settings.statics).unwrap()))
+    });
+    g.bench_function("load_factor_x", |b| {
+        b.iter(|| black_box(robustness::assess_parts(&field, &a.interfaces, true, &settings.statics).unwrap()))
+    });
+    g.finish();
+    let mut g = c.benchmark_group("robustness/armadillo_sweep");
+    g.sample_size(10).measurement_time(Duration::from_secs(60));
+    g.bench_function("36_directions", |b| {
+        b.iter(|| {
+            black_box(
+                robustness::worst_direction(
+                    &a.assembly,
+                    &a.interfaces,
+                    &settings.statics,
+                    &SweepSettings::default(),
+                    &|_, _| {},
+                )
+                .unwrap(),
+            )
+        })
+    });
+    g.finish();
+}
+
+criterion_group!(benches, load_factor);
+criterion_main!(benches);

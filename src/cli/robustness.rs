@@ -1,0 +1,137 @@
+//! `voussoir robustness`: how safely a design stands — the load factor λ* of its live loads
+//! (the scene's and `--load`/`--accel`), of a horizontal 1 g along `--direction`, or the worst
+//! horizontal direction over `--directions` azimuths (the default when no live load is given);
+//! the collapse mechanism; a JSON report, a polar plot and a mechanism picture on request.
+//! Exit codes as `analyze`: 0 it stands under its dead load, 1 it does not (or a solver could
+//! not tell), 2 bad input.
+
+use super::options::{LoadOptions, SolverOptions};
+use super::{BadInput, load, refuse_overwrite, scene_name, write_output};
+use crate::analysis::{Analysis, analyze};
+use crate::io::{robustness_report, text_report};
+use crate::plot::{MechanismPicture, PolarPlot, write_mechanism, write_polar};
+use crate::robustness::{self, DirectionSweep, Safety, SweepSettings, sweep};
+use clap::Args;
+use std::path::PathBuf;
+use std::time::{Duration, Instant};
+
+#[derive(Args, Debug, Clone, PartialEq)]
+pub struct RobustnessArgs {
+    /// Scene file (.json voussoir or compas Assembly, .obj, .stl) or `builtin:NAME?k=v&...`.
+    /// Default: the embedded default scene.
+    pub scene: Option<String>,
+    #[command(flatten)]
+    pub solver: SolverOptions,
+    #[command(flatten)]
+    pub loads: LoadOptions,
+    /// The live load is a horizontal 1 g acceleration along this azimuth (degrees from +x
+    /// towards +y), in place of the scene's live loads.
+    #[arg(long, conflicts_with = "directions")]
+    pub direction: Option<f64>,
+    /// Find the worst horizontal direction over this many azimuths, refined around the
+    /// smallest (what runs when no live load is given, with the default count).
+    #[arg(long, value_name = "N")]
+    pub directions: Option<usize>,
+    /// Write the JSON report here (atomically).
+    #[arg(long)]
+    pub json: Option<PathBuf>,
+    /// Polar plot of λ* over the directions (.png or .svg; with a direction sweep).
+    #[arg(long)]
+    pub plot: Option<PathBuf>,
+    /// Picture of the collapse mechanism (.png or .svg).
+    #[arg(long)]
+    pub mechanism: Option<PathBuf>,
+}
+
+/// What was asked: the given live loads, one direction, or the worst one.
+enum Question {
+    LiveLoads,
+    Direction(f64),
+    Worst(usize),
+}
+
+pub fn run(args: &RobustnessArgs) -> Result<i32, BadInput> {
+    for out in [&args.json, &args.plot, &args.mechanism].into_iter().flatten() {
+        refuse_overwrite(args.scene.as_deref(), out, "output")?;
+    }
+    let name = scene_name(args.scene.as_deref()).to_string();
+    let mut scene = load(args.scene.as_deref())?;
+    scene.loads.extend(args.loads.loads()?);
+    let settings = args.solver.settings();
+    let analysis = analyze(&scene, &settings).map_err(|e| BadInput(format!("{name}: {e}")))?;
+    let has_live = analysis.assembly.has_live_loads();
+    let question = match (args.direction, args.directions) {
+        (Some(d), _) => Question::Direction(d),
+        (None, Some(n)) => Question::Worst(n),
+        (None, None) if has_live => Question::LiveLoads,
+        (None, None) => Question::Worst(SweepSettings::default().directions),
+    };
+    if args.plot.is_some() && !matches!(question, Question::Worst(_)) {
+        return Err(BadInput("--plot draws a direction sweep: give --directions N (or no live load)".into()));
+    }
+    let fail = |e: robustness::RobustnessError| BadInput(format!("{name}: {e}"));
+    let (result, swept, load) = if !analysis.statics.stands {
+        let r = robustness::assess(&analysis, &settings.statics).map_err(fail)?;
+        (r, None, "dead load".to_string())
+    } else {
+        match question {
+            Question::LiveLoads => {
+                (robustness::assess(&analysis, &settings.statics).map_err(fail)?, None, "the live loads".into())
+            }
+            Question::Direction(d) => {
+                let field = sweep::with_horizontal_field(&analysis.assembly, d);
+                let r =
+                    robustness::assess_parts(&field, &analysis.interfaces, true, &settings.statics).map_err(fail)?;
+                (r, None, format!("1 g horizontal at {d}°"))
+            }
+            Question::Worst(n) => {
+                let s = worst(&analysis, &settings.statics, n).map_err(fail)?;
+                let load = format!("1 g horizontal at {:.1}° (worst of {n})", s.worst_azimuth);
+                (s.worst.clone(), Some(s), load)
+            }
+        }
+    };
+    print!("{}", text_report::robustness(&analysis, &result, swept.as_ref(), &load));
+    if let Some(out) = &args.json {
+        let json = robustness_report::to_json(&analysis, &result, swept.as_ref(), &load);
+        write_output(out, json.as_bytes())?;
+        println!("report written to {}", out.display());
+    }
+    if let (Some(out), Some(s)) = (&args.plot, &swept) {
+        let plot = PolarPlot { title: analysis.assembly.name.clone(), sweep: s, size: (900, 900) };
+        write_polar(&plot, out).map_err(|e| BadInput(e.to_string()))?;
+        println!("polar plot written to {}", out.display());
+    }
+    if let Some(out) = &args.mechanism {
+        write_mechanism(&MechanismPicture::new(&analysis, &result, load.clone()), out)
+            .map_err(|e| BadInput(e.to_string()))?;
+        println!("mechanism picture written to {}", out.display());
+    }
+    Ok(match result.safety {
+        Safety::Collapses { .. } | Safety::Unlimited => 0,
+        Safety::DoesNotStand | Safety::SolverFailed { .. } => 1,
+    })
+}
+
+/// The worst direction, with a progress bar once it takes longer than a moment.
+fn worst(
+    analysis: &Analysis,
+    settings: &crate::statics::StaticsSettings,
+    directions: usize,
+) -> Result<DirectionSweep, robustness::RobustnessError> {
+    let bar = indicatif::ProgressBar::hidden();
+    bar.set_length(directions as u64);
+    let start = Instant::now();
+    let shown = std::sync::Once::new();
+    let progress = |done: usize, _total: usize| {
+        if start.elapsed() > Duration::from_millis(500) {
+            shown.call_once(|| bar.set_draw_target(indicatif::ProgressDrawTarget::stderr()));
+        }
+        bar.set_position(done as u64);
+    };
+    let sweep_settings = SweepSettings { directions, ..Default::default() };
+    let result =
+        robustness::worst_direction(&analysis.assembly, &analysis.interfaces, settings, &sweep_settings, &progress);
+    bar.finish_and_clear();
+    result
+}
