@@ -15,8 +15,10 @@ use crate::model::{Assembly, BlockId};
 use crate::statics::{Component, Motion};
 use serde::Serialize;
 
-/// A relative motion below this fraction of the mechanism's largest one is none.
-pub const STILL: f64 = 1e-4;
+/// A relative motion below this fraction of the mechanism's largest one is none. (An
+/// interior-point dual is the centre of the optimal face: where the mechanism is not unique —
+/// the Armadillo's is not — small motions of the other mechanisms blend in.)
+pub const STILL: f64 = 1e-3;
 
 /// What an interface does in the mechanism.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]

