@@ -218,8 +218,11 @@ fn dead_loads_move_the_reaction_by_the_lever_rule() {
     }
 }
 
-/// A design that does not stand under its dead load gets no load factor and the mechanism of
-/// its failure: a block leaning out past its support tips (dead work 1, its joint hinging).
+/// A design that does not stand under its dead load gets the mechanism of its failure — a
+/// block reaching past its support's edge tips (dead work 1, its joint hinging) — and the load
+/// factor that would hold it: weight W 0.1 m beyond the edge, a live W λ at 0.25 m height
+/// along +x: 0.1 + 0.25 λ ≤ 0, λ* = −0.4 (sliding at |λ| = μ = 0.84 and tipping back at |λ| = 2
+/// come later).
 #[test]
 fn a_failing_design_gets_its_failure_mechanism() {
     let mut s = Scene::new(
@@ -234,7 +237,8 @@ fn a_failing_design_gets_its_failure_mechanism() {
     let a = analyze(&s, &st).unwrap();
     assert!(!a.statics.stands);
     let r = robustness::assess(&a, &st.statics).unwrap();
-    assert_eq!(r.safety, Safety::DoesNotStand);
+    let Safety::DoesNotStand { load_factor: Some(l) } = r.safety else { panic!("{:?}", r.safety) };
+    assert_close(l, -0.4, 1e-6, "λ* of a failing design");
     let m = r.mechanism.as_ref().expect("a failure mechanism");
     let asm = &a.assembly;
     let dead = m.work((1..2).map(|i| {

@@ -70,25 +70,23 @@ pub fn run(args: &RobustnessArgs) -> Result<i32, BadInput> {
         return Err(BadInput("--plot draws a direction sweep: give --directions N (or no live load)".into()));
     }
     let fail = |e: robustness::RobustnessError| BadInput(format!("{name}: {e}"));
-    let (result, swept, load) = if !analysis.statics.stands {
-        let r = robustness::assess(&analysis, &settings.statics).map_err(fail)?;
-        (r, None, "dead load".to_string())
-    } else {
-        match question {
-            Question::LiveLoads => {
-                (robustness::assess(&analysis, &settings.statics).map_err(fail)?, None, "the live loads".into())
-            }
-            Question::Direction(d) => {
-                let field = sweep::with_horizontal_field(&analysis.assembly, d);
-                let r =
-                    robustness::assess_parts(&field, &analysis.interfaces, true, &settings.statics).map_err(fail)?;
-                (r, None, format!("1 g horizontal at {d}°"))
-            }
-            Question::Worst(n) => {
-                let s = worst(&analysis, &settings.statics, n).map_err(fail)?;
-                let load = format!("1 g horizontal at {:.1}° (worst of {n})", s.worst_azimuth);
-                (s.worst.clone(), Some(s), load)
-            }
+    let stands = analysis.statics.stands;
+    let (result, swept, load) = match question {
+        Question::Worst(n) if stands => {
+            let s = worst(&analysis, &settings.statics, n).map_err(fail)?;
+            let load = format!("1 g horizontal at {:.1}° (worst of {n})", s.worst_azimuth);
+            (s.worst.clone(), Some(s), load)
+        }
+        Question::Direction(d) => {
+            let field = sweep::with_horizontal_field(&analysis.assembly, d);
+            let r = robustness::assess_parts(&field, &analysis.interfaces, stands, &settings.statics).map_err(fail)?;
+            (r, None, format!("1 g horizontal at {d}°"))
+        }
+        // The scene's live loads; a design that does not stand has no worst direction: its
+        // failure mechanism, and the load factor of its live loads if it has any.
+        Question::LiveLoads | Question::Worst(_) => {
+            let r = robustness::assess(&analysis, &settings.statics).map_err(fail)?;
+            (r, None, if has_live { "the live loads".into() } else { "no live load".into() })
         }
     };
     print!("{}", text_report::robustness(&analysis, &result, swept.as_ref(), &load));
@@ -109,7 +107,7 @@ pub fn run(args: &RobustnessArgs) -> Result<i32, BadInput> {
     }
     Ok(match result.safety {
         Safety::Collapses { .. } | Safety::Unlimited => 0,
-        Safety::DoesNotStand | Safety::SolverFailed { .. } => 1,
+        Safety::DoesNotStand { .. } | Safety::SolverFailed { .. } => 1,
     })
 }
 

@@ -170,10 +170,15 @@ pub fn robustness(
             writeln!(o, "LOAD FACTOR λ* = {load_factor:.4}: collapses at {load_factor:.4} × {load}")
         }
         Safety::Unlimited => writeln!(o, "LOAD FACTOR λ* = ∞: no multiple of {load} makes it collapse"),
-        Safety::DoesNotStand => writeln!(
+        Safety::DoesNotStand { load_factor } => writeln!(
             o,
-            "DOES NOT STAND under its dead load: tension {:.3e} W, friction excess {:.3e} W (no load factor)",
-            s.tension_ratio, s.friction_excess_ratio
+            "DOES NOT STAND under its dead load: tension {:.3e} W, friction excess {:.3e} W; {}",
+            s.tension_ratio,
+            s.friction_excess_ratio,
+            match load_factor {
+                Some(l) => format!("it would stand with up to λ = {l:.4} × {load}"),
+                None => format!("no multiple of {load} holds it"),
+            }
         ),
         Safety::SolverFailed { status, residual } => {
             writeln!(o, "UNDECIDED: the load-factor solve ended with {status:?} (residual {residual:.2e} N)")

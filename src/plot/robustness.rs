@@ -124,7 +124,7 @@ impl MechanismPicture<'_> {
         let verdict = match r.safety {
             Safety::Collapses { load_factor } => format!("λ* = {load_factor:.4}"),
             Safety::Unlimited => "λ* = ∞ (never collapses)".into(),
-            Safety::DoesNotStand => "DOES NOT STAND (dead load)".into(),
+            Safety::DoesNotStand { .. } => "DOES NOT STAND (dead load)".into(),
             Safety::SolverFailed { status, .. } => format!("solver: {status:?}"),
         };
         let mut lines = vec![self.analysis.assembly.name.clone(), self.load.clone(), String::new(), verdict];

@@ -51,9 +51,12 @@ pub enum Safety {
     Collapses { load_factor: f64 },
     /// Stands, and no multiple of the live load makes it collapse (the LP is unbounded).
     Unlimited,
-    /// Does not stand under the dead load alone: the analysis's graded answer holds, and the
-    /// mechanism shows how it fails.
-    DoesNotStand,
+    /// Does not stand under the dead load alone (λ = 0): the analysis's graded answer holds,
+    /// and the mechanism shows how it fails. `load_factor`: the largest λ that would hold it
+    /// (negative when only taking live load away would; positive when the live load itself is
+    /// needed), `None` when no multiple of the live load gives an equilibrium (or there is no
+    /// live load, or a failing part carries none).
+    DoesNotStand { load_factor: Option<f64> },
     /// A solver did not reach an answer.
     SolverFailed { status: SolverStatus, residual: f64 },
 }
@@ -134,11 +137,11 @@ pub fn assess_cached(
     let mut reused = 0;
     let mu = settings.friction.unwrap_or(assembly.material.friction);
     let comps = statics::components(assembly, interfaces);
-    if !stands {
-        return Ok(failure(assembly, interfaces, &comps, mu, settings));
-    }
     let loaded: Vec<&Component> =
         comps.iter().filter(|c| c.blocks.iter().any(|b| assembly.loads[b.0].live.iter().any(|&v| v != 0.0))).collect();
+    if !stands {
+        return Ok(failure(assembly, interfaces, &comps, &loaded, mu, settings));
+    }
     if loaded.is_empty() {
         return Err(RobustnessError::NoLiveLoad);
     }
@@ -191,11 +194,13 @@ fn answered(status: SolverStatus) -> bool {
     matches!(status, SolverStatus::Solved | SolverStatus::AlmostSolved | SolverStatus::Unbounded)
 }
 
-/// A design that does not stand: the mechanism of each failing supported component.
+/// A design that does not stand: the mechanism of each failing supported component, and the
+/// load factor that would hold it when every failing component carries live load.
 fn failure(
     assembly: &Assembly,
     interfaces: &[Interface],
     comps: &[Component],
+    loaded: &[&Component],
     mu: f64,
     settings: &StaticsSettings,
 ) -> Robustness {
@@ -205,9 +210,28 @@ fn failure(
     let failing: Vec<(&Component, &[statics::Motion])> =
         outcomes.iter().filter(|o| !o.1.motions.is_empty()).map(|o| (o.0, o.1.motions.as_slice())).collect();
     let mechanism = (!failing.is_empty()).then(|| Mechanism::new(assembly, interfaces, &failing));
+    // Unsupported components and failing ones without live load: no λ can hold them.
+    let helpable = comps.iter().all(|c| {
+        let fails = !c.is_supported(assembly, interfaces) || failing.iter().any(|f| std::ptr::eq(f.0, c));
+        !fails || loaded.iter().any(|l| std::ptr::eq(*l, c))
+    });
+    let load_factor = if helpable && !loaded.is_empty() {
+        let factors: Vec<FactorOutcome> =
+            loaded.iter().map(|c| component_load_factor(assembly, interfaces, c, mu, settings)).collect();
+        factors
+            .iter()
+            .map(|f| match f.status {
+                SolverStatus::Solved | SolverStatus::AlmostSolved | SolverStatus::Unbounded => Some(f.lambda),
+                _ => None,
+            })
+            .collect::<Option<Vec<f64>>>()
+            .and_then(|ls| ls.into_iter().reduce(f64::min))
+    } else {
+        None
+    };
     Robustness {
-        safety: Safety::DoesNotStand,
-        load_factor: f64::NAN,
+        safety: Safety::DoesNotStand { load_factor },
+        load_factor: load_factor.unwrap_or(f64::NAN),
         mechanism,
         residual: outcomes.iter().map(|o| o.1.residual).fold(0.0, f64::max),
         iterations: outcomes.iter().map(|o| o.1.iterations).sum(),

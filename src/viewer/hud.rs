@@ -285,7 +285,7 @@ fn robustness_text(state: &ViewerState, r: &RobustnessStatus) -> String {
     let mut s = match result.safety {
         Safety::Collapses { load_factor } => format!("load factor λ* = {load_factor:.4}"),
         Safety::Unlimited => "load factor λ* = ∞".into(),
-        Safety::DoesNotStand => "does not stand: failure mechanism".into(),
+        Safety::DoesNotStand { .. } => "does not stand: failure mechanism".into(),
         Safety::SolverFailed { status, .. } => format!("load factor: solver {status:?}"),
     };
     if let Some(az) = r.worst_azimuth {
