@@ -101,3 +101,22 @@ fn stored_forces_of_determinate_cases_agree() {
         assert_close(r.tension_ratio, tension_compas / w_compas, 1e-4, &format!("{rel}: total tension / W"));
     }
 }
+
+/// Invariant (issue #24's consistency regression): both ways into the stages give one verdict.
+/// A sequence check starts failing prefixes at the relaxed LPs (`FirstStage::Relaxed`, no
+/// distribution); on the complete Armadillo the interior-point LP's friction slacks summed to
+/// 1.3e-8 W (over the 1e-8 floor) where the strict QP proves the minimum is 0, so step 365 said
+/// "fails" while `analyze` said "stands". Now the relaxed answer near standing is confirmed by
+/// the strict QP: stands, with zero tension and friction excess, like the strict-first path.
+#[test]
+fn the_relaxed_first_path_gives_the_strict_verdict_on_the_armadillo() {
+    let mut s = scene("compas_cra/armadillo_cra.json");
+    s.material.friction = 0.84;
+    let mut settings = AnalysisSettings::default();
+    let strict = run(&s, &settings);
+    settings.statics.first_stage = voussoir::statics::FirstStage::Relaxed;
+    settings.statics.distribution = false;
+    let relaxed = run(&s, &settings);
+    assert!(strict.statics.stands && relaxed.statics.stands);
+    assert_eq!((relaxed.statics.tension_ratio, relaxed.statics.friction_excess_ratio), (0.0, 0.0));
+}
