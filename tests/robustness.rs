@@ -358,3 +358,33 @@ fn loads_round_trip_through_the_scene_json() {
     .unwrap_err();
     assert!(e.to_string().contains("load #1: give either"), "{e}");
 }
+
+/// Invariant: the two solvers of the load factor agree — the structured backend's bordered
+/// λ ≥ 0 column and clarabel's free λ — on every model (a block tipping, sliding, diagonal)
+/// and on the Armadillo, to 1e-6 relative.
+#[test]
+fn both_backends_give_the_same_load_factor() {
+    use voussoir::statics::{component_load_factor, components, standing_load_factor};
+    let mut cases: Vec<(Scene, FrictionModel)> = Vec::new();
+    for model in [FrictionModel::Cone, FrictionModel::Pyramid8, FrictionModel::Box4] {
+        for (b, h, mu, az) in [(0.5, 1.0, 0.8, 180.0f64), (0.5, 1.0, 0.2, 0.0), (1.0, 0.5, 0.3, 30.0)] {
+            let mut s = block(b, h, mu);
+            s.loads.push(Load::horizontal(az.to_radians(), 1.0));
+            cases.push((s, model));
+        }
+    }
+    let mut arm = voussoir::io::load_scene(&compas_data("compas_cra/armadillo_cra.json")).unwrap();
+    arm.material.friction = 0.84;
+    arm.loads.push(Load::horizontal(0.7, 1.0));
+    cases.push((arm, FrictionModel::Pyramid8));
+    for (s, model) in cases {
+        let st = settings(model);
+        let a = analyze(&s, &st).unwrap();
+        let mu = s.material.friction;
+        for c in components(&a.assembly, &a.interfaces) {
+            let structured = standing_load_factor(&a.assembly, &a.interfaces, &c, mu, &st.statics).lambda;
+            let clarabel = component_load_factor(&a.assembly, &a.interfaces, &c, mu, &st.statics).lambda;
+            assert_close(structured, clarabel, 1e-6 * clarabel.abs(), &format!("{} {model}", s.name));
+        }
+    }
+}

@@ -24,7 +24,7 @@ use crate::interfaces::Interface;
 use crate::model::Assembly;
 use crate::statics::{
     self, Component, FactorOutcome, SolverStatus, StaticsError, StaticsSettings, component_load_factor,
-    failure_mechanism,
+    failure_mechanism, standing_load_factor,
 };
 use serde::Serialize;
 use std::collections::HashMap;
@@ -155,7 +155,7 @@ pub fn assess_cached(
                     reused += 1;
                     out
                 }
-                None => component_load_factor(assembly, interfaces, c, mu, settings),
+                None => standing_load_factor(assembly, interfaces, c, mu, settings),
             };
             if let (Some(k), Some((_, m))) = (key, cache.as_mut()) {
                 m.next.insert(k, out.clone());

@@ -171,7 +171,8 @@ impl System {
             .sum()
     }
 
-    fn residual_vector(&self, x: &[f64]) -> Vec<f64> {
+    /// `A_eq x − b_eq` (non-dimensional).
+    pub fn residual_vector(&self, x: &[f64]) -> Vec<f64> {
         let mut r: Vec<f64> = self.eq_rhs.iter().map(|b| -b).collect();
         for &(i, j, v) in &self.eq {
             r[i] += v * x[j];
@@ -387,5 +388,5 @@ pub fn contact_problem<'a>(sys: &'a System, stage: Stage, settings: &StaticsSett
     if let (Stage::Distribution { excess, .. }, true) = (stage, lay.friction) {
         budgets.push(Budget { var: Var::Slack, limit: tension_budget(excess) });
     }
-    ContactProblem { geometry: &sys.geometry, vars, model: sys.model, mu: sys.mu, p, q, budgets }
+    ContactProblem { geometry: &sys.geometry, vars, model: sys.model, mu: sys.mu, p, q, budgets, factor: None }
 }

@@ -2,9 +2,12 @@
 //!
 //! λ* = max λ such that forces with no tension and friction within the chosen model
 //! equilibrate the dead load D (self-weight and dead loads) plus λ times the live load L: the
-//! strict system's rows `A x = −D` become `A x + λ L = −D`, one more (free) column, objective
-//! −λ. An LP for the pyramid and box models, an SOCP for the cone; solved by clarabel, whose
-//! dual solution is the mechanism: the duals z of the equilibrium rows are the blocks' virtual
+//! strict system's rows `A x = −D` become `A x + λ L = −D`, one more column, objective −λ. An
+//! LP for the pyramid and box models, an SOCP for the cone. A design that stands has λ* ≥ 0:
+//! then λ ≥ 0 is a [`LoadColumn`] the statics' backend solves (the structured solver keeps it
+//! beside its sparse factor as a bordered system; [`standing_load_factor`]); otherwise λ is
+//! free and clarabel solves it ([`component_load_factor`]). The dual solution is the
+//! mechanism: the duals z of the equilibrium rows are the blocks' virtual
 //! velocities (translation on the force rows, rotation on the moment rows), with
 //! - Lᵀz = 1 (the λ column's dual row): the live load does unit work;
 //! - Dᵀz = −λ* (strong duality): λ*·(live work) + (dead work) = 0, the virtual-work balance;
@@ -21,9 +24,10 @@
 //! normalised load's work is 1 N·m.
 
 use super::assemble::{Stage, System, contact_problem, live_load};
+use super::backend::run;
 use super::backend::{ConicOutcome, solve_conic};
 use super::components::Component;
-use super::problem::{Accuracy, ConicProblem, SolverStatus};
+use super::problem::{Accuracy, ConicProblem, LoadColumn, SolverStatus};
 use super::settings::StaticsSettings;
 use super::stages::LP_TOLERANCE;
 use crate::interfaces::Interface;
@@ -95,7 +99,53 @@ fn accuracy(settings: &StaticsSettings, lp: bool) -> Accuracy {
     Accuracy { feas: tol, gap_abs: tol, gap_rel: tol, pure_relative: false }
 }
 
-/// λ* of `comp` for its blocks' live loads (at least one non-zero), and the mechanism.
+/// λ* ≥ 0 of a component that stands under its dead load (λ = 0 is feasible), on the
+/// statics' backend: the strict problem with the λ ≥ 0 column ([`LoadColumn`]), which the
+/// structured solver takes (a rank-one term beside its sparse factor); the mechanism from the
+/// block rows' duals.
+pub fn standing_load_factor(
+    assembly: &Assembly,
+    interfaces: &[Interface],
+    comp: &Component,
+    mu: f64,
+    settings: &StaticsSettings,
+) -> FactorOutcome {
+    let t = std::time::Instant::now();
+    let sys = System::new(assembly, interfaces, comp, mu, settings.friction_model, false);
+    let live = live_load(assembly, comp, sys.force_scale);
+    let mut cp = contact_problem(&sys, Stage::Strict, settings);
+    cp.p.iter_mut().for_each(|v| *v = 0.0);
+    cp.q.iter_mut().for_each(|v| *v = 0.0);
+    cp.factor = Some(LoadColumn { column: live.clone(), cost: -1.0 });
+    let out = run(&cp, settings.backend, accuracy(settings, false), settings.max_iterations);
+    let blocks = comp.blocks.len();
+    let points = sys.points.len() * cp.per_point();
+    let (lambda, motions) = match out.status {
+        SolverStatus::Solved | SolverStatus::AlmostSolved => {
+            (out.x[out.x.len() - 1], motions(&out.duals, blocks, sys.force_scale, assembly.scale, 1.0))
+        }
+        SolverStatus::Unbounded => (f64::INFINITY, Vec::new()),
+        _ => (f64::NAN, Vec::new()),
+    };
+    let residual = if lambda.is_finite() {
+        let x = sys.stage_values(&cp, &out.x[..points]);
+        let r = sys.residual_vector(&x);
+        r.iter().zip(&live).fold(0.0f64, |m, (r, l)| m.max((r + lambda * l).abs())) * sys.force_scale
+    } else {
+        f64::NAN
+    };
+    FactorOutcome {
+        status: out.status,
+        lambda,
+        motions,
+        residual,
+        iterations: out.iterations,
+        solver_seconds: t.elapsed().as_secs_f64(),
+    }
+}
+
+/// λ* of `comp` for its blocks' live loads (at least one non-zero), and the mechanism; λ free
+/// (for a design that does not stand, λ* may be negative), on clarabel.
 pub fn component_load_factor(
     assembly: &Assembly,
     interfaces: &[Interface],

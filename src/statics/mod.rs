@@ -69,7 +69,7 @@ pub(crate) use cache::component_key;
 pub use cache::{SolveStats, StaticsCache, analyze_cached};
 pub use components::{Component, components};
 pub use error::StaticsError;
-pub use load_factor::{FactorOutcome, Motion, component_load_factor, failure_mechanism};
+pub use load_factor::{FactorOutcome, Motion, component_load_factor, failure_mechanism, standing_load_factor};
 pub use problem::{FrictionModel, SolverStatus};
 pub use result::{InterfaceResult, SolverReport, StaticsResult, VertexForce};
 pub use settings::{FirstStage, StaticsSettings};

@@ -197,6 +197,16 @@ pub struct ContactProblem<'a> {
     pub p: Vec<f64>,
     pub q: Vec<f64>,
     pub budgets: Vec<Budget>,
+    /// A load factor λ ≥ 0: one more variable, after the points' (and the budgets' slacks),
+    /// with `column` in the block rows (6 per block: the live load) and linear cost `cost`.
+    pub factor: Option<LoadColumn>,
+}
+
+/// The column of a load factor λ ≥ 0 in the block rows, and its cost in the objective.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LoadColumn {
+    pub column: Vec<f64>,
+    pub cost: f64,
 }
 
 /// The inequality rows every point shares: `rows` of the non-negative cone, then optionally
@@ -357,6 +367,13 @@ impl ContactProblem<'_> {
             a.extend((0..np).map(|p| (row, p * c + k, 1.0)));
             b.push(budget.limit);
         }
+        // λ ≥ 0 as the row −λ ≤ 0; its column in the block rows.
+        let lambda = n;
+        if let Some(f) = &self.factor {
+            a.extend(f.column.iter().enumerate().filter(|e| *e.1 != 0.0).map(|(r, &v)| (r, lambda, v)));
+            a.push((b.len(), lambda, -1.0));
+            b.push(0.0);
+        }
         cones.push(Cone::Nonnegative(b.len() - start));
         if let Some(soc) = &rows.soc {
             for p in 0..np {
@@ -368,9 +385,13 @@ impl ContactProblem<'_> {
                 cones.push(Cone::SecondOrder(3));
             }
         }
-        let p_diag = (0..n).map(|j| self.p[j % c]).collect();
-        let q = (0..n).map(|j| self.q[j % c]).collect();
-        ConicProblem { n, p_diag, q, a, b, cones }
+        let mut p_diag: Vec<f64> = (0..n).map(|j| self.p[j % c]).collect();
+        let mut q: Vec<f64> = (0..n).map(|j| self.q[j % c]).collect();
+        if let Some(f) = &self.factor {
+            p_diag.push(0.0);
+            q.push(f.cost);
+        }
+        ConicProblem { n: p_diag.len(), p_diag, q, a, b, cones }
     }
 }
 

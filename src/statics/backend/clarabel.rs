@@ -50,9 +50,11 @@ pub fn solve(cp: &ContactProblem, acc: Accuracy, max_iter: u32) -> QpOutcome {
     let p = cp.to_conic();
     let convert = t0.elapsed().as_secs_f64();
     let o = solve_conic(&p, acc, max_iter);
+    let rows = cp.geometry.rhs.len().min(o.z.len());
     QpOutcome {
         status: o.status,
         x: o.x,
+        duals: o.z[..rows].to_vec(),
         objective: o.objective,
         iterations: o.iterations,
         backend: Backend::Clarabel,

@@ -26,6 +26,7 @@ pub fn run(cp: &ContactProblem, backend: Backend, acc: Accuracy, max_iter: u32) 
             return QpOutcome {
                 status: o.status,
                 x: o.x,
+                duals: o.ze,
                 objective: o.objective,
                 iterations: o.iterations,
                 backend: Backend::Structured,

@@ -28,6 +28,9 @@ impl std::fmt::Display for Backend {
 pub struct QpOutcome {
     pub status: SolverStatus,
     pub x: Vec<f64>,
+    /// Duals of the equality rows, the block rows first (clarabel's sign: A x + s = b,
+    /// Aᵀz + P x + q = 0): with a load factor, the mechanism.
+    pub duals: Vec<f64>,
     pub objective: f64,
     pub iterations: u32,
     /// Which solver ran it.

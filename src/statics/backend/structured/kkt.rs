@@ -14,6 +14,13 @@
 //! (`Ψ_a K Ψ_bᵀ`). S is factorised by faer's sparse Cholesky (AMD ordering and
 //! symbolic analysis once per problem). Iterative refinement against the unregularised
 //! system removes what ε and round-off leave.
+//!
+//! A load factor λ ≥ 0 (its column L in the block rows) would add `L H_λ⁻¹ Lᵀ` to S: rank
+//! one but dense over the loaded blocks, and H_λ⁻¹ grows without bound as λ's constraint
+//! goes inactive. So λ stays an unknown beside S's factor (a bordered system): with
+//! y = S⁻¹ r and w = S⁻¹ L (solved once per factorisation), `S z_E − L x_λ = r`,
+//! `Lᵀ z_E + H_λ x_λ = r̃x_λ` give `x_λ = (r̃x_λ − Lᵀy) / (Lᵀw + H_λ)`, `z_E = y + w x_λ` —
+//! no division by a vanishing H_λ.
 
 use super::cones::Scaling;
 use super::shape::Shape;
@@ -48,6 +55,8 @@ pub struct Kkt<const C: usize> {
     hinv: Vec<[[f64; C]; C]>,
     /// H_σ⁻¹ per budget slack.
     hinv_sigma: Vec<f64>,
+    /// With a load factor: H_λ, w = S⁻¹ L and Lᵀw (module docs).
+    factor: Option<(f64, Vec<f64>, f64)>,
     slots: Vec<Option<ContactSlots>>,
     m_e: usize,
     /// S lower triangle in CSC.
@@ -286,6 +295,7 @@ impl<const C: usize> Kkt<C> {
         Some(Self {
             hinv: vec![[[0.0; C]; C]; sh.points()],
             hinv_sigma: vec![0.0; nk],
+            factor: None,
             slots,
             m_e,
             col_ptr,
@@ -341,7 +351,20 @@ impl<const C: usize> Kkt<C> {
             self.add_contact(sh, ci, &contact.sides, &k6, &v);
         }
         self.add_budgets(sh, sc, &mut bb);
-        self.factor_numeric()
+        self.factor_numeric() && self.load_factor_update(sh, sc)
+    }
+
+    /// H_λ and w = S⁻¹ L for the bordered solves (nothing without a load factor).
+    fn load_factor_update(&mut self, sh: &Shape<C>, sc: &Scaling) -> bool {
+        let Some((column, _)) = sh.factor else { return true };
+        let h = EPS + sc.dinv[sh.points() * sh.m_p + sh.budgets()];
+        self.rhs_s.iter_mut().for_each(|v| *v = 0.0);
+        self.rhs_s[..column.len()].copy_from_slice(column);
+        let mut w = vec![0.0; self.m_e];
+        self.solve_s(&mut w);
+        let lw: f64 = column.iter().zip(&w).map(|(l, w)| l * w).sum();
+        self.factor = Some((h, w, lw));
+        lw.is_finite()
     }
 
     /// H_p = P + εI + G_pᵀ Hs_p⁻¹ G_p of point `p` (C×C, symmetric, full).
@@ -630,6 +653,16 @@ impl<const C: usize> Kkt<C> {
             self.rhs_s[6 * nb + kb] += self.hinv_sigma[kb] * rt_sigma[kb];
         }
         self.solve_s(ze);
+        // λ (module docs): r̃x_λ = rx_λ − rg_λ Hs⁻¹ (its G row is −1); y = S⁻¹ r is in z_E.
+        if let (Some((column, _)), Some((h, w, lw))) = (sh.factor, &self.factor) {
+            let i = np * mp + nk;
+            let rt = rx[sh.lambda()] - rg[i] * sc.dinv[i];
+            let ly: f64 = column.iter().zip(ze.iter()).map(|(l, z)| l * z).sum();
+            let xl = (rt - ly) / (lw + h);
+            ze.iter_mut().zip(w).for_each(|(z, w)| *z += w * xl);
+            x[sh.lambda()] = xl;
+            zg[i] = (-xl - rg[i]) * sc.dinv[i];
+        }
         // x = H⁻¹ (r̃x − Eᵀ z_E), z_G = Hs⁻¹ (G x − r_G).
         for contact in sh.contacts {
             let mut u = [0.0f64; 6];

@@ -80,10 +80,8 @@ pub(super) fn info<const C: usize>(sh: &Shape<C>, v: &Vars, info: &mut Info, wor
     let res_primal_inf = norm_inf(&info.rx) / normz.max(1.0);
     let rz_inf = norm_inf(ex).max(norm_inf(gx));
     let res_dual_inf = (norm_inf(px) / normx.max(1.0)).max(rz_inf / (normx + norms).max(1.0));
-    let q = &sh.q;
     for (j, r) in info.rx.iter_mut().enumerate() {
-        let qj = if j < sh.points() * C { q[j % C] } else { 0.0 };
-        *r -= px[j] + v.tau * qj;
+        *r -= px[j] + v.tau * sh.q_at(j);
     }
     for (i, r) in info.re.iter_mut().enumerate() {
         *r = ex[i] - v.tau * sh.b_e[i];
@@ -95,7 +93,7 @@ pub(super) fn info<const C: usize>(sh: &Shape<C>, v: &Vars, info: &mut Info, wor
     let cost_dual = -bz * tinv - half_xpx;
     let (normx, normz, norms) = (normx * tinv, normz * tinv, norms * tinv);
     let norm_b = norm_inf(&sh.b_e);
-    let norm_q = norm_inf(&sh.q);
+    let norm_q = sh.norm_q();
     let rz = norm_inf(&info.re).max(norm_inf(&info.rg));
     info.rtau = qx + bz + v.kappa + xpx / v.tau;
     info.dot_qx = qx;

@@ -1,9 +1,10 @@
 //! A [`ContactProblem`] in the fixed-size form the kernels use (C variables per point), and
 //! the products with its constraint matrix A = [E; G].
 //!
-//! Vector layouts: x = [the points' variables (point-major), one σ per budget]; the equality
-//! rows [6 per block, one per budget]; the inequality rows [each point's rows (non-negative
-//! first, then its second-order cone), one `−σ ≤ 0` per budget].
+//! Vector layouts: x = [the points' variables (point-major), one σ per budget, the load factor
+//! λ if any]; the equality rows [6 per block, one per budget]; the inequality rows [each
+//! point's rows (non-negative first, then its second-order cone), one `−σ ≤ 0` per budget,
+//! `−λ ≤ 0`]. λ's column is the live load in the block rows.
 
 use super::cones::Scaling;
 use crate::statics::problem::{Contact, ContactProblem, wrench};
@@ -25,6 +26,8 @@ pub struct Shape<'a, const C: usize> {
     pub m_p: usize,
     /// Right-hand side of the equality rows (block rows, then the budgets' limits).
     pub b_e: Vec<f64>,
+    /// The load factor's column in the block rows and its cost.
+    pub factor: Option<(&'a [f64], f64)>,
 }
 
 fn fixed<const C: usize>(v: &[f64]) -> [f64; C] {
@@ -59,6 +62,7 @@ impl<'a, const C: usize> Shape<'a, C> {
             budget_vars,
             m_p: rows.count(),
             b_e,
+            factor: cp.factor.as_ref().map(|f| (f.column.as_slice(), f.cost)),
         })
     }
 
@@ -70,8 +74,28 @@ impl<'a, const C: usize> Shape<'a, C> {
         self.budget_vars.len()
     }
 
+    /// The scalar variables after the points': the budgets' slacks, then λ.
+    pub fn tail(&self) -> usize {
+        self.budgets() + self.factor.is_some() as usize
+    }
+
     pub fn n(&self) -> usize {
+        self.points() * C + self.tail()
+    }
+
+    /// Index of λ in x (and, less the points' variables, of its row in the inequality rows).
+    pub fn lambda(&self) -> usize {
         self.points() * C + self.budgets()
+    }
+
+    /// The linear cost of variable `j`.
+    pub fn q_at(&self, j: usize) -> f64 {
+        let np = self.points() * C;
+        match (j < np, self.factor) {
+            (true, _) => self.q[j % C],
+            (false, Some((_, cost))) if j == self.lambda() => cost,
+            _ => 0.0,
+        }
     }
 
     pub fn m_e(&self) -> usize {
@@ -79,7 +103,7 @@ impl<'a, const C: usize> Shape<'a, C> {
     }
 
     pub fn m_g(&self) -> usize {
-        self.points() * self.m_p + self.budgets()
+        self.points() * self.m_p + self.tail()
     }
 
     /// `out_e = E x`, `out_g = G x`.
@@ -138,6 +162,11 @@ impl<'a, const C: usize> Shape<'a, C> {
             out_e[6 * nb + kb] += xs;
             out_g[np * mp + kb] = -xs;
         }
+        if let Some((column, _)) = self.factor {
+            let xl = x[self.lambda()];
+            out_e.iter_mut().zip(column).for_each(|(e, c)| *e += c * xl);
+            out_g[np * mp + self.budgets()] = -xl;
+        }
     }
 
     /// `out = Eᵀ z_E + Gᵀ z_G`.
@@ -191,6 +220,10 @@ impl<'a, const C: usize> Shape<'a, C> {
         for kb in 0..self.budgets() {
             out[np * C + kb] = ze[6 * nb + kb] - zg[np * mp + kb];
         }
+        if let Some((column, _)) = self.factor {
+            let lz: f64 = column.iter().zip(ze).map(|(c, z)| c * z).sum();
+            out[self.lambda()] = lz - zg[np * mp + self.budgets()];
+        }
     }
 
     /// `P x` (σ has no quadratic term).
@@ -214,7 +247,16 @@ impl<'a, const C: usize> Shape<'a, C> {
                 s += self.q[k] * x[p * C + k];
             }
         }
+        if let Some((_, cost)) = self.factor {
+            s += cost * x[self.lambda()];
+        }
         s
+    }
+
+    /// ‖q‖_∞.
+    pub fn norm_q(&self) -> f64 {
+        let points = self.q.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        self.factor.map_or(points, |(_, cost)| points.max(cost.abs()))
     }
 
     /// `xᵀ P y`.

@@ -11,10 +11,12 @@ use super::measures::{Info, Tolerances, convergence, info};
 use super::shape::Shape;
 use crate::statics::problem::{Accuracy, ContactProblem, SolverStatus};
 
-/// Outcome in the problem's variables (the points', then the budgets' slacks).
+/// Outcome in the problem's variables (the points', then the budgets' slacks, then λ), and
+/// the duals of the equality rows (clarabel's sign: A x + s = b, Aᵀz + P x + q = 0).
 pub struct IpmOutcome {
     pub status: SolverStatus,
     pub x: Vec<f64>,
+    pub ze: Vec<f64>,
     pub objective: f64,
     pub iterations: u32,
 }
@@ -104,14 +106,9 @@ impl<'a, const C: usize> Solver<'a, C> {
             per_point: sh.m_p,
             nonneg: sh.nonneg.len(),
             soc: sh.soc.is_some(),
-            tail: sh.budgets(),
+            tail: sh.tail(),
         };
-        let mut minus_q = vec![0.0; n];
-        for p in 0..sh.points() {
-            for k in 0..C {
-                minus_q[p * C + k] = -sh.q[k];
-            }
-        }
+        let minus_q: Vec<f64> = (0..n).map(|j| -sh.q_at(j)).collect();
         let newton = Newton {
             c1: Vars::zeros(n, me, mg),
             c2: Vars::zeros(n, me, mg),
@@ -147,8 +144,9 @@ impl<'a, const C: usize> Solver<'a, C> {
         let v = &self.v;
         let scale = if v.tau > 0.0 { 1.0 / v.tau } else { 1.0 };
         let x: Vec<f64> = v.x.iter().map(|x| x * scale).collect();
+        let ze: Vec<f64> = v.ze.iter().map(|z| z * scale).collect();
         let objective = 0.5 * self.sh.p_quad(&x, &x) + self.sh.q_dot(&x);
-        IpmOutcome { status, x, objective, iterations }
+        IpmOutcome { status, x, ze, objective, iterations }
     }
 
     /// Initial point: identity scaling, then the shifted least-squares points (clarabel's).
