@@ -22,7 +22,7 @@ pub struct AnalysisSettings {
     pub statics: StaticsSettings,
     /// Blocks that interpenetrate beyond the coplanarity tolerance
     /// ([`crate::interfaces::penetration`]) are an error ([`ModelError::Overlap`], naming the
-    /// deepest pair) instead of a warning on the assembly. Default false.
+    /// deepest pair) instead of a warning on the assembly.
     pub strict: bool,
 }
 

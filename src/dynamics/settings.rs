@@ -1,49 +1,45 @@
-//! Drop-test settings with documented, measured defaults.
+//! Drop-test settings. Each default is written once, in `Default`, with the measurement that
+//! chose it; the field docs say what a setting means.
 
 use thiserror::Error;
 
 /// How the drop test simulates.
 #[derive(Clone, Debug, PartialEq)]
 pub struct DropSettings {
-    /// Simulated time, s. Default 2.
+    /// Simulated time, s.
     pub duration: f64,
-    /// Time step, s. Default 1/240 (rapier's soft contacts make stacks sink ~g·n(n+1)/ω²; small
-    /// steps and stiff contacts keep that far below the drift tolerance).
+    /// Time step, s.
     pub dt: f64,
-    /// Velocity solver iterations per step. Default 10.
+    /// Velocity solver iterations per step.
     pub solver_iterations: usize,
-    /// Contact stiffness as a natural frequency, Hz (rapier's default 30). Default 120.
+    /// Contact stiffness as a natural frequency, Hz.
     pub contact_frequency: f64,
-    /// Contact damping ratio (rapier's default 5). Default 1 (the 15-voussoir arch at t/R 0.15
-    /// settled least with it: 0.95 % drift against 1.1 % at 5).
+    /// Contact damping ratio.
     pub contact_damping: f64,
     /// Friction coefficient; `None`: the material's. Combined between two blocks with the
     /// `Min` rule (all blocks share it, so any rule gives μ).
     pub friction: Option<f64>,
     /// Initial horizontal speed given to every free block (+x), as a fraction of √(g·size) of
-    /// the block. Default 0 (no perturbation).
+    /// the block (0: no perturbation).
     pub perturbation: f64,
     /// A block whose convex hull exceeds its volume by at most this fraction collides as its
     /// hull. Beyond it — a curved voussoir, a notched block — it still collides as its hull
     /// when the hull reaches into no other block (the excess is where nothing is); otherwise
-    /// as a convex decomposition. Default 0.02. The volume error of either is reported.
+    /// as a convex decomposition. The volume error of either is reported.
     pub hull_tolerance: f64,
     /// Where two blocks' hulls overlap at a joint (a warped joint triangulated differently on
     /// its two sides), both are cut back to the joint plane — if the cut takes at most this
-    /// fraction of the block's volume (a warp's sliver: ≤ 0.24 % on the Armadillo). Default
-    /// 0.005 (the compas crossvault fell with cuts of up to 0.85 % allowed, stands with 0.5 %).
+    /// fraction of the block's volume (a warp's sliver: ≤ 0.24 % on the Armadillo).
     pub max_joint_cut: f64,
     /// Solver contacts deeper than this fraction of the median block size are dropped for the
     /// step: rapier's manifolds between many-sided hulls sometimes carry points reported far
     /// deeper than the shapes overlap (0.79 m on the Armadillo where they touch), and their
-    /// impulses burst a vault open. Default 0.01 (1 cm on the Armadillo; 0.025 let it burst; a
-    /// standing stack's contacts sink by well under 1e-3).
+    /// impulses burst a vault open.
     pub max_contact_depth: f64,
     /// A block has moved when its centroid drifted more than this fraction of its size (the
-    /// bounding-box diagonal). Default 0.02.
+    /// bounding-box diagonal).
     pub drift_tolerance: f64,
-    /// … or turned more than this angle, rad. Default 0.05 (≈ 2.9°; a standing arch settles by
-    /// up to 0.015 rad at the default stiffness, a falling block turns by far more).
+    /// … or turned more than this angle, rad.
     pub rotation_tolerance: f64,
 }
 
@@ -51,16 +47,26 @@ impl Default for DropSettings {
     fn default() -> Self {
         Self {
             duration: 2.0,
+            // rapier's soft contacts make stacks sink ~g·n(n+1)/ω²; small steps and stiff
+            // contacts keep that far below the drift tolerance.
             dt: 1.0 / 240.0,
             solver_iterations: 10,
+            // rapier's own default is 30 Hz.
             contact_frequency: 120.0,
+            // rapier's is 5; the 15-voussoir arch at t/R 0.15 settled least with 1: 0.95 %
+            // drift against 1.1 % at 5.
             contact_damping: 1.0,
             friction: None,
             perturbation: 0.0,
             hull_tolerance: 0.02,
+            // 1 cm on the Armadillo; 0.025 let it burst; a standing stack's contacts sink by
+            // well under 1e-3.
             max_contact_depth: 0.01,
+            // The compas crossvault fell with cuts of up to 0.85 % allowed, stands with 0.5 %.
             max_joint_cut: 0.005,
             drift_tolerance: 0.02,
+            // ≈ 2.9°: a standing arch settles by up to 0.015 rad at the default stiffness, a
+            // falling block turns by far more.
             rotation_tolerance: 0.05,
         }
     }

@@ -6,36 +6,34 @@
 
 use serde::{Deserialize, Serialize};
 
-/// Relative tolerances (dimensionless). Defaults in the field docs.
+/// Relative tolerances (dimensionless). The defaults, and the data that chose them, are in
+/// `Default` (`voussoir analyze --help` prints the coplanar and angle ones).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default)]
 pub struct Tolerances {
-    /// Vertices closer than `weld * scale` are merged. Default 1e-7.
+    /// Vertices closer than `weld * scale` are merged.
     pub weld: f64,
     /// A face whose vertices leave its best-fit plane by more than `planarity * scale` is
     /// triangulated (with a warning); flatter faces are used with their best-fit plane.
-    /// Default 1e-2 (cut stone data such as the Armadillo vault has faces 1.5 cm out of plane
-    /// on a 20 m model; triangulating them would break their contact with the neighbours).
     pub planarity: f64,
     /// Two faces are coplanar when every vertex of each is within `coplanar * scale` of the
-    /// other's plane. Default 3e-3 (3 mm on a 1 m model): the BRG dome and Armadillo data have
-    /// joints up to 2.9 cm open on 10–20 m models. Tighten it for exact CAD geometry.
+    /// other's plane. Tighten it for exact CAD geometry.
     pub coplanar: f64,
     /// ... and within `coplanar_thickness` times the thinner block's thickness (volume / largest
     /// face area), so that thin blocks (a 1000-voussoir arch has 3 mm voussoirs) do not reach
-    /// past their neighbour. Default 0.3 (the Armadillo's widest joint is 0.23 of its block).
+    /// past their neighbour.
     pub coplanar_thickness: f64,
     /// Two faces are opposite when the angle between one's normal and the reverse of the
-    /// other's is below this, in degrees. Default 6 (the dome and Armadillo data have joints
-    /// up to 5.6° open); for large faces the coplanarity test is the stricter one.
+    /// other's is below this, in degrees; for large faces the coplanarity test is the stricter
+    /// one.
     pub angle_deg: f64,
     /// An overlap piece is an interface when its area is at least `min_area` times the smaller
-    /// of the two face areas and at least `min_area * 1e-4 * scale²`. Default 1e-3.
+    /// of the two face areas and at least `min_area * 1e-4 * scale²`.
     pub min_area: f64,
-    /// A block whose volume is below `min_volume * (block diagonal)³` is rejected. Default 1e-9.
+    /// A block whose volume is below `min_volume * (block diagonal)³` is rejected.
     pub min_volume: f64,
     /// The model size `scale` itself, m, when it should not be the scene's own bounding-box
-    /// diagonal. Default `None` (the diagonal). A sequence check sets it to the complete
+    /// diagonal (`None`: the diagonal). A sequence check sets it to the complete
     /// design's size, so that every prefix is detected and solved with the design's absolute
     /// tolerances (the same interfaces as the design, and work reused between steps).
     pub reference_length: Option<f64>,
@@ -45,9 +43,15 @@ impl Default for Tolerances {
     fn default() -> Self {
         Self {
             weld: 1e-7,
+            // Cut stone data such as the Armadillo vault has faces 1.5 cm out of plane on a
+            // 20 m model; triangulating them would break their contact with the neighbours.
             planarity: 1e-2,
+            // 3 mm on a 1 m model: the BRG dome and Armadillo data have joints up to 2.9 cm
+            // open on 10–20 m models.
             coplanar: 3e-3,
+            // The Armadillo's widest joint is 0.23 of its block.
             coplanar_thickness: 0.3,
+            // The dome and Armadillo data have joints up to 5.6° open.
             angle_deg: 6.0,
             min_area: 1e-3,
             min_volume: 1e-9,

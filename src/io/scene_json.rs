@@ -6,8 +6,8 @@
 //!              "support": true, "density": 2400}],
 //!  "density": 600, "friction": 0.839, "gravity": [0, 0, -9.81], "ground": false}
 //! ```
-//! `schema` (default 1), `name`, `density` (600 kg/m³), `friction` (tan 40°), `gravity`
-//! (0, 0, −9.81), `ground` (false), `cuts` (a cut history: `[{"point": [x,y,z], "normal":
+//! `schema` (default 1), `name`, `density` and `friction` (default [`Material::default`]),
+//! `gravity` (default [`Scene::new`]'s), `ground` (false), `cuts` (a cut history: `[{"point": [x,y,z], "normal":
 //! [nx,ny,nz], "target": "name"?}` or `{"apex": [x,y,z], "segments": [[[x,y,z],[x,y,z]], …],
 //! "target": "name"?}`, …], default none: then `blocks` are the source shapes), `removed`
 //! (names of pieces left out after the history, default none), `supports` (names of pieces

@@ -51,13 +51,14 @@ impl Block {
 /// Material shared by all blocks unless a block overrides its density.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Material {
-    /// kg/m³. Default 600 (the seed paper's case studies).
+    /// kg/m³.
     pub density: f64,
-    /// Coulomb friction coefficient μ. Default tan 40° ≈ 0.839 (the seed paper's).
+    /// Coulomb friction coefficient μ.
     pub friction: f64,
 }
 
 impl Default for Material {
+    /// The seed paper's case studies: 600 kg/m³, μ = tan 40° ≈ 0.839.
     fn default() -> Self {
         Self { density: 600.0, friction: 40f64.to_radians().tan() }
     }
@@ -80,9 +81,9 @@ pub struct Scene {
     pub name: String,
     pub blocks: Vec<Block>,
     pub material: Material,
-    /// m/s². Default (0, 0, −9.81).
+    /// m/s² ([`Scene::new`]: [`STANDARD_GRAVITY`] along −z).
     pub gravity: Vector3,
-    /// The plane z = 0 supports faces lying on it. Default false.
+    /// The plane z = 0 supports faces lying on it.
     pub ground: bool,
     /// Cut history: when not empty, `blocks` are the source shapes and the blocks to analyse
     /// are the pieces of replaying these cuts ([`crate::decompose::resolve`]).

@@ -95,25 +95,21 @@ impl Mechanism {
             })
             .collect();
         let mut mech = Self { blocks, interfaces: Vec::new(), motion };
-        let relative: Vec<(usize, f64, f64)> = joints
+        let relative: Vec<Vec<(f64, f64)>> =
+            joints.iter().map(|&k| mech.vertex_motions(assembly, &interfaces[k])).collect();
+        let largest = relative.iter().flatten().map(|m| m.0.abs().max(m.1)).fold(0.0, f64::max);
+        mech.interfaces = joints
             .iter()
-            .map(|&k| {
-                let (opening, sliding) = mech.joint_motion(assembly, &interfaces[k]);
-                (k, opening, sliding)
-            })
-            .collect();
-        let largest = relative.iter().map(|r| r.1.abs().max(r.2)).fold(0.0, f64::max);
-        mech.interfaces = relative
-            .iter()
-            .map(|&(k, opening, sliding)| {
+            .zip(&relative)
+            .map(|(&k, v)| {
                 let itf = &interfaces[k];
                 InterfaceMotion {
                     index: k,
                     a: itf.a.name(assembly).to_string(),
                     b: itf.b.name(assembly).to_string(),
-                    state: mech.joint_state(assembly, itf, STILL * largest),
-                    opening,
-                    sliding,
+                    state: joint_state(v, STILL * largest),
+                    opening: v.iter().map(|m| m.0).fold(f64::NEG_INFINITY, f64::max),
+                    sliding: v.iter().map(|m| m.1).fold(0.0, f64::max),
                 }
             })
             .collect();
@@ -145,26 +141,6 @@ impl Mechanism {
             .collect()
     }
 
-    /// Largest opening and slip over the vertices of `itf`.
-    fn joint_motion(&self, assembly: &Assembly, itf: &Interface) -> (f64, f64) {
-        let v = self.vertex_motions(assembly, itf);
-        (v.iter().map(|m| m.0).fold(f64::NEG_INFINITY, f64::max), v.iter().map(|m| m.1).fold(0.0, f64::max))
-    }
-
-    /// The state of `itf`, relative motions below `still` counting as none.
-    fn joint_state(&self, assembly: &Assembly, itf: &Interface, still: f64) -> JointState {
-        let v = self.vertex_motions(assembly, itf);
-        if v.iter().any(|m| m.1 > still) {
-            JointState::Sliding
-        } else if v.iter().all(|m| m.0 <= still) {
-            JointState::Closed
-        } else if v.iter().all(|m| m.0 > still) {
-            JointState::Opening
-        } else {
-            JointState::Hinging
-        }
-    }
-
     /// The largest motion of any vertex of a moving block, m.
     pub fn largest_motion(&self, assembly: &Assembly) -> f64 {
         let mut largest: f64 = 0.0;
@@ -194,5 +170,19 @@ impl Mechanism {
     /// along this mechanism, N·m.
     pub fn work(&self, wrenches: impl Iterator<Item = (BlockId, [f64; 6])>) -> f64 {
         wrenches.map(|(b, w)| w.iter().zip(&self.motion[b.0]).map(|(a, m)| a * m).sum::<f64>()).sum()
+    }
+}
+
+/// The state of a joint from its vertices' (normal, tangential) relative motions, motions
+/// below `still` counting as none.
+fn joint_state(v: &[(f64, f64)], still: f64) -> JointState {
+    if v.iter().any(|m| m.1 > still) {
+        JointState::Sliding
+    } else if v.iter().all(|m| m.0 <= still) {
+        JointState::Closed
+    } else if v.iter().all(|m| m.0 > still) {
+        JointState::Opening
+    } else {
+        JointState::Hinging
     }
 }

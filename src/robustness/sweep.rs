@@ -16,15 +16,15 @@ use serde::Serialize;
 /// How the directions are swept.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct SweepSettings {
-    /// Evenly spaced azimuths over the full circle. Default 36 (every 10°).
+    /// Evenly spaced azimuths over the full circle.
     pub directions: usize,
     /// Brent iterations refining the worst direction between its neighbours (0: none).
-    /// Default 12.
     pub refine: u64,
 }
 
 impl Default for SweepSettings {
     fn default() -> Self {
+        // Every 10°.
         Self { directions: 36, refine: 12 }
     }
 }
@@ -130,14 +130,16 @@ pub fn worst_direction(
             }
         }
     }
-    let worst = factor_at(assembly, interfaces, settings, worst_azimuth)?;
+    // The grid's own result when the refinement found nothing lower: no second solve.
+    let resolved = worst_azimuth != azimuths[k];
+    let worst = if resolved { factor_at(assembly, interfaces, settings, worst_azimuth)? } else { results[k].clone() };
     Ok(DirectionSweep {
         azimuths,
         worst_load_factor: worst.load_factor,
         load_factors,
         worst_azimuth,
         worst,
-        solves: n + refined.into_inner() + 1,
+        solves: n + refined.into_inner() + resolved as usize,
     })
 }
 

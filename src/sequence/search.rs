@@ -28,7 +28,6 @@ pub struct SearchSettings {
     /// block + [`Self::BASE_CHECKS`].
     pub max_checks: Option<usize>,
     /// Prop candidates tried one by one at a failing step before adding props greedily.
-    /// Default 24.
     pub prop_candidates: usize,
 }
 

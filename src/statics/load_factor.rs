@@ -25,9 +25,8 @@
 
 use super::assemble::{Stage, System, contact_problem, live_load};
 use super::backend::run;
-use super::backend::{ConicOutcome, solve_conic};
 use super::components::Component;
-use super::problem::{Accuracy, ConicProblem, LoadColumn, SolverStatus};
+use super::problem::{Accuracy, ContactProblem, LoadColumn, SolverStatus};
 use super::settings::StaticsSettings;
 use super::stages::LP_TOLERANCE;
 use crate::interfaces::Interface;
@@ -53,21 +52,6 @@ pub struct FactorOutcome {
     pub solver_seconds: f64,
 }
 
-/// The load-factor problem of `comp` as plain data: the strict system's conic rows with the
-/// λ column appended last, objective −λ.
-fn factor_problem(sys: &System, live: &[f64], settings: &StaticsSettings) -> ConicProblem {
-    let mut cp = contact_problem(sys, Stage::Strict, settings);
-    cp.p.iter_mut().for_each(|v| *v = 0.0);
-    cp.q.iter_mut().for_each(|v| *v = 0.0);
-    let mut conic = cp.to_conic();
-    let lambda = conic.n;
-    conic.n += 1;
-    conic.p_diag.push(0.0);
-    conic.q.push(-1.0);
-    conic.a.extend(live.iter().enumerate().filter(|(_, v)| **v != 0.0).map(|(r, &v)| (r, lambda, v)));
-    conic
-}
-
 /// The physical motions of a component's blocks from the duals `z` of its equilibrium rows
 /// (the first 6 per block), divided by `norm` (the normalised load's non-dimensional work).
 fn motions(z: &[f64], blocks: usize, force_scale: f64, length_scale: f64, norm: f64) -> Vec<Motion> {
@@ -83,13 +67,15 @@ fn motions(z: &[f64], blocks: usize, force_scale: f64, length_scale: f64, norm: 
         .collect()
 }
 
-/// ‖A x + λ L − rhs‖_∞ over the equilibrium rows, non-dimensional.
-fn residual(conic: &ConicProblem, rows: usize, x: &[f64]) -> f64 {
-    let mut r: Vec<f64> = conic.b[..rows].iter().map(|b| -b).collect();
-    for &(i, j, v) in conic.a.iter().filter(|e| e.0 < rows) {
-        r[i] += v * x[j];
-    }
-    r.iter().fold(0.0, |m, v| m.max(v.abs()))
+/// ‖A x + λ L − rhs‖_∞ over `sys`'s equilibrium rows for a solution `x` of `cp` (its own
+/// variables; λ last when `cp` has a load factor), N.
+fn residual(sys: &System, cp: &ContactProblem, x: &[f64], lambda: f64) -> f64 {
+    let points = sys.points.len() * cp.per_point();
+    let r = sys.residual_vector(&sys.stage_values(cp, &x[..points]));
+    let column = cp.factor.as_ref().map_or(&[][..], |f| f.column.as_slice());
+    let lambda = if lambda.is_finite() { lambda } else { 0.0 };
+    let lam = |i: usize| column.get(i).map_or(0.0, |l| lambda * l);
+    r.iter().enumerate().fold(0.0f64, |m, (i, r)| m.max((r + lam(i)).abs())) * sys.force_scale
 }
 
 /// The load factor to the statics' solver tolerance (relative: λ* to ~1e-8 of itself); the
@@ -100,9 +86,7 @@ fn accuracy(settings: &StaticsSettings, lp: bool) -> Accuracy {
 }
 
 /// λ* ≥ 0 of a component that stands under its dead load (λ = 0 is feasible), on the
-/// statics' backend: the strict problem with the λ ≥ 0 column ([`LoadColumn`]), which the
-/// structured solver takes (a rank-one term beside its sparse factor); the mechanism from the
-/// block rows' duals.
+/// statics' backend: the structured solver keeps the λ ≥ 0 column beside its sparse factor.
 pub fn standing_load_factor(
     assembly: &Assembly,
     interfaces: &[Interface],
@@ -110,42 +94,11 @@ pub fn standing_load_factor(
     mu: f64,
     settings: &StaticsSettings,
 ) -> FactorOutcome {
-    let t = std::time::Instant::now();
-    let sys = System::new(assembly, interfaces, comp, mu, settings.friction_model, false);
-    let live = live_load(assembly, comp, sys.force_scale);
-    let mut cp = contact_problem(&sys, Stage::Strict, settings);
-    cp.p.iter_mut().for_each(|v| *v = 0.0);
-    cp.q.iter_mut().for_each(|v| *v = 0.0);
-    cp.factor = Some(LoadColumn { column: live.clone(), cost: -1.0 });
-    let out = run(&cp, settings.backend, accuracy(settings, false), settings.max_iterations);
-    let blocks = comp.blocks.len();
-    let points = sys.points.len() * cp.per_point();
-    let (lambda, motions) = match out.status {
-        SolverStatus::Solved | SolverStatus::AlmostSolved => {
-            (out.x[out.x.len() - 1], motions(&out.duals, blocks, sys.force_scale, assembly.scale, 1.0))
-        }
-        SolverStatus::Unbounded => (f64::INFINITY, Vec::new()),
-        _ => (f64::NAN, Vec::new()),
-    };
-    let residual = if lambda.is_finite() {
-        let x = sys.stage_values(&cp, &out.x[..points]);
-        let r = sys.residual_vector(&x);
-        r.iter().zip(&live).fold(0.0f64, |m, (r, l)| m.max((r + lambda * l).abs())) * sys.force_scale
-    } else {
-        f64::NAN
-    };
-    FactorOutcome {
-        status: out.status,
-        lambda,
-        motions,
-        residual,
-        iterations: out.iterations,
-        solver_seconds: t.elapsed().as_secs_f64(),
-    }
+    load_factor(assembly, interfaces, comp, mu, settings, true)
 }
 
-/// λ* of `comp` for its blocks' live loads (at least one non-zero), and the mechanism; λ free
-/// (for a design that does not stand, λ* may be negative), on clarabel.
+/// λ* of `comp` with λ free (for a design that does not stand, λ* may be negative): the
+/// structured solver takes only λ ≥ 0, so this runs on clarabel.
 pub fn component_load_factor(
     assembly: &Assembly,
     interfaces: &[Interface],
@@ -153,14 +106,30 @@ pub fn component_load_factor(
     mu: f64,
     settings: &StaticsSettings,
 ) -> FactorOutcome {
+    load_factor(assembly, interfaces, comp, mu, settings, false)
+}
+
+/// λ* of `comp` for its blocks' live loads (at least one non-zero), λ ≥ 0 when `bounded`, and
+/// the mechanism from the block rows' duals.
+fn load_factor(
+    assembly: &Assembly,
+    interfaces: &[Interface],
+    comp: &Component,
+    mu: f64,
+    settings: &StaticsSettings,
+    bounded: bool,
+) -> FactorOutcome {
+    let t = std::time::Instant::now();
     let sys = System::new(assembly, interfaces, comp, mu, settings.friction_model, false);
-    let live = live_load(assembly, comp, sys.force_scale);
-    let conic = factor_problem(&sys, &live, settings);
-    let out: ConicOutcome = solve_conic(&conic, accuracy(settings, false), settings.max_iterations);
-    let rows = 6 * comp.blocks.len();
+    let mut cp = contact_problem(&sys, Stage::Strict, settings);
+    cp.p.iter_mut().for_each(|v| *v = 0.0);
+    cp.q.iter_mut().for_each(|v| *v = 0.0);
+    cp.factor = Some(LoadColumn { column: live_load(assembly, comp, sys.force_scale), cost: -1.0, bounded });
+    let out = run(&cp, settings.backend, accuracy(settings, false), settings.max_iterations);
     let (lambda, motions) = match out.status {
         SolverStatus::Solved | SolverStatus::AlmostSolved => {
-            (out.x[conic.n - 1], motions(&out.z, comp.blocks.len(), sys.force_scale, assembly.scale, 1.0))
+            let blocks = comp.blocks.len();
+            (out.x[out.x.len() - 1], motions(&out.duals, blocks, sys.force_scale, assembly.scale, 1.0))
         }
         SolverStatus::Unbounded => (f64::INFINITY, Vec::new()),
         _ => (f64::NAN, Vec::new()),
@@ -169,9 +138,9 @@ pub fn component_load_factor(
         status: out.status,
         lambda,
         motions,
-        residual: residual(&conic, rows, &out.x) * sys.force_scale,
+        residual: residual(&sys, &cp, &out.x, lambda),
         iterations: out.iterations,
-        solver_seconds: out.solver_seconds,
+        solver_seconds: t.elapsed().as_secs_f64(),
     }
 }
 
@@ -187,29 +156,28 @@ pub fn failure_mechanism(
     mu: f64,
     settings: &StaticsSettings,
 ) -> FactorOutcome {
+    let t = std::time::Instant::now();
     let sys = System::new(assembly, interfaces, comp, mu, settings.friction_model, true);
-    let rows = 6 * comp.blocks.len();
     let mut iterations = 0;
-    let mut seconds = 0.0;
     let mut last = None;
     for stage in [Stage::Tension, Stage::FrictionExcess { tension: 0.0, penalty: 0.0 }] {
-        let conic = contact_problem(&sys, stage, settings).to_conic();
-        let out = solve_conic(&conic, accuracy(settings, true), settings.max_iterations);
+        let cp = contact_problem(&sys, stage, settings);
+        let out = run(&cp, settings.backend, accuracy(settings, true), settings.max_iterations);
         iterations += out.iterations;
-        seconds += out.solver_seconds;
         let solved = matches!(out.status, SolverStatus::Solved | SolverStatus::AlmostSolved);
         // The dead load's work Dᵀz = −rhsᵀz: the LP's optimum (strong duality).
-        let work: f64 = -conic.b[..rows].iter().zip(&out.z).map(|(b, z)| b * z).sum::<f64>();
+        let work: f64 = -sys.eq_rhs.iter().zip(&out.duals).map(|(b, z)| b * z).sum::<f64>();
         let found = solved && work > super::assemble::PINNED_TENSION;
+        let blocks = comp.blocks.len();
         let motions =
-            if found { motions(&out.z, comp.blocks.len(), sys.force_scale, assembly.scale, work) } else { Vec::new() };
+            if found { motions(&out.duals, blocks, sys.force_scale, assembly.scale, work) } else { Vec::new() };
         let outcome = FactorOutcome {
             status: out.status,
             lambda: out.objective,
             motions,
-            residual: residual(&conic, rows, &out.x) * sys.force_scale,
+            residual: residual(&sys, &cp, &out.x, 0.0),
             iterations,
-            solver_seconds: seconds,
+            solver_seconds: t.elapsed().as_secs_f64(),
         };
         if found || !solved {
             return outcome;

@@ -197,16 +197,18 @@ pub struct ContactProblem<'a> {
     pub p: Vec<f64>,
     pub q: Vec<f64>,
     pub budgets: Vec<Budget>,
-    /// A load factor λ ≥ 0: one more variable, after the points' (and the budgets' slacks),
-    /// with `column` in the block rows (6 per block: the live load) and linear cost `cost`.
+    /// A load factor λ: one more variable, after the points' (and the budgets' slacks), with
+    /// `column` in the block rows (6 per block: the live load) and linear cost `cost`.
     pub factor: Option<LoadColumn>,
 }
 
-/// The column of a load factor λ ≥ 0 in the block rows, and its cost in the objective.
+/// The column of a load factor λ in the block rows, its cost in the objective, and whether
+/// λ ≥ 0 (a row of the non-negative cone) or free.
 #[derive(Clone, Debug, PartialEq)]
 pub struct LoadColumn {
     pub column: Vec<f64>,
     pub cost: f64,
+    pub bounded: bool,
 }
 
 /// The inequality rows every point shares: `rows` of the non-negative cone, then optionally
@@ -367,12 +369,14 @@ impl ContactProblem<'_> {
             a.extend((0..np).map(|p| (row, p * c + k, 1.0)));
             b.push(budget.limit);
         }
-        // λ ≥ 0 as the row −λ ≤ 0; its column in the block rows.
+        // λ's column in the block rows; λ ≥ 0 as the row −λ ≤ 0.
         let lambda = n;
         if let Some(f) = &self.factor {
             a.extend(f.column.iter().enumerate().filter(|e| *e.1 != 0.0).map(|(r, &v)| (r, lambda, v)));
-            a.push((b.len(), lambda, -1.0));
-            b.push(0.0);
+            if f.bounded {
+                a.push((b.len(), lambda, -1.0));
+                b.push(0.0);
+            }
         }
         cones.push(Cone::Nonnegative(b.len() - start));
         if let Some(soc) = &rows.soc {

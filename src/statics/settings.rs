@@ -5,47 +5,48 @@ use super::error::StaticsError;
 use super::problem::FrictionModel;
 use serde::{Deserialize, Serialize};
 
-/// Settings of [`super::analyze`].
+/// Settings of [`super::analyze`]; each default is written once, in `Default` (with why).
+/// `voussoir analyze --help` prints the ones the command line sets.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default)]
 pub struct StaticsSettings {
-    /// Default [`FrictionModel::Pyramid8`].
+    /// How friction capacity is modelled (the enum's `#[default]`).
     pub friction_model: FrictionModel,
-    /// Friction coefficient; `None` (default) takes the scene material's.
+    /// Friction coefficient; `None` takes the scene material's.
     pub friction: Option<f64>,
-    /// Weight of Σ(c_n⁺)² in the distribution QP. Default 1.
+    /// Weight of Σ(c_n⁺)² in the distribution QP.
     pub w_compression: f64,
-    /// Weight of Σ(c_n⁻)². Default 1e6 (compas_cra's). Only shapes the distribution: the total
-    /// tension is fixed at its exact minimum first.
+    /// Weight of Σ(c_n⁻)². Only shapes the distribution: the total tension is fixed at its
+    /// exact minimum first.
     pub w_tension: f64,
-    /// Weight of Σ(c_u² + c_v²). Default 1.
+    /// Weight of Σ(c_u² + c_v²).
     pub w_friction: f64,
-    /// Weight of Σ s² (friction slack). Default 1e6.
+    /// Weight of Σ s² (friction slack).
     pub w_slack: f64,
     /// The assembly stands when, in every connected component, the minimum total tension and
     /// the minimum friction excess are both at most this fraction of the weight of the
     /// component's lightest block (so a light block that would fall off is not hidden by heavy
-    /// ones), or below 1e-8 of the component's weight (what the LPs resolve). Default 1e-6.
+    /// ones), or below [`super::stages::STAND_FLOOR`] of the component's weight (what the LPs
+    /// resolve).
     pub stand_tolerance: f64,
-    /// Interior-point feasibility and gap tolerance (clarabel's tol_feas, tol_gap_abs/rel).
-    /// Default 1e-8 (clarabel's); the equilibrium residual is then polished to round-off.
+    /// Interior-point feasibility and gap tolerance (clarabel's tol_feas, tol_gap_abs/rel); the
+    /// equilibrium residual is then polished to round-off.
     pub solver_tolerance: f64,
-    /// Default 200.
+    /// Interior-point iterations allowed per problem.
     pub max_iterations: u32,
-    /// Solve independent components on two threads when the problem is big enough. Default
-    /// true; results are identical either way.
+    /// Solve independent components on two threads when the problem is big enough; results
+    /// are identical either way.
     pub parallel: bool,
-    /// Solve each connected component of free blocks on its own (default true). Off puts every
-    /// free block in one problem: the same answer, only slower (kept to measure the saving).
+    /// Solve each connected component of free blocks on its own. Off puts every free block in
+    /// one problem: the same answer, only slower (kept to measure the saving).
     pub split_components: bool,
-    /// On a design that does not stand, also solve the force-distribution QP (default true).
-    /// Off keeps the exact minimum tension and friction excess and reports the forces of the
+    /// On a design that does not stand, also solve the force-distribution QP. Off keeps the exact minimum tension and friction excess and reports the forces of the
     /// last LP (an equilibrium with those minima): about a third of the time on failing designs
     /// where only the graded numbers matter (sequence checks, order search).
     pub distribution: bool,
-    /// Which interior-point solver runs the problems. Default [`Backend::Structured`].
+    /// Which interior-point solver runs the problems (the enum's `#[default]`).
     pub backend: Backend,
-    /// Which stage a component's solve starts with. Default [`FirstStage::Strict`].
+    /// Which stage a component's solve starts with (the enum's `#[default]`).
     pub first_stage: FirstStage,
 }
 
@@ -71,10 +72,12 @@ impl Default for StaticsSettings {
             friction_model: FrictionModel::default(),
             friction: None,
             w_compression: 1.0,
+            // compas_cra's tension weight.
             w_tension: 1e6,
             w_friction: 1.0,
             w_slack: 1e6,
             stand_tolerance: 1e-6,
+            // clarabel's own default.
             solver_tolerance: 1e-8,
             max_iterations: 200,
             parallel: true,

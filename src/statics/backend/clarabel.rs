@@ -1,7 +1,6 @@
 //! The only clarabel touchpoint: a plain-data [`ContactProblem`] in (as its general conic
 //! form, [`ContactProblem::to_conic`]), a plain-data [`QpOutcome`] out (x in the problem's own
-//! variables); or any [`ConicProblem`] in, its primal and dual solution out ([`solve_conic`]:
-//! the load factor, whose dual is the collapse mechanism).
+//! variables, and the equality rows' duals: with a load factor, the collapse mechanism).
 
 use super::outcome::{Backend, QpOutcome};
 use crate::statics::problem::{Accuracy, Cone, ConicProblem, ContactProblem, SolverStatus};
@@ -66,7 +65,7 @@ pub fn solve(cp: &ContactProblem, acc: Accuracy, max_iter: u32) -> QpOutcome {
 /// What clarabel returned for a [`ConicProblem`]: the primal `x`, and the duals `z` of every
 /// row (A x + s = b, s in the cones; z in the dual cones, P x + Aᵀ z + q = 0).
 #[derive(Clone, Debug)]
-pub struct ConicOutcome {
+struct ConicOutcome {
     pub status: SolverStatus,
     pub x: Vec<f64>,
     pub z: Vec<f64>,
@@ -78,7 +77,7 @@ pub struct ConicOutcome {
 
 /// Solves a general conic problem on clarabel (verbose off, presolve on) to `acc`, at most
 /// `max_iter` iterations.
-pub fn solve_conic(p: &ConicProblem, acc: Accuracy, max_iter: u32) -> ConicOutcome {
+fn solve_conic(p: &ConicProblem, acc: Accuracy, max_iter: u32) -> ConicOutcome {
     let t0 = Instant::now();
     let diag: Vec<(usize, usize, f64)> =
         p.p_diag.iter().enumerate().filter(|(_, v)| **v != 0.0).map(|(i, &v)| (i, i, v)).collect();

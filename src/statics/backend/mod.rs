@@ -11,7 +11,6 @@ mod clarabel;
 mod outcome;
 pub(crate) mod structured;
 
-pub use clarabel::{ConicOutcome, solve_conic};
 pub use outcome::{Backend, QpOutcome};
 
 use crate::statics::problem::{Accuracy, ContactProblem};

@@ -45,6 +45,10 @@ impl<'a, const C: usize> Shape<'a, C> {
         let rows = cp.point_rows();
         let fm = cp.force_map();
         let budget_vars = cp.budgets.iter().map(|b| cp.index(b.var)).collect::<Option<Vec<_>>>()?;
+        // A free λ has no barrier to keep beside S: clarabel takes it.
+        if cp.factor.as_ref().is_some_and(|f| !f.bounded) {
+            return None;
+        }
         if budget_vars.len() > 2 {
             return None;
         }
