@@ -1,6 +1,7 @@
 //! The load factor (issue #21): the Armadillo vault's λ* for a horizontal 1 g along x beside its
 //! `analyze` time (statics alone, the same settings, measured in the same run), and its
-//! worst-direction sweep over 36 azimuths with the Brent refinement.
+//! worst-direction sweep over 36 azimuths with its refinement (the root of the mechanism's
+//! normal offset between the grid's neighbours).
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use std::hint::black_box;

@@ -293,6 +293,29 @@ fn the_worst_direction_of_a_square_block_is_along_a_face() {
     check_duality(&field, &a.interfaces, &found.worst);
 }
 
+/// A worst direction between grid points: a block 1 × b_y × h (b_y = 0.5 < 1) tips most easily
+/// across its narrow side, λ*(θ) = min(1 / (h |cos θ|), b_y / (h |sin θ|)), smallest (b_y / h)
+/// at 90° and 270°. Seven azimuths (every 51.4°) miss both; the refinement (the root of the
+/// mechanism's normal offset, bracketed by the grid) lands on one of them to 1e-3° with λ* to
+/// 1e-6, in fewer solves than the limit, and its mechanism satisfies the work balance.
+#[test]
+fn the_refined_worst_direction_lands_between_grid_points() {
+    let (by, h) = (0.5, 1.0);
+    let s = on_base(vec![cuboid("block", [0.0; 3], [1.0, by, h])], 2.0, 0.8);
+    let st = settings(FrictionModel::Cone);
+    let a = analyze(&s, &st).unwrap();
+    let sweep = SweepSettings { directions: 7, ..Default::default() };
+    let found = robustness::worst_direction(&a.assembly, &a.interfaces, &st.statics, &sweep, &|_, _| {}).unwrap();
+    let on_grid = found.load_factors.iter().copied().fold(f64::INFINITY, f64::min);
+    assert!(on_grid > by / h * (1.0 + 1e-3), "the grid misses the worst: {on_grid}");
+    assert_close(found.worst_load_factor, by / h, 1e-6, "the worst");
+    let off = (found.worst_azimuth - 90.0).rem_euclid(180.0);
+    assert!(off.min(180.0 - off) < 1e-3, "across the narrow side: {}", found.worst_azimuth);
+    assert!(found.solves > 7 && found.solves < 7 + sweep.refine as usize, "solves: {}", found.solves);
+    let field = robustness::sweep::with_horizontal_field(&a.assembly, found.worst_azimuth);
+    check_duality(&field, &a.interfaces, &found.worst);
+}
+
 /// The Armadillo vault (399 blocks) under a horizontal acceleration: a finite load factor whose
 /// mechanism satisfies the duality invariant.
 #[test]

@@ -1,7 +1,15 @@
 //! The worst horizontal direction: λ* of a horizontal acceleration field (1 g, live, on every
-//! free block) over evenly spaced azimuths, then refined around the smallest by Brent's method
-//! (argmin) between its two neighbours. The scene's dead loads and self-weight stay; its live
-//! loads are replaced by the field. Directions run on two threads when there are several.
+//! free block) over evenly spaced azimuths, then refined between the smallest one's neighbours.
+//! The scene's dead loads and self-weight stay; its live loads are replaced by the field.
+//! Directions run on two threads when there are several.
+//!
+//! The refinement reads each solve's dual. The horizontal accelerations a = (a_x, a_y) that the
+//! design carries form a convex set K (forces are linear in the load), λ*(θ) is K's radial
+//! function, and the mechanism at θ is a supporting line of K at λ*(θ)·(cos θ, sin θ): its
+//! normal n = (work of a unit x field, work of a unit y field). With φ = ∠n − θ,
+//! dλ*/dθ = −λ* tan φ, so the worst direction between two neighbours is the root of φ — found
+//! by Brent's root finder (argmin) from the bracket the grid already solved, a few solves where
+//! minimising λ* itself took a dozen.
 //!
 //! Azimuths in degrees from +x towards +y.
 
@@ -10,15 +18,17 @@ use crate::interfaces::Interface;
 use crate::model::Assembly;
 use crate::statics::StaticsSettings;
 use argmin::core::{CostFunction, Error as ArgminError, Executor};
-use argmin::solver::brent::BrentOpt;
+use argmin::solver::brent::BrentRoot;
 use serde::Serialize;
+use std::sync::Mutex;
 
 /// How the directions are swept.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct SweepSettings {
     /// Evenly spaced azimuths over the full circle.
     pub directions: usize,
-    /// Brent iterations refining the worst direction between its neighbours (0: none).
+    /// Largest number of root-finder solves refining the worst direction between its
+    /// neighbours (0: none).
     pub refine: u64,
 }
 
@@ -77,21 +87,49 @@ fn factor_at(
     assess_parts(&with_horizontal_field(assembly, azimuth), interfaces, true, settings)
 }
 
-struct Along<'a> {
+/// φ = ∠n − θ (degrees, in (−180°, 180°]) of a collapse at `azimuth`: n is the work of a unit
+/// x and a unit y field in its mechanism (see the module docs). `None` where there is no
+/// mechanism to read (unlimited, failed).
+fn normal_offset(assembly: &Assembly, r: &Robustness, azimuth: f64) -> Option<f64> {
+    let mechanism = r.mechanism.as_ref().filter(|_| r.load_factor.is_finite())?;
+    let g = assembly.gravity.norm();
+    let mut n = [0.0; 2];
+    for (b, m) in assembly.blocks.iter().zip(&mechanism.motion) {
+        if !b.support {
+            n[0] += g * b.mass() * m[0];
+            n[1] += g * b.mass() * m[1];
+        }
+    }
+    let phi = n[1].atan2(n[0]).to_degrees() - azimuth;
+    Some(180.0 - (180.0 - phi).rem_euclid(360.0))
+}
+
+/// The root finder's function: φ along an azimuth, every solve kept (the bracket's ends are
+/// the grid's, given beforehand, so that they are not solved again).
+struct Offset<'a> {
     assembly: &'a Assembly,
     interfaces: &'a [Interface],
     settings: &'a StaticsSettings,
-    solves: &'a std::sync::atomic::AtomicUsize,
+    solved: &'a Mutex<Vec<(f64, Robustness)>>,
+    solves: &'a Mutex<usize>,
 }
 
-impl CostFunction for Along<'_> {
+impl CostFunction for Offset<'_> {
     type Param = f64;
     type Output = f64;
     fn cost(&self, azimuth: &f64) -> Result<f64, ArgminError> {
-        self.solves.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-        let r = factor_at(self.assembly, self.interfaces, self.settings, *azimuth)?;
-        // An unlimited direction is never the worst; a failed solve neither.
-        Ok(if r.load_factor.is_finite() { r.load_factor } else { f64::MAX })
+        let known = self.solved.lock().expect("not poisoned").iter().find(|(a, _)| a == azimuth).map(|k| k.1.clone());
+        let r = match known {
+            Some(r) => r,
+            None => {
+                *self.solves.lock().expect("not poisoned") += 1;
+                let r = factor_at(self.assembly, self.interfaces, self.settings, *azimuth)?;
+                self.solved.lock().expect("not poisoned").push((*azimuth, r.clone()));
+                r
+            }
+        };
+        normal_offset(&with_horizontal_field(self.assembly, *azimuth), &r, *azimuth)
+            .ok_or_else(|| ArgminError::msg(format!("no mechanism at {azimuth}°")))
     }
 }
 
@@ -114,33 +152,69 @@ pub fn worst_direction(
     }
     let load_factors: Vec<f64> = results.iter().map(|r| r.load_factor).collect();
     let k = (0..n).min_by(|&a, &b| load_factors[a].total_cmp(&load_factors[b])).expect("at least 3 directions");
-    let mut worst_azimuth = azimuths[k];
-    let refined = std::sync::atomic::AtomicUsize::new(0);
-    if sweep.refine > 0 && load_factors[k].is_finite() {
-        let step = 360.0 / n as f64;
-        let cost = Along { assembly, interfaces, settings, solves: &refined };
-        let solver = BrentOpt::new(azimuths[k] - step, azimuths[k] + step).set_tolerance(1e-8, 1e-3);
-        let found = Executor::new(cost, solver).configure(|s| s.max_iters(sweep.refine)).run();
-        if let Ok(res) = found {
-            let state = res.state();
-            if let Some(&best) = state.best_param.as_ref()
-                && state.best_cost < load_factors[k]
-            {
-                worst_azimuth = best.rem_euclid(360.0);
-            }
-        }
-    }
-    // The grid's own result when the refinement found nothing lower: no second solve.
-    let resolved = worst_azimuth != azimuths[k];
-    let worst = if resolved { factor_at(assembly, interfaces, settings, worst_azimuth)? } else { results[k].clone() };
+    let (worst_azimuth, worst, refined) = if sweep.refine > 0 && load_factors[k].is_finite() {
+        refine(assembly, interfaces, settings, sweep, &azimuths, &results, k)
+    } else {
+        (azimuths[k], results[k].clone(), 0)
+    };
     Ok(DirectionSweep {
         azimuths,
         worst_load_factor: worst.load_factor,
         load_factors,
         worst_azimuth,
         worst,
-        solves: n + refined.into_inner() + resolved as usize,
+        solves: n + refined,
     })
+}
+
+/// The root of φ next to the grid's worst direction `k`, from the grid's own solves at its
+/// bracket: the lowest λ* solved (the grid's when the root finder cannot run, e.g. when φ
+/// does not change sign or a neighbour is unlimited), its analysis, and the solves it took.
+fn refine(
+    assembly: &Assembly,
+    interfaces: &[Interface],
+    settings: &StaticsSettings,
+    sweep: &SweepSettings,
+    azimuths: &[f64],
+    results: &[Robustness],
+    k: usize,
+) -> (f64, Robustness, usize) {
+    let n = azimuths.len();
+    let step = 360.0 / n as f64;
+    let at = |i: isize| {
+        let j = i.rem_euclid(n as isize) as usize;
+        (azimuths[k] + step * (i - k as isize) as f64, &results[j], azimuths[j])
+    };
+    let phi = |(_, r, az): (f64, &Robustness, f64)| normal_offset(&with_horizontal_field(assembly, az), r, az);
+    let ki = k as isize;
+    let bracket = match phi(at(ki)) {
+        Some(p) if p > 0.0 => (ki, ki + 1),
+        Some(p) if p < 0.0 => (ki - 1, ki),
+        _ => (ki, ki),
+    };
+    let (lo, hi) = (at(bracket.0), at(bracket.1));
+    let grid_worst = (azimuths[k], results[k].clone(), 0);
+    let signs = (phi(lo), phi(hi));
+    if bracket.0 == bracket.1 || !matches!(signs, (Some(a), Some(b)) if a >= 0.0 && b <= 0.0) {
+        return grid_worst;
+    }
+    // The bracket's ends are the grid's solves, under their unwrapped azimuths.
+    let solved = Mutex::new(vec![(lo.0, lo.1.clone()), (hi.0, hi.1.clone())]);
+    let solves = Mutex::new(0);
+    let offset = Offset { assembly, interfaces, settings, solved: &solved, solves: &solves };
+    let solver = BrentRoot::new(lo.0, hi.0, 1e-4);
+    // A failed solve ends the search; what was solved so far still counts.
+    let _ = Executor::new(offset, solver).configure(|s| s.max_iters(sweep.refine)).run();
+    let solves = solves.into_inner().expect("not poisoned");
+    let solved = solved.into_inner().expect("not poisoned");
+    let best = solved
+        .into_iter()
+        .filter(|(_, r)| r.load_factor.is_finite())
+        .min_by(|a, b| a.1.load_factor.total_cmp(&b.1.load_factor));
+    match best {
+        Some((az, r)) if r.load_factor < results[k].load_factor => (az.rem_euclid(360.0), r, solves),
+        _ => (grid_worst.0, grid_worst.1, solves),
+    }
 }
 
 /// λ* at each azimuth, on two threads when there is more than one direction.
