@@ -88,8 +88,9 @@ fn factor_at(
 }
 
 /// φ = ∠n − θ (degrees, in (−180°, 180°]) of a collapse at `azimuth`: n is the work of a unit
-/// x and a unit y field in its mechanism (see the module docs). `None` where there is no
-/// mechanism to read (unlimited, failed).
+/// x and a unit y field in its mechanism (see the module docs; the blocks' masses are the same
+/// whichever field the assembly carries). `None` where there is no mechanism to read
+/// (unlimited, failed).
 fn normal_offset(assembly: &Assembly, r: &Robustness, azimuth: f64) -> Option<f64> {
     let mechanism = r.mechanism.as_ref().filter(|_| r.load_factor.is_finite())?;
     let g = assembly.gravity.norm();
@@ -111,7 +112,6 @@ struct Offset<'a> {
     interfaces: &'a [Interface],
     settings: &'a StaticsSettings,
     solved: &'a Mutex<Vec<(f64, Robustness)>>,
-    solves: &'a Mutex<usize>,
 }
 
 impl CostFunction for Offset<'_> {
@@ -122,13 +122,12 @@ impl CostFunction for Offset<'_> {
         let r = match known {
             Some(r) => r,
             None => {
-                *self.solves.lock().expect("not poisoned") += 1;
                 let r = factor_at(self.assembly, self.interfaces, self.settings, *azimuth)?;
                 self.solved.lock().expect("not poisoned").push((*azimuth, r.clone()));
                 r
             }
         };
-        normal_offset(&with_horizontal_field(self.assembly, *azimuth), &r, *azimuth)
+        normal_offset(self.assembly, &r, *azimuth)
             .ok_or_else(|| ArgminError::msg(format!("no mechanism at {azimuth}°")))
     }
 }
@@ -181,39 +180,34 @@ fn refine(
 ) -> (f64, Robustness, usize) {
     let n = azimuths.len();
     let step = 360.0 / n as f64;
-    let at = |i: isize| {
-        let j = i.rem_euclid(n as isize) as usize;
-        (azimuths[k] + step * (i - k as isize) as f64, &results[j], azimuths[j])
-    };
-    let phi = |(_, r, az): (f64, &Robustness, f64)| normal_offset(&with_horizontal_field(assembly, az), r, az);
+    // Grid neighbour i of k: its unwrapped azimuth and its solve.
+    let at = |i: isize| (azimuths[k] + step * (i - k as isize) as f64, &results[i.rem_euclid(n as isize) as usize]);
+    let phi = |(az, r): (f64, &Robustness)| normal_offset(assembly, r, az);
     let ki = k as isize;
-    let bracket = match phi(at(ki)) {
-        Some(p) if p > 0.0 => (ki, ki + 1),
-        Some(p) if p < 0.0 => (ki - 1, ki),
-        _ => (ki, ki),
+    let (lo, hi) = match phi(at(ki)) {
+        Some(p) if p > 0.0 => (at(ki), at(ki + 1)),
+        Some(p) if p < 0.0 => (at(ki - 1), at(ki)),
+        _ => return (azimuths[k], results[k].clone(), 0),
     };
-    let (lo, hi) = (at(bracket.0), at(bracket.1));
-    let grid_worst = (azimuths[k], results[k].clone(), 0);
-    let signs = (phi(lo), phi(hi));
-    if bracket.0 == bracket.1 || !matches!(signs, (Some(a), Some(b)) if a >= 0.0 && b <= 0.0) {
-        return grid_worst;
+    if !matches!((phi(lo), phi(hi)), (Some(a), Some(b)) if a >= 0.0 && b <= 0.0) {
+        return (azimuths[k], results[k].clone(), 0);
     }
-    // The bracket's ends are the grid's solves, under their unwrapped azimuths.
-    let solved = Mutex::new(vec![(lo.0, lo.1.clone()), (hi.0, hi.1.clone())]);
-    let solves = Mutex::new(0);
-    let offset = Offset { assembly, interfaces, settings, solved: &solved, solves: &solves };
+    let bracket = vec![(lo.0, lo.1.clone()), (hi.0, hi.1.clone())];
+    let solved = Mutex::new(bracket);
+    let offset = Offset { assembly, interfaces, settings, solved: &solved };
     let solver = BrentRoot::new(lo.0, hi.0, 1e-4);
     // A failed solve ends the search; what was solved so far still counts.
     let _ = Executor::new(offset, solver).configure(|s| s.max_iters(sweep.refine)).run();
-    let solves = solves.into_inner().expect("not poisoned");
     let solved = solved.into_inner().expect("not poisoned");
+    // Everything after the bracket's two ends was solved here.
+    let solves = solved.len() - 2;
     let best = solved
         .into_iter()
         .filter(|(_, r)| r.load_factor.is_finite())
         .min_by(|a, b| a.1.load_factor.total_cmp(&b.1.load_factor));
     match best {
         Some((az, r)) if r.load_factor < results[k].load_factor => (az.rem_euclid(360.0), r, solves),
-        _ => (grid_worst.0, grid_worst.1, solves),
+        _ => (azimuths[k], results[k].clone(), solves),
     }
 }
 
