@@ -34,6 +34,7 @@ pub mod ecs;
 pub mod geometry;
 pub mod interfaces;
 pub mod io;
+pub mod kinematics;
 pub mod model;
 pub mod plot;
 pub mod robustness;

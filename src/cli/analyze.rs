@@ -37,6 +37,10 @@ pub struct AnalyzeArgs {
     /// Also run the rapier drop test and compare the verdicts.
     #[arg(long)]
     pub dynamic: bool,
+    /// Also run the kinematic check (released from rest with no squeeze: do the forces RBE
+    /// found actually arise?) and compare the verdicts.
+    #[arg(long)]
+    pub kinematic: bool,
     #[command(flatten)]
     pub drop: DropOptions,
 }
@@ -73,12 +77,22 @@ pub fn run(args: &AnalyzeArgs) -> Result<i32, BadInput> {
     } else {
         None
     };
+    let kinematic = if args.kinematic {
+        let k = crate::kinematics::check(&analysis, &settings.statics, &Default::default())
+            .map_err(|e| BadInput(e.to_string()))?;
+        print!("{}", text_report::kinematic(&analysis, &k));
+        Some(k)
+    } else {
+        None
+    };
     if let Some(out) = &args.json {
-        write_output(out, io::report::to_json_with(&analysis, dynamic.as_ref()).as_bytes())?;
+        write_output(out, io::report::to_json_with(&analysis, dynamic.as_ref(), kinematic.as_ref()).as_bytes())?;
         println!("report written to {}", out.display());
     }
     // Exit 0 only when it stands by every test that ran.
-    let stands = analysis.statics.stands && dynamic.as_ref().is_none_or(|d| d.stands);
+    let stands = analysis.statics.stands
+        && dynamic.as_ref().is_none_or(|d| d.stands)
+        && kinematic.as_ref().is_none_or(|k| k.verdict == crate::kinematics::KinematicVerdict::Stands);
     Ok(if stands { 0 } else { 1 })
 }
 

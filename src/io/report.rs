@@ -2,6 +2,7 @@
 
 use crate::analysis::{Analysis, Timings};
 use crate::dynamics::DropResult;
+use crate::kinematics::Kinematic;
 use crate::statics::{InterfaceResult, SolverReport, Verdict};
 use serde::Serialize;
 
@@ -44,6 +45,10 @@ struct Report<'a> {
     dynamic: Option<&'a DropResult>,
     #[serde(skip_serializing_if = "Option::is_none")]
     agree: Option<bool>,
+    /// With the kinematic check: its verdict, whether it agrees with the statics, its
+    /// mechanism (initial accelerations).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    kinematic: Option<&'a Kinematic>,
 }
 
 #[derive(Serialize)]
@@ -57,11 +62,12 @@ struct StaticVerdict {
 
 /// The report as pretty JSON. Non-finite numbers (an infinite utilisation) become `null`.
 pub fn to_json(analysis: &Analysis) -> String {
-    to_json_with(analysis, None)
+    to_json_with(analysis, None, None)
 }
 
-/// The report with a drop test beside the statics: keys `static`, `dynamic`, `agree`.
-pub fn to_json_with(analysis: &Analysis, dynamic: Option<&DropResult>) -> String {
+/// The report with a drop test beside the statics (keys `static`, `dynamic`, `agree`) and the
+/// kinematic check (key `kinematic`), each when it ran.
+pub fn to_json_with(analysis: &Analysis, dynamic: Option<&DropResult>, kinematic: Option<&Kinematic>) -> String {
     let a = &analysis.assembly;
     let s = &analysis.statics;
     let report = Report {
@@ -102,6 +108,7 @@ pub fn to_json_with(analysis: &Analysis, dynamic: Option<&DropResult>) -> String
         }),
         dynamic,
         agree: dynamic.map(|d| d.stands == s.stands),
+        kinematic,
     };
     serde_json::to_string_pretty(&report).unwrap_or_else(|e| format!("{{\"error\": \"{e}\"}}"))
 }

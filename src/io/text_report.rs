@@ -137,6 +137,52 @@ pub fn side_by_side(analysis: &Analysis, d: &DropResult) -> String {
     o
 }
 
+/// The kinematic check beside the statics: both verdicts, whether they agree, and when it
+/// fails, how (the mechanism's moving blocks and what its joints do).
+pub fn kinematic(analysis: &Analysis, k: &crate::kinematics::Kinematic) -> String {
+    use crate::kinematics::KinematicVerdict;
+    use crate::robustness::JointState;
+    use std::fmt::Write;
+    let mut o = String::new();
+    let word = match k.verdict {
+        KinematicVerdict::Stands => "stands",
+        KinematicVerdict::Fails => "falls",
+        KinematicVerdict::Undecided => "undecided",
+    };
+    let _ = writeln!(
+        o,
+        "kinematic check (released from rest, no squeeze): {word}; {} round(s), {} iterations, {:.1} ms in the solver",
+        k.rounds,
+        k.iterations,
+        1e3 * k.solver_seconds
+    );
+    if let Some(m) = &k.mechanism {
+        let count = |state| m.interfaces.iter().filter(|i| i.state == state).count();
+        let _ = writeln!(
+            o,
+            "  {} block(s) start to move (largest acceleration {:.3} g); interfaces {} hinging, {} opening, {} sliding",
+            m.blocks.len(),
+            k.peak_acceleration,
+            count(JointState::Hinging),
+            count(JointState::Opening),
+            count(JointState::Sliding),
+        );
+        for i in m.interfaces.iter().filter(|i| i.state != JointState::Closed).take(5) {
+            let _ = writeln!(o, "    {} → {}: {:?}", i.a, i.b, i.state);
+        }
+    }
+    let statics = if analysis.statics.stands { "stands" } else { "falls" };
+    let verdict = match (k.verdict, k.agrees) {
+        (_, true) => "AGREE",
+        (KinematicVerdict::Undecided, _) => "UNDECIDED (the friction capacities did not settle: trust neither blindly)",
+        _ => {
+            "DISAGREE (the statics' equilibrium needs a squeeze nothing applies: the kinematic verdict is the physical one)"
+        }
+    };
+    let _ = writeln!(o, "statics (RBE) {statics} | kinematic {word}: {verdict}");
+    o
+}
+
 /// AGREE, or DISAGREE with what the drop test's motion suggests.
 fn disagreement(statics_stand: bool, d: &DropResult) -> &'static str {
     match (statics_stand == d.stands, statics_stand, d.at_rest) {

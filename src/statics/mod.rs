@@ -47,7 +47,9 @@
 //!    [`Backend`] and `problem`.
 //! 3. `assemble`: a component's rows and each stage's problem.
 //! 4. `stages`: a component's solve stage by stage, and the verdict rule; `load_factor`: a
-//!    component's load factor and collapse mechanism (an LP/SOCP on the same rows, its dual).
+//!    component's load factor and collapse mechanism (an LP/SOCP on the same rows, its dual);
+//!    `kinematic`: a component's rate problem from rest (the same rows with the blocks'
+//!    accelerations, a fixed point of QPs on clarabel).
 //! 5. `result`: per-interface results and the global answer from the stages' outcomes;
 //!    `cache`: outcomes kept by component content ([`analyze_cached`]).
 
@@ -58,6 +60,7 @@ mod backend_tests;
 mod cache;
 mod components;
 mod error;
+mod kinematic;
 mod load_factor;
 mod problem;
 mod result;
@@ -69,6 +72,7 @@ pub(crate) use cache::component_key;
 pub use cache::{SolveStats, StaticsCache, analyze_cached};
 pub use components::{Component, components};
 pub use error::StaticsError;
+pub use kinematic::{KinematicSettings, RateOutcome, RateState, rate_problem};
 pub use load_factor::{FactorOutcome, Motion, component_load_factor, failure_mechanism, standing_load_factor};
 pub use problem::{FrictionModel, SolverStatus};
 pub use result::{InterfaceResult, SolverReport, StaticsResult, VertexForce};

@@ -1,6 +1,7 @@
 //! The only clarabel touchpoint: a plain-data [`ContactProblem`] in (as its general conic
 //! form, [`ContactProblem::to_conic`]), a plain-data [`QpOutcome`] out (x in the problem's own
-//! variables, and the equality rows' duals: with a load factor, the collapse mechanism).
+//! variables, and the equality rows' duals: with a load factor, the collapse mechanism); or a
+//! general [`ConicProblem`] in and a [`ConicOutcome`] out ([`solve_conic`]).
 
 use super::outcome::{Backend, QpOutcome};
 use crate::statics::problem::{Accuracy, Cone, ConicProblem, ContactProblem, SolverStatus};
@@ -65,7 +66,7 @@ pub fn solve(cp: &ContactProblem, acc: Accuracy, max_iter: u32) -> QpOutcome {
 /// What clarabel returned for a [`ConicProblem`]: the primal `x`, and the duals `z` of every
 /// row (A x + s = b, s in the cones; z in the dual cones, P x + Aᵀ z + q = 0).
 #[derive(Clone, Debug)]
-struct ConicOutcome {
+pub struct ConicOutcome {
     pub status: SolverStatus,
     pub x: Vec<f64>,
     pub z: Vec<f64>,
@@ -76,8 +77,9 @@ struct ConicOutcome {
 }
 
 /// Solves a general conic problem on clarabel (verbose off, presolve on) to `acc`, at most
-/// `max_iter` iterations.
-fn solve_conic(p: &ConicProblem, acc: Accuracy, max_iter: u32) -> ConicOutcome {
+/// `max_iter` iterations: for problems that are not of the contact form (the kinematic rate
+/// problem's free acceleration columns).
+pub fn solve_conic(p: &ConicProblem, acc: Accuracy, max_iter: u32) -> ConicOutcome {
     let t0 = Instant::now();
     let diag: Vec<(usize, usize, f64)> =
         p.p_diag.iter().enumerate().filter(|(_, v)| **v != 0.0).map(|(i, &v)| (i, i, v)).collect();

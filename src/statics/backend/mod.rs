@@ -11,6 +11,7 @@ mod clarabel;
 mod outcome;
 pub(crate) mod structured;
 
+pub use clarabel::solve_conic;
 pub use outcome::{Backend, QpOutcome};
 
 use crate::statics::problem::{Accuracy, ContactProblem};
