@@ -256,6 +256,31 @@ fn drop_prints_both_verdicts_and_writes_static_dynamic_agree() {
     assert_eq!(bad.status.code(), Some(2));
 }
 
+/// `analyze --kinematic` prints both verdicts and flags a disagreement; exits 1 when the
+/// kinematic check fails even though the statics stands; the JSON report carries the key
+/// `kinematic` with the documented fields. compas_cra's H (supports 0 and 1): RBE holds the
+/// bar on a squeeze, the kinematic check lets it fall.
+#[test]
+fn kinematic_prints_both_verdicts_and_flags_disagreement() {
+    let json = tmp("kinematic.json");
+    let h = compas_data("compas_cra/H.json");
+    let out = voussoir(&["analyze", &h, "--supports", "lowest", "--kinematic", "--json", json.to_str().unwrap()]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(1), "{text}");
+    assert!(text.contains("STANDS") && text.contains("statics (RBE) stands | kinematic falls: DISAGREE"), "{text}");
+    let r: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    assert_eq!(r["stands"], true);
+    assert_eq!(r["kinematic"]["verdict"], "fails");
+    assert_eq!(r["kinematic"]["agrees"], false);
+    assert_eq!(r["kinematic"]["mechanism"]["blocks"].as_array().map(|b| b.len()), Some(1));
+    for key in ["peak_acceleration", "rounds", "iterations", "residual", "status", "solver_seconds"] {
+        assert!(!r["kinematic"][key].is_null(), "kinematic.{key}");
+    }
+    let out = voussoir(&["analyze", "builtin:stack?n=3", "--kinematic"]);
+    assert_eq!(out.status.code(), Some(0));
+    assert!(String::from_utf8_lossy(&out.stdout).contains("kinematic stands: AGREE"));
+}
+
 #[test]
 fn sequence_search_props_and_exit_codes() {
     let case = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/cases/fig6_dmsc_sequence.json");
