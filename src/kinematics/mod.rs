@@ -128,11 +128,7 @@ pub fn check_parts(
     } else {
         KinematicVerdict::Stands
     };
-    let agrees = match verdict {
-        KinematicVerdict::Stands => statics_stands,
-        KinematicVerdict::Fails => !statics_stands,
-        KinematicVerdict::Undecided => false,
-    };
+    let agrees = verdict != KinematicVerdict::Undecided && (verdict == KinematicVerdict::Stands) == statics_stands;
     Ok(Kinematic {
         verdict,
         statics_stands,

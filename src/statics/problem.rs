@@ -48,6 +48,27 @@ pub enum FrictionModel {
 }
 
 impl FrictionModel {
+    /// The facets of the pyramid models as `(du, dv, scale)`: `du f_u + dv f_v ≤ scale × capacity`
+    /// (the box's four sides, then the pyramid's four diagonals); none for the cone.
+    pub fn facets(self) -> &'static [(f64, f64, f64)] {
+        const R2: f64 = std::f64::consts::SQRT_2;
+        const FACETS: [(f64, f64, f64); 8] = [
+            (1.0, 0.0, 1.0),
+            (-1.0, 0.0, 1.0),
+            (0.0, 1.0, 1.0),
+            (0.0, -1.0, 1.0),
+            (1.0, 1.0, R2),
+            (1.0, -1.0, R2),
+            (-1.0, 1.0, R2),
+            (-1.0, -1.0, R2),
+        ];
+        match self {
+            Self::Pyramid8 => &FACETS,
+            Self::Box4 => &FACETS[..4],
+            Self::Cone => &[],
+        }
+    }
+
     /// The largest friction utilisation |f_t| / (μ f_n⁺) (measured as a circle, as reported)
     /// the model allows: at the outer pyramid's corners 1/cos 22.5° = 1.082, at the box's √2,
     /// on the cone 1.
@@ -292,17 +313,9 @@ impl ContactProblem<'_> {
                 }
                 r
             };
-            let r2 = std::f64::consts::SQRT_2;
             match self.model {
                 FrictionModel::Box4 | FrictionModel::Pyramid8 => {
-                    for (du, dv) in [(1.0, 0.0), (-1.0, 0.0), (0.0, 1.0), (0.0, -1.0)] {
-                        nonneg.push(row(du, dv, 1.0));
-                    }
-                    if self.model == FrictionModel::Pyramid8 {
-                        for (du, dv) in [(1.0, 1.0), (1.0, -1.0), (-1.0, 1.0), (-1.0, -1.0)] {
-                            nonneg.push(row(du, dv, r2));
-                        }
-                    }
+                    nonneg.extend(self.model.facets().iter().map(|&(du, dv, scale)| row(du, dv, scale)));
                 }
                 FrictionModel::Cone => {
                     // s = −A x = (μ c_n⁺ + s, c_u, c_v): the head row is −(μ e_n + e_s).
