@@ -31,7 +31,8 @@
 //!   wᵀa = aᵀMa + the friction's dissipation);
 //! - not settled within the round limit: undecided, an explicit answer.
 //!
-//! Each round is two QPs over the same rows. The accelerations are unique (M is positive
+//! Each round of a moving component is two QPs over the same rows (at rest the first is
+//! enough: there is no next round to feed). The accelerations are unique (M is positive
 //! definite), the forces are not: opposite faces can squeeze a sliding bar by any amount
 //! without changing its motion, and a face's corners can share a load any way. So the first
 //! QP finds the accelerations (Gauss), and the second the smallest forces (Σ f², the statics'
@@ -45,8 +46,10 @@
 //! lengths by the model size L, linear accelerations by g, angular ones by g/L. The inertia
 //! enters in each block's principal axes (so M⁻¹ is diagonal): the moment rows' residual r
 //! (world axes) is R r' with R the principal axes, r' weighted 1/Ĩ_k with Ĩ_k = I_k g / (W L²);
-//! the force rows' residual weighted 1/m̃ with m̃ = m g / W. Accelerations come back in m/s²
-//! and rad/s².
+//! the force rows' residual weighted 1/m̃ with m̃ = m g / W. The residual's columns are
+//! scaled by √m̃ and √Ĩ_k, so that Gauss's weight on them is the identity (weights 1/m̃ ~ 10²
+//! beside 1/Ĩ ~ 10⁶ on the Armadillo's stones cost the interior point accuracy per iteration).
+//! Accelerations come back in m/s² and rad/s².
 
 use super::assemble::System;
 use super::backend::solve_conic;
@@ -170,7 +173,11 @@ pub fn rate_problem(
         let gauss = solve_conic(&problem, acc, settings.max_iterations);
         iterations += gauss.iterations;
         let motion = read_motion(assembly, comp, &inertia, &cols, &gauss.x);
-        let out = if matches!(gauss.status, SolverStatus::Solved | SolverStatus::AlmostSolved) {
+        let solved = |s| matches!(s, SolverStatus::Solved | SolverStatus::AlmostSolved);
+        // At rest the round's forces are not needed (no next round): the second QP only runs
+        // for a component that moves.
+        let at_rest = solved(gauss.status) && motion.peak <= settings.still;
+        let out = if solved(gauss.status) && !at_rest {
             pin_accelerations(&mut problem, &cols, sys.eq_rhs.len(), &gauss.x);
             let forces = solve_conic(&problem, acc, settings.max_iterations);
             iterations += forces.iterations;
@@ -189,7 +196,10 @@ pub fn rate_problem(
             residual: step.residual,
             solver_seconds: t.elapsed().as_secs_f64(),
         };
-        if !matches!(out.status, SolverStatus::Solved | SolverStatus::AlmostSolved) {
+        if at_rest {
+            return done(RateState::AtRest);
+        }
+        if !solved(out.status) {
             return done(RateState::SolverFailed);
         }
         // A normal force within the solver's noise is none (an interior point keeps every
@@ -200,9 +210,6 @@ pub fn rate_problem(
         let mean = mu / caps.len().max(1) as f64;
         let largest = next.iter().chain(&caps).fold(mean.max(f64::MIN_POSITIVE), |m, c| m.max(*c));
         let change = next.iter().zip(&caps).fold(0.0f64, |m, (a, b)| m.max((a - b).abs())) / largest;
-        if step.peak <= settings.still {
-            return done(RateState::AtRest);
-        }
         if change <= settings.settle {
             return done(RateState::Moving);
         }
@@ -218,6 +225,14 @@ struct BlockInertia {
     mass: f64,
     moments: [f64; 3],
     axes: Matrix3<f64>,
+}
+
+impl BlockInertia {
+    /// The residual columns' scale: r' = s ρ makes Gauss's weight on ρ the identity.
+    fn column_scale(&self) -> [f64; 6] {
+        let m = self.mass.sqrt();
+        [m, m, m, self.moments[0].sqrt(), self.moments[1].sqrt(), self.moments[2].sqrt()]
+    }
 }
 
 fn principal_inertia(assembly: &Assembly, comp: &Component, force_scale: f64) -> Vec<BlockInertia> {
@@ -245,8 +260,8 @@ struct Columns {
     residual: usize,
 }
 
-/// One round's QP: minimise ½ Σ r'ᵀ M̃'⁻¹ r' + ε/2 Σ f² subject to A f − R r' = −w, f_n ≥ 0 and
-/// f_t within the capacities `caps`.
+/// One round's QP: minimise ½ Σ ρᵀρ (= ½ Σ r'ᵀ M̃'⁻¹ r' with r' = s ρ, s the column scale)
+/// subject to A f − R r' = −w, f_n ≥ 0 and f_t within the capacities `caps`.
 fn round_problem(sys: &System, inertia: &[BlockInertia], caps: &[f64]) -> (ConicProblem, Columns) {
     let floor = caps.iter().fold(0.0f64, |m, c| m.max(*c)) * CAPACITY_FLOOR;
     let mut n = 0;
@@ -265,16 +280,18 @@ fn round_problem(sys: &System, inertia: &[BlockInertia], caps: &[f64]) -> (Conic
     let cols = Columns { normal, friction, residual: n };
     let blocks = inertia.len();
     let mut p_diag = vec![0.0; n];
-    for bi in inertia {
-        p_diag.extend([1.0 / bi.mass; 3]);
-        p_diag.extend(bi.moments.map(|i| 1.0 / i));
-    }
+    p_diag.extend(std::iter::repeat_n(1.0, 6 * blocks));
     let mut a = equilibrium_rows(sys, &cols);
     for (i, bi) in inertia.iter().enumerate() {
         let r = cols.residual + 6 * i;
-        a.extend((0..3).map(|k| (6 * i + k, r + k, -1.0)));
+        let s = bi.column_scale();
+        a.extend((0..3).map(|k| (6 * i + k, r + k, -s[k])));
         for k in 0..3 {
-            a.extend((0..3).filter(|&j| bi.axes[(k, j)] != 0.0).map(|j| (6 * i + 3 + k, r + 3 + j, -bi.axes[(k, j)])));
+            a.extend(
+                (0..3)
+                    .filter(|&j| bi.axes[(k, j)] != 0.0)
+                    .map(|j| (6 * i + 3 + k, r + 3 + j, -bi.axes[(k, j)] * s[3 + j])),
+            );
         }
     }
     let mut b = sys.eq_rhs.clone();
@@ -365,7 +382,8 @@ fn read_motion(
         .iter()
         .enumerate()
         .map(|(i, bi)| {
-            let r = &x[cols.residual + 6 * i..cols.residual + 6 * i + 6];
+            let s = bi.column_scale();
+            let r: Vec<f64> = (0..6).map(|k| x[cols.residual + 6 * i + k] * s[k]).collect();
             let linear = Vector3::new(r[0], r[1], r[2]) / bi.mass;
             let angular = bi.axes * Vector3::new(r[3] / bi.moments[0], r[4] / bi.moments[1], r[5] / bi.moments[2]);
             let block = assembly.block(comp.blocks[i]);
