@@ -13,21 +13,21 @@ fn sequences(c: &mut Criterion) {
     let s = AnalysisSettings::default();
     let wall = builtin("wall?courses=5&bricks=10").unwrap();
     c.bench_function("sequence: wall 5×10 bottom-up (every step stands)", |b| {
-        b.iter(|| check(&wall, &OrderSpec::BottomUp, &s, None, &|| {}).unwrap())
+        b.iter(|| check(&wall, &OrderSpec::BottomUp, &s, &Default::default(), &|| {}).unwrap())
     });
     let arch = builtin("arch?n=15&t=0.15").unwrap();
     c.bench_function("sequence: arch 15 bottom-up (fails until the keystone)", |b| {
-        b.iter(|| check(&arch, &OrderSpec::BottomUp, &s, None, &|| {}).unwrap())
+        b.iter(|| check(&arch, &OrderSpec::BottomUp, &s, &Default::default(), &|| {}).unwrap())
     });
     c.bench_function("search: arch 15 (no order; temporary supports)", |b| {
-        b.iter(|| search(&arch, &s, &SearchSettings::default(), None, &|| {}).unwrap())
+        b.iter(|| search(&arch, &s, &SearchSettings::default(), &Default::default(), &|| {}).unwrap())
     });
     let dmsc = voussoir::io::load_scene(
         &std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/cases/fig6_dmsc_sequence.json"),
     )
     .unwrap();
     c.bench_function("search: DMSC ligature (an order is found)", |b| {
-        b.iter(|| search(&dmsc, &s, &SearchSettings::default(), None, &|| {}).unwrap())
+        b.iter(|| search(&dmsc, &s, &SearchSettings::default(), &Default::default(), &|| {}).unwrap())
     });
 }
 

@@ -279,6 +279,22 @@ fn kinematic_prints_both_verdicts_and_flags_disagreement() {
     let out = voussoir(&["analyze", "builtin:stack?n=3", "--kinematic"]);
     assert_eq!(out.status.code(), Some(0));
     assert!(String::from_utf8_lossy(&out.stdout).contains("kinematic stands: AGREE"));
+
+    // `sequence --kinematic`: H with its posts as supports, then its bar: the bar's step stands
+    // by the statics and falls kinematically (exit 1), with a kinematic check per step in the
+    // JSON report.
+    let mut scene = voussoir::io::load_scene(std::path::Path::new(&h)).unwrap();
+    scene.mark_lowest_as_supports(1e-3);
+    let file = tmp("h_supported.json");
+    std::fs::write(&file, voussoir::io::scene_json::scene_to_string(&scene)).unwrap();
+    let json = tmp("h_sequence.json");
+    let out = voussoir(&["sequence", file.to_str().unwrap(), "--kinematic", "--json", json.to_str().unwrap()]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(1), "{text}");
+    assert!(text.contains("FALLS (!)") && text.contains("first kinematic failure at step 0"), "{text}");
+    let r: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    assert_eq!(r["steps"][0]["stands"], true);
+    assert_eq!(r["steps"][0]["kinematic"]["verdict"], "fails");
 }
 
 #[test]

@@ -230,7 +230,8 @@ fn sequence_settings_add_the_drop_test_of_every_step() {
     use voussoir::ecs::SequenceSettings;
     use voussoir::sequence::OrderSpec;
     let mut app = app();
-    app.insert_resource(SequenceSettings { dynamic: Some(DropSettings { duration: 0.5, ..Default::default() }) });
+    let dynamic = Some(DropSettings { duration: 0.5, ..Default::default() });
+    app.insert_resource(SequenceSettings(voussoir::sequence::StepChecks { dynamic, ..Default::default() }));
     send(&mut app, Edit::Load(builtin("stack?n=3").unwrap()));
     app.world_mut().write_message(StartSequence(OrderSpec::BottomUp));
     app.update();
@@ -306,4 +307,39 @@ fn the_load_factor_follows_edits_component_by_component() {
     assert_close(r.load_factor(), 0.25, 1e-6, "unchanged");
     assert_eq!(r.reused, 2, "both old components reused; {} solved (the new block)", r.solved);
     assert_eq!(r.solved, 1);
+}
+
+/// Invariant: the kinematic plugin gives the core's check of the design on screen. The letter
+/// H of compas_cra (a bar between two posts, held only by a squeeze nothing produces): RBE
+/// stands, the kinematic check fails with the bar falling at g — the same verdicts and
+/// mechanism as `kinematics::check`; a new design (a thick arch) is checked again, and both
+/// stand; switched off, the status is empty.
+#[test]
+fn kinematic_plugin_reports_both_verdicts_and_the_mechanism() {
+    use voussoir::kinematics::{self, KinematicVerdict};
+    let mut scene = voussoir::io::load_scene(&compas_data("compas_cra/H.json")).unwrap();
+    assert_eq!(scene.mark_lowest_as_supports(1e-3), 2, "the two posts");
+    scene.material.friction = 0.84;
+    let settings = AnalysisSettings::default();
+    let core = kinematics::check(&analyze(&scene, &settings).unwrap(), &settings.statics, &Default::default()).unwrap();
+
+    let mut app = app();
+    app.insert_resource(KinematicRequest::On(Default::default()));
+    send(&mut app, Edit::Load(scene));
+    let k = app.world().resource::<KinematicStatus>().result.clone().expect("checked after the analysis");
+    assert_eq!((k.verdict, k.statics_stands, k.agrees), (KinematicVerdict::Fails, true, false));
+    assert_eq!(k.verdict, core.verdict);
+    let (m, c) = (k.mechanism.expect("a mechanism"), core.mechanism.expect("the core's mechanism"));
+    assert_eq!(m.blocks.len(), 1, "only the bar moves");
+    assert_eq!(m.blocks[0].block, c.blocks[0].block);
+    assert_close(m.blocks[0].translation[2], -9.81, 1e-6 * 9.81, "the bar falls at g");
+
+    send(&mut app, Edit::Load(builtin("arch?n=9&t=0.15").unwrap()));
+    let k = app.world().resource::<KinematicStatus>().result.clone().expect("checked again after the edit");
+    assert_eq!((k.verdict, k.agrees), (KinematicVerdict::Stands, true), "a thick arch");
+    assert!(k.mechanism.is_none());
+
+    app.insert_resource(KinematicRequest::Off);
+    app.update();
+    assert!(app.world().resource::<KinematicStatus>().result.is_none());
 }

@@ -243,3 +243,48 @@ fn without_friction_both_verdicts_agree() {
         assert_eq!(k.rounds, 1, "{}", scene.name);
     }
 }
+
+/// The sequence check with the kinematic check per step (`sequence --kinematic`): two free
+/// posts on a slab, then a block hung between them at mid-height, touching nothing else
+/// (μ = 0.8). Each post alone stands in both verdicts. With the block, RBE stands on a squeeze
+/// (the heavy posts resist the push; friction carries the block); released from rest, nothing
+/// squeezes it and it falls at g. Invariant: every step's kinematic verdict is the core check
+/// of that prefix analysed on its own, and the hung block's step is the only kinematic failure.
+#[test]
+fn a_sequence_is_checked_kinematically_step_by_step() {
+    use voussoir::sequence::{OrderSpec, StepChecks};
+    let mut scene = Scene::new(
+        "hung",
+        vec![
+            cuboid("slab", [-2.5, -0.5, -0.5], [2.5, 1.5, 0.0]).support(true),
+            prism("left", &[[-2.0, 0.0], [-0.5, 0.0], [-0.5, 2.0], [-2.0, 2.0]]),
+            prism("right", &[[0.5, 0.0], [2.0, 0.0], [2.0, 2.0], [0.5, 2.0]]),
+            prism("block", &[[-0.5, 1.0], [0.5, 1.0], [0.5, 2.0], [-0.5, 2.0]]),
+        ],
+    );
+    scene.material.friction = 0.8;
+    let order = ["left", "right", "block"].map(String::from).to_vec();
+    let settings = AnalysisSettings::default();
+    let per_step = StepChecks { kinematic: Some(KinematicSettings::default()), ..Default::default() };
+    let r = voussoir::sequence::check(&scene, &OrderSpec::Given(order.clone()), &settings, &per_step, &|| {})
+        .expect("the sequence is checked");
+    assert_eq!(r.steps.len(), 3);
+    for (k, step) in r.steps.iter().enumerate() {
+        let mut prefix = scene.clone();
+        prefix.blocks.retain(|b| b.support || order[..=k].contains(&b.name));
+        let (analysis, alone) = both(&prefix, &settings);
+        let got = step.kinematic.as_ref().expect("a kinematic check per step");
+        assert_eq!((got.verdict, got.statics_stands), (alone.verdict, analysis.statics.stands), "step {k}");
+        assert!(step.stands, "step {k}: RBE stands");
+        let expected = if k < 2 { KinematicVerdict::Stands } else { KinematicVerdict::Fails };
+        assert_eq!(got.verdict, expected, "step {k} ({})", step.placed);
+    }
+    let last = r.steps[2].kinematic.as_ref().unwrap();
+    let m = last.mechanism.as_ref().expect("the hung block's mechanism");
+    for b in &m.blocks {
+        let a = b.translation;
+        let (expected, what) = if b.block == "block" { (-G, "falls at g") } else { (0.0, "stays") };
+        assert!(a[0].abs() < 1e-6 * G && (a[2] - expected).abs() < 1e-6 * G, "{} {what}: {a:?}", b.block);
+    }
+    assert!(m.blocks.iter().any(|b| b.block == "block"));
+}

@@ -16,12 +16,12 @@ fn given(names: &[&str]) -> OrderSpec {
 #[test]
 fn stack_bottom_up_stands_top_down_fails_at_once() {
     let scene = builtin("stack?n=4").unwrap();
-    let r = check(&scene, &OrderSpec::BottomUp, &AnalysisSettings::default(), None, &|| {}).unwrap();
+    let r = check(&scene, &OrderSpec::BottomUp, &AnalysisSettings::default(), &Default::default(), &|| {}).unwrap();
     assert_eq!(r.first_failure, None);
     assert!(r.steps.iter().all(|s| s.stands));
     let free: Vec<String> = r.order.clone();
     let reversed: Vec<&str> = free.iter().rev().map(String::as_str).collect();
-    let r = check(&scene, &given(&reversed), &AnalysisSettings::default(), None, &|| {}).unwrap();
+    let r = check(&scene, &given(&reversed), &AnalysisSettings::default(), &Default::default(), &|| {}).unwrap();
     assert_eq!(r.first_failure, Some(0), "the top block alone floats");
     assert!(r.steps.last().unwrap().stands, "complete, it stands again");
 }
@@ -29,7 +29,7 @@ fn stack_bottom_up_stands_top_down_fails_at_once() {
 #[test]
 fn arch_without_centering_fails_before_the_keystone() {
     let scene = builtin("arch?n=7&t=0.15").unwrap();
-    let r = check(&scene, &OrderSpec::BottomUp, &AnalysisSettings::default(), None, &|| {}).unwrap();
+    let r = check(&scene, &OrderSpec::BottomUp, &AnalysisSettings::default(), &Default::default(), &|| {}).unwrap();
     let k = r.first_failure.expect("a half arch does not stand");
     assert!(k < r.steps.len() - 1);
     assert!(!r.steps[k].offending.is_empty() && r.steps[k].tension_ratio > 0.0);
@@ -40,9 +40,9 @@ fn arch_without_centering_fails_before_the_keystone() {
 fn bad_orders_are_named_errors() {
     let scene = builtin("stack?n=3").unwrap();
     let s = AnalysisSettings::default();
-    let free = check(&scene, &OrderSpec::BottomUp, &s, None, &|| {}).unwrap().order;
+    let free = check(&scene, &OrderSpec::BottomUp, &s, &Default::default(), &|| {}).unwrap().order;
     let f: Vec<&str> = free.iter().map(String::as_str).collect();
-    let err = |o: OrderSpec| check(&scene, &o, &s, None, &|| {}).unwrap_err();
+    let err = |o: OrderSpec| check(&scene, &o, &s, &Default::default(), &|| {}).unwrap_err();
     assert_eq!(err(given(&[f[0], "nope", f[1]])), SequenceError::Unknown("nope".into()));
     assert_eq!(err(given(&[f[0], f[0], f[1]])), SequenceError::Repeated(f[0].into()));
     assert_eq!(err(given(&[f[0]])), SequenceError::Missing(f[1].into()));
@@ -52,7 +52,7 @@ fn bad_orders_are_named_errors() {
 fn from_supports_orders_by_graph_distance() {
     // An arch: the voussoirs next to the springers first, the keystone last.
     let scene = builtin("arch?n=7&t=0.15").unwrap();
-    let r = check(&scene, &OrderSpec::FromSupports, &AnalysisSettings::default(), None, &|| {}).unwrap();
+    let r = check(&scene, &OrderSpec::FromSupports, &AnalysisSettings::default(), &Default::default(), &|| {}).unwrap();
     assert_eq!(r.order.len(), 7);
     let ends: Vec<&str> = r.order[..2].iter().map(String::as_str).collect();
     assert!(ends.contains(&"v0") && ends.contains(&"v6"), "{:?}", r.order);
@@ -88,7 +88,8 @@ fn recheck(scene: &voussoir::model::Scene, r: &voussoir::sequence::SequenceRepor
 #[test]
 fn arch_has_no_standing_order_but_stands_with_temporary_supports() {
     let scene = builtin("arch?n=7&t=0.15").unwrap();
-    let r = search(&scene, &AnalysisSettings::default(), &SearchSettings::default(), None, &|| {}).unwrap();
+    let r =
+        search(&scene, &AnalysisSettings::default(), &SearchSettings::default(), &Default::default(), &|| {}).unwrap();
     let info = r.search.clone().unwrap();
     assert!(!info.found && info.exhaustive, "{info:?}");
     assert!(!r.temporary_supports.is_empty());
@@ -105,10 +106,12 @@ fn arch_has_no_standing_order_but_stands_with_temporary_supports() {
 #[test]
 fn search_finds_the_bottom_up_order_of_a_stack_given_top_down() {
     let scene = builtin("stack?n=5").unwrap();
-    let r = search(&scene, &AnalysisSettings::default(), &SearchSettings::default(), None, &|| {}).unwrap();
+    let r =
+        search(&scene, &AnalysisSettings::default(), &SearchSettings::default(), &Default::default(), &|| {}).unwrap();
     assert!(r.search.as_ref().unwrap().found);
     assert!(r.stands_unpropped());
-    let bottom_up = check(&scene, &OrderSpec::BottomUp, &AnalysisSettings::default(), None, &|| {}).unwrap().order;
+    let bottom_up =
+        check(&scene, &OrderSpec::BottomUp, &AnalysisSettings::default(), &Default::default(), &|| {}).unwrap().order;
     assert_eq!(r.order, bottom_up, "a stack has exactly one standing order");
 }
 
@@ -117,7 +120,7 @@ fn dmsc_fails_with_d_and_m_alone_and_search_or_props_fix_it() {
     let scene = case("fig6_dmsc_sequence");
     assert_eq!(scene.order, ["D", "M", "S", "C"]);
     let s = AnalysisSettings::default();
-    let r = check(&scene, &OrderSpec::Given(scene.order.clone()), &s, None, &|| {}).unwrap();
+    let r = check(&scene, &OrderSpec::Given(scene.order.clone()), &s, &Default::default(), &|| {}).unwrap();
     let k = r.first_failure.expect("D and M alone do not stand");
     assert!(r.order[..=k].iter().all(|n| n.starts_with("D.") || n.starts_with("M.")), "{:?}", &r.order[..=k]);
     assert!(r.order[k].starts_with("M."));
@@ -125,15 +128,21 @@ fn dmsc_fails_with_d_and_m_alone_and_search_or_props_fix_it() {
     assert!(r.steps.last().unwrap().stands, "the complete design stands");
     recheck(&scene, &r);
 
-    let found = search(&scene, &s, &SearchSettings::default(), None, &|| {}).unwrap();
+    let found = search(&scene, &s, &SearchSettings::default(), &Default::default(), &|| {}).unwrap();
     assert!(found.search.as_ref().unwrap().found && found.stands_unpropped());
     let at = |n: &str| found.order.iter().position(|x| x == n).unwrap();
     assert!(at("S.2-") < at(&r.order[k]), "the S's lower bar is placed before the M's upper piece");
     recheck(&scene, &found);
 
-    let propped =
-        check_with_props(&scene, &OrderSpec::Given(scene.order.clone()), &s, &SearchSettings::default(), None, &|| {})
-            .unwrap();
+    let propped = check_with_props(
+        &scene,
+        &OrderSpec::Given(scene.order.clone()),
+        &s,
+        &SearchSettings::default(),
+        &Default::default(),
+        &|| {},
+    )
+    .unwrap();
     assert_eq!(propped.first_failure, None);
     assert_eq!(propped.temporary_supports.len(), 1, "{:?}", propped.temporary_supports);
     let p = &propped.temporary_supports[0];
@@ -146,10 +155,10 @@ fn dmsc_fails_with_d_and_m_alone_and_search_or_props_fix_it() {
 fn a_source_name_stands_for_its_pieces_and_repeats_are_caught() {
     let scene = case("fig6_dmsc_sequence");
     let s = AnalysisSettings::default();
-    let r = check(&scene, &given(&["C", "S", "M", "D"]), &s, None, &|| {}).unwrap();
+    let r = check(&scene, &given(&["C", "S", "M", "D"]), &s, &Default::default(), &|| {}).unwrap();
     assert_eq!(r.order.len(), 10);
     assert!(r.order[..2].iter().all(|n| n.starts_with("C.")));
-    let err = check(&scene, &given(&["C", "S", "M", "D", "C.4-"]), &s, None, &|| {}).unwrap_err();
+    let err = check(&scene, &given(&["C", "S", "M", "D", "C.4-"]), &s, &Default::default(), &|| {}).unwrap_err();
     assert_eq!(err, SequenceError::Repeated("C.4-".into()));
 }
 
@@ -157,7 +166,7 @@ fn a_source_name_stands_for_its_pieces_and_repeats_are_caught() {
 fn two_threads_give_the_steps_of_one() {
     // check() runs the steps on two threads; every step equals a fresh analysis of its prefix.
     let scene = builtin("wall?courses=3&bricks=4").unwrap();
-    let r = check(&scene, &OrderSpec::BottomUp, &AnalysisSettings::default(), None, &|| {}).unwrap();
+    let r = check(&scene, &OrderSpec::BottomUp, &AnalysisSettings::default(), &Default::default(), &|| {}).unwrap();
     assert!(r.steps.len() >= 8);
     recheck(&scene, &r);
 }
@@ -174,7 +183,7 @@ fn prefixes_are_detected_with_the_design_tolerances() {
     scene.ground = false;
     let full = common::run(&scene, &AnalysisSettings::default());
     assert!(full.statics.stands, "the complete column stands");
-    let r = check(&scene, &OrderSpec::BottomUp, &AnalysisSettings::default(), None, &|| {}).unwrap();
+    let r = check(&scene, &OrderSpec::BottomUp, &AnalysisSettings::default(), &Default::default(), &|| {}).unwrap();
     assert_eq!(r.first_failure, None, "{:?}", r.steps[0]);
     recheck(&scene, &r);
     // The first prefix on its own scale misses the joint: the test can tell the difference.

@@ -159,6 +159,12 @@ fn main() {
         Act(A::ToggleMechanism),
         Settle(5),
         Shot(path("mechanism")),
+        // The kinematic check of compas_cra's letter H: RBE holds the bar, released from rest
+        // it falls; its mechanism is drawn beside the design (the load factor's view closes).
+        Load(Box::new(letter_h())),
+        Act(A::ToggleKinematic),
+        Settle(5),
+        Shot(path("kinematic")),
     ];
     let report_path = dir.join("report.json");
     let mut options = ViewerOptions::new(default_scene);
@@ -174,6 +180,15 @@ fn main() {
     if std::env::var_os("VOUSSOIR_KEEP_SHOTS").is_none() {
         let _ = std::fs::remove_dir_all(&dir);
     }
+}
+
+/// compas_cra's letter H on its two posts (as tests/kinematics.rs sets it up).
+fn letter_h() -> voussoir::model::Scene {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/compas/compas_cra/H.json");
+    let mut scene = voussoir::io::load_scene(&path).unwrap();
+    scene.mark_lowest_as_supports(1e-3);
+    scene.material.friction = 0.84;
+    scene
 }
 
 fn check(report: &Value, saved: &Path) {
@@ -276,4 +291,21 @@ fn check(report: &Value, saved: &Path) {
     let c = picture(&s, "physics_viewport");
     println!("mechanism view: {c:?}");
     assert!(c.sandstone > c.total / 100, "the moved blocks are drawn: {c:?}");
+    // The kinematic view: the core's verdicts on H (statics stands, the bar falls), one block
+    // moving, drawn in the second view.
+    let s = shot(report, "kinematic");
+    let core = voussoir::kinematics::check(
+        &voussoir::analysis::analyze(&letter_h(), &Default::default()).unwrap(),
+        &Default::default(),
+        &Default::default(),
+    )
+    .unwrap();
+    assert_eq!(s["kinematic"], serde_json::to_value(core.verdict).unwrap(), "{s}");
+    assert_eq!(s["kinematic"], "fails", "{s}");
+    assert_eq!((s["kinematic_agrees"].as_bool(), s["stands"].as_bool()), (Some(false), Some(true)), "{s}");
+    assert_eq!(s["kinematic_moving"].as_u64(), Some(1), "only the bar: {s}");
+    assert_eq!(s["load_factor"], Value::Null, "one mechanism at a time: {s}");
+    let c = picture(&s, "physics_viewport");
+    println!("kinematic view: {c:?}");
+    assert!(c.sandstone > c.total / 100, "the blocks are drawn beside the design: {c:?}");
 }

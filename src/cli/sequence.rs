@@ -1,9 +1,11 @@
-//! `voussoir sequence`: every step of an assembly order checked (statics, and the drop test
-//! with `--dynamic`), or an order searched, with temporary supports where none stands.
+//! `voussoir sequence`: every step of an assembly order checked (statics, the drop test with
+//! `--dynamic`, the kinematic check with `--kinematic`), or an order searched, with temporary
+//! supports where none stands.
 
 use super::options::{DropOptions, SolverOptions};
 use super::{BadInput, load, refuse_overwrite, write_output};
-use crate::sequence::{OrderSpec, SearchSettings, check, check_with_props, search};
+use crate::kinematics::KinematicVerdict;
+use crate::sequence::{OrderSpec, SearchSettings, StepChecks, check, check_with_props, search};
 use clap::Args;
 use std::path::PathBuf;
 
@@ -33,6 +35,10 @@ pub struct SequenceArgs {
     /// Also drop-test every step.
     #[arg(long)]
     pub dynamic: bool,
+    /// Also check every step kinematically (released from rest, no squeeze: does the static
+    /// equilibrium arise?).
+    #[arg(long)]
+    pub kinematic: bool,
     #[command(flatten)]
     pub solver: SolverOptions,
     #[command(flatten)]
@@ -62,8 +68,10 @@ pub fn run(args: &SequenceArgs) -> Result<i32, BadInput> {
         None => OrderSpec::BottomUp,
     };
     let settings = args.solver.settings();
-    let drop = args.drop.settings(args.solver.mu);
-    let dynamic = args.dynamic.then_some(&drop);
+    let per_step = StepChecks {
+        dynamic: args.dynamic.then(|| args.drop.settings(args.solver.mu)),
+        kinematic: args.kinematic.then(Default::default),
+    };
     let search_settings = SearchSettings { max_checks: args.max_checks, ..Default::default() };
     // The number of steps is known only after the cut history is replayed: a counting spinner.
     let bar = indicatif::ProgressBar::new_spinner();
@@ -74,24 +82,25 @@ pub fn run(args: &SequenceArgs) -> Result<i32, BadInput> {
     bar.set_message(if args.search { "static checks (searching an order)" } else { "steps checked" });
     let tick = || bar.inc(1);
     let report = if args.search {
-        search(&scene, &settings, &search_settings, dynamic, &tick)
+        search(&scene, &settings, &search_settings, &per_step, &tick)
     } else if args.props {
-        check_with_props(&scene, &spec, &settings, &search_settings, dynamic, &tick)
+        check_with_props(&scene, &spec, &settings, &search_settings, &per_step, &tick)
     } else {
-        check(&scene, &spec, &settings, dynamic, &tick)
+        check(&scene, &spec, &settings, &per_step, &tick)
     };
     bar.finish_and_clear();
     let r = report.map_err(|e| BadInput(format!("{}: {e}", args.scene)))?;
-    print_report(&r, args.dynamic);
+    print_report(&r, args.dynamic, args.kinematic);
     if let Some(out) = &args.json {
         write_output(out, serde_json::to_string_pretty(&r).unwrap_or_default().as_bytes())?;
     }
     let dyn_ok = r.steps.iter().all(|s| s.dynamic.as_ref().is_none_or(|d| d.stands));
-    Ok(if r.stands_unpropped() && dyn_ok { 0 } else { 1 })
+    let kin_ok = r.steps.iter().all(|s| s.kinematic.as_ref().is_none_or(|k| k.verdict == KinematicVerdict::Stands));
+    Ok(if r.stands_unpropped() && dyn_ok && kin_ok { 0 } else { 1 })
 }
 
 /// The search's outcome, one line per step, the props and the first failure.
-fn print_report(r: &crate::sequence::SequenceReport, dynamic: bool) {
+fn print_report(r: &crate::sequence::SequenceReport, dynamic: bool, kinematic: bool) {
     if let Some(info) = &r.search {
         let what = match (info.found, info.exhaustive) {
             (true, _) => "found an order in which every step stands".to_string(),
@@ -101,14 +110,22 @@ fn print_report(r: &crate::sequence::SequenceReport, dynamic: bool) {
         println!("search: {what}; {} static checks, longest standing prefix {}", info.checks, info.deepest);
     }
     println!(
-        "step  placed                 statics  tension      friction excess{}  props",
-        if dynamic { "  drop test" } else { "" }
+        "step  placed                 statics  tension      friction excess{}{}  props",
+        if dynamic { "  drop test" } else { "" },
+        if kinematic { "  kinematic" } else { "" }
     );
     for (i, s) in r.steps.iter().enumerate() {
         let d = s.dynamic.as_ref().map(|d| if d.stands { "  stands" } else { "  falls " }).unwrap_or("");
+        let k = s.kinematic.as_ref().map_or("", |k| match (k.verdict, k.agrees) {
+            (KinematicVerdict::Stands, _) => "  stands   ",
+            (KinematicVerdict::Fails, true) => "  falls    ",
+            // Falls where the statics stands: the equilibrium needs a squeeze nothing produces.
+            (KinematicVerdict::Fails, false) => "  FALLS (!)",
+            (KinematicVerdict::Undecided, _) => "  undecided",
+        });
         let word = if s.stands { "stands" } else { "FAILS " };
         println!(
-            "{i:>4}  {:<22} {word}   {:.3e} W  {:.3e} W{d}  {}",
+            "{i:>4}  {:<22} {word}   {:.3e} W  {:.3e} W{d}{k}  {}",
             s.placed,
             s.tension_ratio,
             s.friction_excess_ratio,
@@ -125,5 +142,12 @@ fn print_report(r: &crate::sequence::SequenceReport, dynamic: bool) {
             let s = &r.steps[k];
             println!("first failure at step {k} ({}): {:?} {}", s.placed, s.verdict, s.offending.join(", "))
         }
+    }
+    let not_kinematic =
+        |s: &crate::sequence::Step| s.kinematic.as_ref().is_some_and(|k| k.verdict != KinematicVerdict::Stands);
+    if let Some(k) = r.steps.iter().position(not_kinematic) {
+        let s = &r.steps[k];
+        let why = if s.stands { "the statics' equilibrium does not arise from rest" } else { "the statics fails too" };
+        println!("first kinematic failure at step {k} ({}): {why}", s.placed);
     }
 }

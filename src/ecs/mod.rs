@@ -13,12 +13,14 @@
 
 pub mod diagram;
 pub mod dynamics;
+pub mod kinematic;
 pub mod robustness;
 pub mod sequence;
 mod systems;
 
 pub use diagram::{DiagramPlugin, DiagramSettings, InterfaceColors, SetDiagram};
 pub use dynamics::{BlockPose, DropStatus, DynamicsPlugin, RunDropTest};
+pub use kinematic::{KinematicPlugin, KinematicRequest, KinematicStatus};
 pub use robustness::{JointMotion, MechanismMotion, RobustnessPlugin, RobustnessRequest, RobustnessStatus};
 pub use sequence::{Placed, SequencePlugin, SequenceSettings, SequenceStatus, StartSequence, StepSequence};
 
@@ -42,6 +44,7 @@ impl PluginGroup for VoussoirPlugins {
             .add(DynamicsPlugin)
             .add(SequencePlugin)
             .add(RobustnessPlugin)
+            .add(KinematicPlugin)
     }
 }
 

@@ -2,12 +2,11 @@
 //! ([`crate::sequence::check`]); [`StepSequence`] moves through the steps, marking the blocks
 //! placed so far with [`Placed`] (what a viewer shows) and exposing the step's result — and its
 //! full analysis, forces included — in [`SequenceStatus`]. [`SequenceSettings`] asks for the
-//! drop test of every step beside the statics.
+//! drop test and the kinematic check of every step beside the statics.
 
 use super::{BlockIndex, Design, Settings, VoussoirSet};
 use crate::analysis::Analysis;
-use crate::dynamics::DropSettings;
-use crate::sequence::{OrderSpec, SequenceReport, Step, check, step_analysis};
+use crate::sequence::{OrderSpec, SequenceReport, Step, StepChecks, check, step_analysis};
 use bevy::app::{App, Plugin, Update};
 use bevy::ecs::prelude::*;
 
@@ -31,12 +30,9 @@ pub struct StartSequence(pub OrderSpec);
 #[derive(Message, Clone, Copy, Debug)]
 pub struct StepSequence(pub i64);
 
-/// How sequences are checked (default: statics only).
+/// What is checked at every step besides the statics (default: nothing).
 #[derive(Resource, Clone, Debug, Default)]
-pub struct SequenceSettings {
-    /// Also drop-test every step with these settings.
-    pub dynamic: Option<DropSettings>,
-}
+pub struct SequenceSettings(pub StepChecks);
 
 /// Marks a block placed at the current step.
 #[derive(Component, Clone, Copy, Debug, PartialEq, Eq)]
@@ -68,7 +64,7 @@ fn start_sequence(
 ) {
     let Some(StartSequence(spec)) = requests.read().last() else { return };
     let Some(scene) = &design.0 else { return };
-    *status = match check(scene, spec, &settings.0, sequence.dynamic.as_ref(), &|| {}) {
+    *status = match check(scene, spec, &settings.0, &sequence.0, &|| {}) {
         Ok(r) => SequenceStatus { report: Some(r), ..Default::default() },
         Err(e) => SequenceStatus { error: Some(e.to_string()), ..Default::default() },
     };

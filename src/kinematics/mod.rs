@@ -53,7 +53,7 @@ pub enum KinematicVerdict {
 }
 
 /// The kinematic check of a design.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Kinematic {
     pub verdict: KinematicVerdict,
     /// The statics' verdict on the same design (RBE).

@@ -1,5 +1,6 @@
 //! Assembly sequences: the blocks placed one by one, and for every prefix (the blocks placed so
-//! far plus the supports) the static analysis — and on request the drop test. The pipeline's
+//! far plus the supports) the static analysis — and on request the drop test and the kinematic
+//! check ([`StepChecks`]). The pipeline's
 //! memory makes a step cost about the component the new block joins, not a cold solve, and the
 //! steps of a check run on two threads. [`search`] finds an order in which every step stands,
 //! or proposes temporary supports ([`search`] module docs).
@@ -14,7 +15,9 @@ pub use search::{SearchInfo, SearchSettings};
 use crate::analysis::{AnalysisError, AnalysisSettings};
 use crate::decompose::{CutCache, resolve};
 use crate::dynamics::{DropResult, DropSettings};
+use crate::kinematics::Kinematic;
 use crate::model::Scene;
+use crate::statics::KinematicSettings;
 use serde::Serialize;
 use steps::Stepper;
 use thiserror::Error;
@@ -34,6 +37,18 @@ pub enum SequenceError {
     Analysis(#[from] AnalysisError),
     #[error("drop test: {0}")]
     Drop(String),
+    #[error("kinematic check: {0}")]
+    Kinematic(String),
+}
+
+/// The checks run at every step besides the statics (none by default: each costs more than
+/// the step's statics).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct StepChecks {
+    /// The drop test of the blocks placed so far.
+    pub dynamic: Option<DropSettings>,
+    /// The kinematic check of the blocks placed so far.
+    pub kinematic: Option<KinematicSettings>,
 }
 
 /// One step: the block placed and the verdicts of the blocks placed so far.
@@ -51,6 +66,8 @@ pub struct Step {
     pub props: Vec<String>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub dynamic: Option<DropResult>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub kinematic: Option<Kinematic>,
 }
 
 /// A block propped (treated as a support) at steps `from..until` (step indices from 0; at step
@@ -120,12 +137,12 @@ pub fn check(
     scene: &Scene,
     spec: &OrderSpec,
     settings: &AnalysisSettings,
-    dynamic: Option<&DropSettings>,
+    per_step: &StepChecks,
     tick: &(dyn Fn() + Sync),
 ) -> Result<SequenceReport, SequenceError> {
     let resolved = resolved(scene, settings)?;
     let order = order(&resolved, spec, settings)?;
-    let steps = steps::check_order(&resolved, &order, settings, dynamic, tick)?;
+    let steps = steps::check_order(&resolved, &order, settings, per_step, tick)?;
     Ok(SequenceReport::new(order, steps, Vec::new(), None))
 }
 
@@ -136,14 +153,14 @@ pub fn check_with_props(
     spec: &OrderSpec,
     settings: &AnalysisSettings,
     search: &SearchSettings,
-    dynamic: Option<&DropSettings>,
+    per_step: &StepChecks,
     tick: &(dyn Fn() + Sync),
 ) -> Result<SequenceReport, SequenceError> {
     let resolved = resolved(scene, settings)?;
     let order = order(&resolved, spec, settings)?;
     let adj = order::adjacency(&resolved, settings)?;
     let mut stepper = Stepper::new(&resolved, settings);
-    let (steps, props) = search::with_props(&mut stepper, &resolved, &adj, &order, search, dynamic, tick)?;
+    let (steps, props) = search::with_props(&mut stepper, &resolved, &adj, &order, search, per_step, tick)?;
     Ok(SequenceReport::new(order, steps, props, None))
 }
 
@@ -154,7 +171,7 @@ pub fn search(
     scene: &Scene,
     settings: &AnalysisSettings,
     search: &SearchSettings,
-    dynamic: Option<&DropSettings>,
+    per_step: &StepChecks,
     tick: &(dyn Fn() + Sync),
 ) -> Result<SequenceReport, SequenceError> {
     let resolved = resolved(scene, settings)?;
@@ -167,7 +184,7 @@ pub fn search(
         let placed: std::collections::HashSet<String> = order.iter().cloned().collect();
         order.extend(ranked.into_iter().filter(|n| !placed.contains(n)));
     }
-    let (steps, props) = search::with_props(&mut stepper, &resolved, &adj, &order, search, dynamic, tick)?;
+    let (steps, props) = search::with_props(&mut stepper, &resolved, &adj, &order, search, per_step, tick)?;
     info.checks = stepper.checks;
     Ok(SequenceReport::new(order, steps, props, Some(info)))
 }

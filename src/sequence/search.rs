@@ -17,7 +17,6 @@ use super::order::Adjacency;
 use super::steps::Stepper;
 use super::{SequenceError, Step, TemporarySupport};
 use crate::analysis::Analysis;
-use crate::dynamics::DropSettings;
 use crate::model::Scene;
 use std::collections::HashSet;
 
@@ -194,7 +193,7 @@ pub(crate) fn with_props(
     adj: &Adjacency,
     order: &[String],
     search: &SearchSettings,
-    dynamic: Option<&DropSettings>,
+    per_step: &super::StepChecks,
     tick: &(dyn Fn() + Sync),
 ) -> Result<(Vec<Step>, Vec<TemporarySupport>), SequenceError> {
     let index = super::order::index(resolved);
@@ -281,7 +280,7 @@ pub(crate) fn with_props(
                 }
             }
         }
-        steps.push(stepper.step_from(name, &current, &set_of(&active), dynamic)?);
+        steps.push(stepper.step_from(name, &current, &set_of(&active), per_step)?);
     }
     props_out.extend(active.drain(..).map(|(b, from)| TemporarySupport::new(b, from, order.len())));
     props_out.sort_by(|a, b| (a.from, &a.block).cmp(&(b.from, &b.block)));

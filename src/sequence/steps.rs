@@ -2,9 +2,9 @@
 //! [`Pipeline`] that keeps its work between steps, so a step costs about the component the new
 //! block joins. A sequence check runs the steps on two threads (each prefix is independent).
 
-use super::{SequenceError, Step};
+use super::{SequenceError, Step, StepChecks};
 use crate::analysis::{Analysis, AnalysisSettings, Pipeline};
-use crate::dynamics::{DropSettings, drop_test};
+use crate::dynamics::drop_test;
 use crate::model::{Load, Scene};
 use crate::statics::FirstStage;
 use std::collections::HashSet;
@@ -85,16 +85,16 @@ impl<'a> Stepper<'a> {
         Ok(a)
     }
 
-    /// The step that placed `name`, with the drop test when asked.
+    /// The step that placed `name`, with the drop test and the kinematic check when asked.
     pub fn step(
         &mut self,
         name: &str,
         placed: &HashSet<&str>,
         props: &HashSet<&str>,
-        dynamic: Option<&DropSettings>,
+        per_step: &StepChecks,
     ) -> Result<Step, SequenceError> {
         let a = self.analyse(placed, props)?;
-        self.step_from(name, &a, props, dynamic)
+        self.step_from(name, &a, props, per_step)
     }
 
     /// The step that placed `name`, from the analysis `a` of its prefix with `props`.
@@ -103,7 +103,7 @@ impl<'a> Stepper<'a> {
         name: &str,
         a: &Analysis,
         props: &HashSet<&str>,
-        dynamic: Option<&DropSettings>,
+        per_step: &StepChecks,
     ) -> Result<Step, SequenceError> {
         let s = &a.statics;
         let offending = s
@@ -112,8 +112,15 @@ impl<'a> Stepper<'a> {
             .filter(|r| r.tension > 1e-6 * s.free_weight || r.friction_excess > 1e-6 * s.free_weight)
             .map(|r| format!("{} | {}", r.a, r.b))
             .collect();
-        let dynamic = match dynamic {
+        let dynamic = match &per_step.dynamic {
             Some(ds) => Some(drop_test(&a.assembly, ds).map_err(|e| SequenceError::Drop(e.to_string()))?),
+            None => None,
+        };
+        let kinematic = match &per_step.kinematic {
+            Some(ks) => Some(
+                crate::kinematics::check(a, &self.settings.statics, ks)
+                    .map_err(|e| SequenceError::Kinematic(e.to_string()))?,
+            ),
             None => None,
         };
         let mut props: Vec<String> = props.iter().map(|p| p.to_string()).collect();
@@ -127,6 +134,7 @@ impl<'a> Stepper<'a> {
             offending,
             props,
             dynamic,
+            kinematic,
         })
     }
 }
@@ -138,7 +146,7 @@ pub(crate) fn check_order(
     resolved: &Scene,
     order: &[String],
     settings: &AnalysisSettings,
-    dynamic: Option<&DropSettings>,
+    per_step: &StepChecks,
     tick: &(dyn Fn() + Sync),
 ) -> Result<Vec<Step>, SequenceError> {
     let mut settings = settings.clone();
@@ -152,7 +160,7 @@ pub(crate) fn check_order(
         for (k, name) in order.iter().enumerate() {
             placed.insert(name);
             if k % 2 == t {
-                out.push((k, stepper.step(name, &placed, &none, dynamic)?));
+                out.push((k, stepper.step(name, &placed, &none, per_step)?));
                 tick();
             }
         }

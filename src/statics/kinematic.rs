@@ -202,10 +202,14 @@ pub fn rate_problem(
         if !solved(out.status) {
             return done(RateState::SolverFailed);
         }
-        // A normal force within the solver's noise is none (an interior point keeps every
-        // force a little positive); changes are measured against the mean capacity per point
-        // at the least, so that capacities of ~0 that merely wobble count as settled.
-        let noise = NOISE * settings.solver_tolerance;
+        // A normal force within the solver's noise is none. The second QP resolves Σ f² to its
+        // relative tolerance, so a force with f² below tol × Σ f² is invisible to it, and the
+        // barrier keeps such forces on contacts that stay closed with nothing to carry (a bar
+        // sliding between free posts kept 8e-7 W per vertex). Changes are measured against the
+        // mean capacity per point at the least, so that capacities of ~0 that merely wobble
+        // count as settled.
+        let sum_sq: f64 = step.normal.iter().map(|f| f * f).sum();
+        let noise = (NOISE * settings.solver_tolerance).max((settings.solver_tolerance * sum_sq).sqrt());
         let next: Vec<f64> = step.normal.iter().map(|&f| if f > noise { mu * f } else { 0.0 }).collect();
         let mean = mu / caps.len().max(1) as f64;
         let largest = next.iter().chain(&caps).fold(mean.max(f64::MIN_POSITIVE), |m, c| m.max(*c));

@@ -6,8 +6,8 @@
 use super::ViewerOptions;
 use crate::dynamics::DropSettings;
 use crate::ecs::{
-    DropStatus, EditDesign, PipelineState, RobustnessRequest, RunDropTest, SequenceStatus, SetDiagram, StartSequence,
-    StepSequence, VoussoirSet,
+    DropStatus, EditDesign, KinematicRequest, PipelineState, RobustnessRequest, RunDropTest, SequenceStatus,
+    SetDiagram, StartSequence, StepSequence, VoussoirSet,
 };
 use crate::model::Scene;
 use crate::model::cut::{Cut, CutShape};
@@ -42,6 +42,9 @@ pub enum ViewerAction {
     /// Show the collapse mechanism beside the design (the load factor of the live loads, or of
     /// the worst horizontal direction when there are none), or hide it.
     ToggleMechanism,
+    /// Run the kinematic check after every analysis (and show its mechanism when the design
+    /// fails it), or stop.
+    ToggleKinematic,
     /// Select a block by name (`None`: clear).
     Select(Option<String>),
     /// Click where this world point (m) appears in the view: selects the block the ray from
@@ -117,6 +120,8 @@ pub struct ViewerState {
     pub drop_view: bool,
     pub sequence_view: bool,
     pub mechanism_view: bool,
+    /// The kinematic check runs and its mechanism is the one drawn.
+    pub kinematic_view: bool,
     /// Set when the camera should fit the design at the next analysis.
     pub frame_pending: bool,
 }
@@ -141,6 +146,7 @@ impl ViewerState {
             drop_view: false,
             sequence_view: false,
             mechanism_view: false,
+            kinematic_view: false,
             frame_pending: true,
         }
     }
@@ -215,6 +221,7 @@ fn apply_actions(
     mut starts: MessageWriter<StartSequence>,
     mut steps: MessageWriter<StepSequence>,
     mut robustness: ResMut<RobustnessRequest>,
+    mut kinematic: ResMut<KinematicRequest>,
 ) {
     for action in actions.read() {
         let s = &mut *state;
@@ -229,12 +236,26 @@ fn apply_actions(
             ViewerAction::ToggleLabels => s.labels = !s.labels,
             ViewerAction::ToggleMechanism => {
                 s.mechanism_view = !s.mechanism_view;
+                // One mechanism drawn at a time.
+                if s.mechanism_view && s.kinematic_view {
+                    s.kinematic_view = false;
+                    *kinematic = KinematicRequest::Off;
+                }
                 let live = s.design.loads.iter().any(|l| l.kind() == crate::model::LoadKind::Live);
                 *robustness = match (s.mechanism_view, live) {
                     (false, _) => RobustnessRequest::Off,
                     (true, true) => RobustnessRequest::LiveLoads,
                     (true, false) => RobustnessRequest::Worst(crate::robustness::SweepSettings::default().directions),
                 };
+            }
+            ViewerAction::ToggleKinematic => {
+                s.kinematic_view = !s.kinematic_view;
+                *kinematic =
+                    if s.kinematic_view { KinematicRequest::On(Default::default()) } else { KinematicRequest::Off };
+                if s.kinematic_view && s.mechanism_view {
+                    s.mechanism_view = false;
+                    *robustness = RobustnessRequest::Off;
+                }
             }
             ViewerAction::Select(name) => s.selected = name.clone(),
             // Done by the picking system (it has the ray caster).

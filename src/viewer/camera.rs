@@ -143,7 +143,7 @@ fn set_viewports(
     let size = window.physical_size();
     let panel = ((PANEL_WIDTH * window.scale_factor()) as u32).min(size.x.saturating_sub(2));
     let width = size.x - panel;
-    let split = state.drop_view || state.mechanism_view;
+    let split = state.drop_view || state.mechanism_view || state.kinematic_view;
     let main_width = if split { width / 2 } else { width };
     let view = |x: u32, w: u32| Viewport {
         physical_position: UVec2::new(x, 0),

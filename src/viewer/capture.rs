@@ -6,7 +6,8 @@
 use super::actions::{ViewerAction, ViewerState};
 use super::camera::{MainCamera, PhysicsCamera};
 use crate::ecs::{
-    DropStatus, EditDesign, InterfaceColors, PipelineState, RobustnessStatus, SceneStatus, SequenceStatus,
+    DropStatus, EditDesign, InterfaceColors, KinematicStatus, PipelineState, RobustnessStatus, SceneStatus,
+    SequenceStatus,
 };
 use crate::model::Scene;
 use crate::model::edit::Edit;
@@ -183,6 +184,7 @@ struct ShotInfo<'w, 's> {
     drop: Res<'w, DropStatus>,
     sequence: Res<'w, SequenceStatus>,
     robustness: Res<'w, RobustnessStatus>,
+    kinematic: Res<'w, KinematicStatus>,
     main: Query<'w, 's, &'static Camera, With<MainCamera>>,
     physics: Query<'w, 's, &'static Camera, With<PhysicsCamera>>,
 }
@@ -218,6 +220,9 @@ impl ShotInfo<'_, '_> {
             })),
             "load_factor": Some(self.robustness.load_factor()).filter(|l| !l.is_nan()),
             "worst_azimuth": self.robustness.worst_azimuth,
+            "kinematic": self.kinematic.result.as_ref().map(|k| k.verdict),
+            "kinematic_agrees": self.kinematic.result.as_ref().map(|k| k.agrees),
+            "kinematic_moving": self.kinematic.result.as_ref().and_then(|k| k.mechanism.as_ref()).map(|m| m.blocks.len()),
             "main_viewport": self.main.single().ok().and_then(rect),
             "physics_viewport": self.physics.single().ok().and_then(rect),
         })

@@ -7,7 +7,8 @@
 use super::ViewerState;
 use super::camera::PHYSICS_LAYER;
 use crate::ecs::{BlockMesh, BlockName, BlockPose, InterfaceColors, InterfaceForces, MassCentre, PipelineState};
-use crate::ecs::{DropStatus, MechanismMotion, Placed, RobustnessStatus, SequenceStatus, Support, VoussoirSet};
+use crate::ecs::{DropStatus, KinematicStatus, Placed, RobustnessStatus, SequenceStatus, Support, VoussoirSet};
+use crate::robustness::{BlockMotion, Mechanism};
 use crate::statics::InterfaceResult;
 use crate::viz::{ColouredTriangle, DiagramMode};
 use bevy::asset::RenderAssetUsages;
@@ -244,8 +245,7 @@ fn ground(
 }
 
 /// A block as its drop-test copy needs it.
-type GhostSource<'a> =
-    (Entity, &'a Mesh3d, &'a MassCentre, Option<&'a BlockPose>, Option<&'a MechanismMotion>, Has<Support>);
+type GhostSource<'a> = (Entity, &'a Mesh3d, &'a MassCentre, Option<&'a BlockPose>, &'a BlockName, Has<Support>);
 
 /// The largest drawn motion of the mechanism view, as a fraction of the model size.
 const MECHANISM_EXAGGERATION: f64 = 0.08;
@@ -253,20 +253,23 @@ const MECHANISM_EXAGGERATION: f64 = 0.08;
 /// The drop-test view: a copy of every block, moved by its [`BlockPose`] (a pose is the
 /// rotation about the centroid since the start and the centroid now); or the mechanism view:
 /// the copies moved along the collapse mechanism, exaggerated so that the largest motion is
-/// [`MECHANISM_EXAGGERATION`] of the model size.
+/// [`MECHANISM_EXAGGERATION`] of the model size. The mechanism is the kinematic check's while
+/// it is on (initial accelerations), else the load factor's (a virtual displacement): drawn
+/// the same way.
 #[allow(clippy::too_many_arguments)]
 fn ghosts(
     mut commands: Commands,
     state: Res<ViewerState>,
     drop: Res<DropStatus>,
     robustness: Res<RobustnessStatus>,
+    kinematic: Res<KinematicStatus>,
     pipeline: Res<PipelineState>,
     palette: Res<Palette>,
     blocks: Query<GhostSource, Without<Ghost>>,
     mut ghosts: Query<(Entity, &Ghost, &mut Transform)>,
 ) {
     let dropping = state.drop_view && (drop.running.is_some() || drop.result.is_some());
-    let mechanism = robustness.result.as_ref().and_then(|r| r.mechanism.as_ref()).filter(|_| state.mechanism_view);
+    let mechanism = shown_mechanism(&state, &robustness, &kinematic);
     let scale = match (mechanism, &pipeline.analysis) {
         (Some(m), Some(a)) if !dropping => {
             let largest = m.largest_motion(&a.assembly);
@@ -279,14 +282,16 @@ fn ghosts(
         ghosts.iter().for_each(|(e, _, _)| commands.entity(e).despawn());
         return;
     }
+    let motions: std::collections::HashMap<&str, &BlockMotion> =
+        mechanism.iter().flat_map(|m| &m.blocks).map(|b| (b.block.as_str(), b)).collect();
     let mut have = std::collections::HashSet::new();
     for (e, ghost, mut transform) in &mut ghosts {
-        let Ok((_, _, mass, pose, motion, _)) = blocks.get(ghost.0) else {
+        let Ok((_, _, mass, pose, name, _)) = blocks.get(ghost.0) else {
             commands.entity(e).despawn();
             continue;
         };
         have.insert(ghost.0);
-        let pose = match (scale, motion) {
+        let pose = match (scale, motions.get(name.0.as_str())) {
             (Some(s), Some(m)) => Some(mechanism_pose(mass, m, s)),
             (Some(_), None) => None,
             (None, _) => pose.copied(),
@@ -310,9 +315,23 @@ fn ghosts(
     }
 }
 
+/// The mechanism drawn: the kinematic check's while it is on, else the load factor's while
+/// the mechanism view is on.
+fn shown_mechanism<'a>(
+    state: &ViewerState,
+    robustness: &'a RobustnessStatus,
+    kinematic: &'a KinematicStatus,
+) -> Option<&'a Mechanism> {
+    if state.kinematic_view {
+        kinematic.result.as_ref().and_then(|k| k.mechanism.as_ref())
+    } else {
+        robustness.result.as_ref().and_then(|r| r.mechanism.as_ref()).filter(|_| state.mechanism_view)
+    }
+}
+
 /// A block's pose `scale` × along its mechanism motion: centroid moved by the translation,
 /// turned by the rotation vector.
-fn mechanism_pose(mass: &MassCentre, m: &MechanismMotion, scale: f64) -> BlockPose {
+fn mechanism_pose(mass: &MassCentre, m: &BlockMotion, scale: f64) -> BlockPose {
     let t = crate::geometry::Vector3::from(m.translation) * scale;
     let q = Quat::from_scaled_axis(vec(m.rotation) * scale as f32);
     BlockPose { centroid: mass.centroid + t, rotation: [q.w, q.x, q.y, q.z].map(f64::from) }

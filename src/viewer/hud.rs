@@ -5,7 +5,9 @@
 use super::PANEL_WIDTH;
 use super::actions::{ViewerAction, ViewerState};
 use super::camera::MainCamera;
-use crate::ecs::{DropStatus, InterfaceForces, PipelineState, RobustnessStatus, SceneStatus, SequenceStatus};
+use crate::ecs::{
+    DropStatus, InterfaceForces, KinematicStatus, PipelineState, RobustnessStatus, SceneStatus, SequenceStatus,
+};
 use crate::statics::Verdict;
 use crate::viz::DiagramMode;
 use bevy::prelude::*;
@@ -31,6 +33,7 @@ enum Line {
     Numbers,
     Dynamics,
     Robustness,
+    Kinematic,
     Sequence,
     Edit,
 }
@@ -45,7 +48,7 @@ const KEYS: &str = "mouse: left click select · right drag orbit · shift+right 
 1/2/3 compression/friction/vectors · T translucent · M mass centres · V vertex arrows · L labels · F frame\n\
 C cut selected · PgUp/PgDn move cut · arrows turn cut · Backspace drop cut\n\
 G support · X remove · R restore · Ctrl+Z/Y undo/redo · Ctrl+S save\n\
-D drop test · Esc leave drop / sequence · Q sequence · ,/. step · K collapse mechanism";
+D drop test · Esc leave drop / sequence · Q sequence · ,/. step · K collapse mechanism · J kinematic check";
 
 fn font(size: f32) -> TextFont {
     TextFont { font_size: FontSize::Px(size), ..default() }
@@ -87,6 +90,7 @@ fn spawn_panel(mut commands: Commands) {
             p.spawn(text(Line::Numbers, 12.0));
             p.spawn(text(Line::Dynamics, 12.0));
             p.spawn(text(Line::Robustness, 12.0));
+            p.spawn(text(Line::Kinematic, 12.0));
             p.spawn(text(Line::Sequence, 12.0));
             p.spawn((
                 row(),
@@ -104,6 +108,7 @@ fn spawn_panel(mut commands: Commands) {
                     button("M Centres", ViewerAction::ToggleMassCentres),
                     button("L Labels", ViewerAction::ToggleLabels),
                     button("K Mechanism", ViewerAction::ToggleMechanism),
+                    button("J Kinematic", ViewerAction::ToggleKinematic),
                 ],
             ));
             p.spawn((
@@ -166,6 +171,7 @@ pub fn verdict_text(v: Option<Verdict>) -> (&'static str, Color) {
     }
 }
 
+#[allow(clippy::too_many_arguments)]
 fn write_texts(
     state: Res<ViewerState>,
     status: Res<SceneStatus>,
@@ -173,6 +179,7 @@ fn write_texts(
     drop: Res<DropStatus>,
     sequence: Res<SequenceStatus>,
     robustness: Res<RobustnessStatus>,
+    kinematic: Res<KinematicStatus>,
     mut texts: Query<(&Line, &mut Text, &mut TextColor)>,
 ) {
     let a = pipeline.analysis.as_ref();
@@ -231,6 +238,7 @@ fn write_texts(
                 _ => drop.error.clone().unwrap_or_else(|| "drop test: not run (D)".into()),
             },
             Line::Robustness => robustness_text(&state, &robustness),
+            Line::Kinematic => kinematic_text(&state, &kinematic),
             Line::Sequence => match (&sequence.report, sequence.step()) {
                 (Some(r), Some(step)) => {
                     let dynamic = step
@@ -292,6 +300,30 @@ fn robustness_text(state: &ViewerState, r: &RobustnessStatus) -> String {
         s += &format!(" · worst direction {az:.1}°");
     }
     s
+}
+
+/// The kinematic line: both verdicts and whether they agree, while the check is on.
+fn kinematic_text(state: &ViewerState, k: &KinematicStatus) -> String {
+    use crate::kinematics::KinematicVerdict;
+    if !state.kinematic_view {
+        return "kinematic check: not run (J)".into();
+    }
+    if let Some(e) = &k.error {
+        return format!("kinematic check: {e}");
+    }
+    let Some(r) = &k.result else { return "kinematic check: …".into() };
+    let verdict = match r.verdict {
+        KinematicVerdict::Stands => "stands",
+        KinematicVerdict::Fails if r.mechanism.is_some() => "falls (mechanism shown)",
+        KinematicVerdict::Fails => "falls",
+        KinematicVerdict::Undecided => "undecided",
+    };
+    let agreement = match (r.verdict, r.agrees) {
+        (KinematicVerdict::Undecided, _) => "",
+        (_, true) => " — agrees with the statics",
+        (_, false) => " — DISAGREES with the statics",
+    };
+    format!("kinematic check: {verdict}{agreement} ({} rounds, {:.0} ms)", r.rounds, 1e3 * r.solver_seconds)
 }
 
 fn legend(

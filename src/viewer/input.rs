@@ -42,6 +42,7 @@ fn keys(keys: Res<ButtonInput<KeyCode>>, mut actions: MessageWriter<ViewerAction
             (KeyCode::KeyV, _) => send(ViewerAction::ToggleVertexArrows),
             (KeyCode::KeyL, _) => send(ViewerAction::ToggleLabels),
             (KeyCode::KeyK, _) => send(ViewerAction::ToggleMechanism),
+            (KeyCode::KeyJ, _) => send(ViewerAction::ToggleKinematic),
             (KeyCode::KeyF, _) => send(ViewerAction::Frame),
             (KeyCode::KeyC, _) => send(ViewerAction::AddCut),
             (KeyCode::PageUp, _) => send(ViewerAction::ShiftCut(step)),

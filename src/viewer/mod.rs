@@ -28,6 +28,7 @@ use crate::dynamics::DropSettings;
 use crate::ecs::{EditDesign, SequenceSettings, Settings, VoussoirPlugins};
 use crate::model::Scene;
 use crate::model::edit::Edit;
+use crate::sequence::StepChecks;
 use crate::viz::DiagramMode;
 use bevy::prelude::*;
 use bevy::window::WindowResolution;
@@ -98,7 +99,8 @@ impl Plugin for ViewerPlugin {
     fn build(&self, app: &mut App) {
         let o = &self.0;
         // The stepper shows each step's drop verdict beside its static one.
-        app.insert_resource(SequenceSettings { dynamic: Some(DropSettings::default()) })
+        let per_step = StepChecks { dynamic: Some(DropSettings::default()), ..Default::default() };
+        app.insert_resource(SequenceSettings(per_step))
             .insert_resource(ViewerState::new(o))
             .insert_resource(Settings(o.settings.clone()))
             .insert_resource(ClearColor(Color::srgb(0.11, 0.11, 0.11)))
