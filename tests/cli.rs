@@ -66,11 +66,13 @@ fn failing_scene_exits_1_and_reports_json() {
     for key in ["status", "iterations", "residual"] {
         assert!(v["solver"].get(key).is_some(), "solver has '{key}'");
     }
-    // No temporary file left behind.
+    // No temporary file of this report left behind (the other tests write into the same
+    // folder at the same time: only this file's own temporary name counts).
+    let own = format!(".{}.tmp-", json.file_name().unwrap().to_string_lossy());
     let leftovers: Vec<_> = std::fs::read_dir(json.parent().unwrap())
         .unwrap()
         .filter_map(|e| e.ok())
-        .filter(|e| e.file_name().to_string_lossy().contains(".tmp-"))
+        .filter(|e| e.file_name().to_string_lossy().starts_with(&own))
         .collect();
     assert!(leftovers.is_empty());
 }
