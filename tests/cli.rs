@@ -577,3 +577,18 @@ fn robustness_reports_the_load_factor_and_mechanism() {
     let out = voussoir(&["analyze", "builtin:stack?n=2", "--accel", "0.4,0,0:dead"]);
     assert_eq!(out.status.code(), Some(0));
 }
+
+/// `--supports-file`: compas_dem's pavillion vault stands with its 10 support meshes added;
+/// a missing supports file is bad input naming it (exit 2).
+#[test]
+fn analyze_takes_a_supports_file() {
+    let blocks = compas_data("compas_dem/pavillionvault/blocks.json");
+    let supports = compas_data("compas_dem/pavillionvault/supports.json");
+    let out = voussoir(&["analyze", &blocks, "--supports-file", &supports]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(0), "{text}");
+    assert!(text.contains("387 blocks (10 supports)"), "{text}");
+    let out = voussoir(&["analyze", &blocks, "--supports-file", "no-such-supports.json"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("no-such-supports.json"));
+}

@@ -28,6 +28,10 @@ pub struct AnalyzeArgs {
     /// names; replaces the supports given in the scene.
     #[arg(long)]
     pub supports: Option<String>,
+    /// A JSON list of compas meshes added as supports (compas_dem's `supports.json` beside its
+    /// `blocks.json`).
+    #[arg(long)]
+    pub supports_file: Option<PathBuf>,
     /// The ground plane z = 0 supports faces lying on it.
     #[arg(long)]
     pub ground: bool,
@@ -96,8 +100,16 @@ pub fn run(args: &AnalyzeArgs) -> Result<i32, BadInput> {
     Ok(if stands { 0 } else { 1 })
 }
 
-/// `--density`, `--ground` and `--supports`: the scene as the command line amends it.
+/// `--density`, `--ground`, `--supports` and `--supports-file`: the scene as the command line
+/// amends it.
 fn apply_scene_options(scene: &mut Scene, args: &AnalyzeArgs, settings: &AnalysisSettings) -> Result<(), BadInput> {
+    if let Some(file) = &args.supports_file {
+        let supports = crate::io::load_supports(file).map_err(|e| BadInput(e.to_string()))?;
+        if let Some(clash) = supports.iter().find(|s| scene.find(&s.name).is_some()) {
+            return Err(BadInput(format!("--supports-file: the scene already has a block named '{}'", clash.name)));
+        }
+        scene.blocks.extend(supports);
+    }
     if let Some(d) = args.density {
         scene.material.density = d;
         scene.blocks.iter_mut().for_each(|b| b.density = None);

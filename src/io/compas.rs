@@ -38,19 +38,58 @@ fn graph<'a>(path: &Path, value: &'a Value) -> Result<&'a Value, IoError> {
 }
 
 /// Node keys in a deterministic order: numeric keys by value, then the others by text.
-fn sorted_keys(map: &serde_json::Map<String, Value>) -> Vec<&String> {
+pub(crate) fn sorted_keys(map: &serde_json::Map<String, Value>) -> Vec<&String> {
     sorted(map.keys())
 }
 
 fn sorted<'a>(keys: impl Iterator<Item = &'a String>) -> Vec<&'a String> {
     let mut keys: Vec<&String> = keys.collect();
-    keys.sort_by(|a, b| match (a.parse::<i64>(), b.parse::<i64>()) {
+    keys.sort_by(|a, b| key_order(a, b));
+    keys
+}
+
+/// The order of [`sorted_keys`].
+pub(crate) fn key_order(a: &str, b: &str) -> std::cmp::Ordering {
+    match (a.parse::<i64>(), b.parse::<i64>()) {
         (Ok(x), Ok(y)) => x.cmp(&y),
         (Ok(_), Err(_)) => std::cmp::Ordering::Less,
         (Err(_), Ok(_)) => std::cmp::Ordering::Greater,
         _ => a.cmp(b),
-    });
-    keys
+    }
+}
+
+/// The thickness of the slab under a support given as one open polygon, as a fraction of the
+/// model's size (any thickness gives the same statics: a support is fixed; it only has to be a
+/// solid that stays clear of the blocks).
+const SLAB: f64 = 0.02;
+
+/// `blocks` with every support given as a single open polygon made a slab: the polygon is its
+/// top face, the slab extends away from the free blocks' centroid by [`SLAB`] × the model size.
+/// A free block given as one polygon is an error (it has no volume, so no weight).
+pub(crate) fn with_slab_supports(path: &Path, mut blocks: Vec<Block>) -> Result<Vec<Block>, IoError> {
+    let all: Vec<Point3> = blocks.iter().flat_map(|b| b.mesh.vertices.iter().copied()).collect();
+    let size = crate::geometry::Aabb3::from_points(&all).diagonal();
+    let free: Vec<Point3> =
+        blocks.iter().filter(|b| !b.support).flat_map(|b| b.mesh.vertices.iter().copied()).collect();
+    let towards =
+        (!free.is_empty()).then(|| free.iter().fold(Vector3::zeros(), |s, p| s + p.coords) / free.len() as f64);
+    for b in blocks.iter_mut().filter(|b| b.mesh.faces.len() == 1) {
+        if !b.support {
+            return Err(IoError::format(path, format!("block '{}': a single open face has no volume", b.name)));
+        }
+        let polygon: Vec<Point3> = b.mesh.faces[0].iter().map(|&i| b.mesh.vertices[i]).collect();
+        let normal = crate::geometry::polygon::area_vector(&polygon);
+        if polygon.len() < 3 || normal.norm() == 0.0 {
+            return Err(IoError::format(path, format!("support '{}': its one face is degenerate", b.name)));
+        }
+        let centre = polygon.iter().fold(Vector3::zeros(), |s, p| s + p.coords) / polygon.len() as f64;
+        let away = match towards {
+            Some(c) if (c - centre).dot(&normal) < 0.0 => normal.normalize(),
+            _ => -normal.normalize(),
+        };
+        b.mesh = Mesh::prism(&polygon, away * SLAB * size);
+    }
+    Ok(blocks)
 }
 
 /// Reads the blocks and supports of a compas Assembly.
@@ -73,7 +112,9 @@ pub fn scene_from_value(path: &Path, value: &Value) -> Result<Scene, IoError> {
     Ok(Scene::new(super::stem(path), blocks))
 }
 
-fn mesh_from_value(path: &Path, key: &str, m: &Value) -> Result<Mesh, IoError> {
+/// A compas mesh's `vertex` and `face` tables (compas 0.x and 2 alike) as a mesh; errors name
+/// `key`'s block.
+pub(crate) fn mesh_from_value(path: &Path, key: &str, m: &Value) -> Result<Mesh, IoError> {
     let bad = |what: String| IoError::format(path, format!("block '{key}': {what}"));
     let verts = m.get("vertex").and_then(Value::as_object).ok_or_else(|| bad("no vertex table".into()))?;
     let faces = m.get("face").and_then(Value::as_object).ok_or_else(|| bad("no face table".into()))?;

@@ -1,10 +1,13 @@
 //! Readers and writers. Every error names the file; scene readers never panic on bad input.
 //!
 //! Formats: voussoir scene JSON (`.json` with a `blocks` list), compas 2 Assembly JSON (`.json`
-//! with `data.graph`), Wavefront OBJ (one block per `o`/`g`; names starting with `support` are
+//! with `data.graph`), compas_dem `BlockModel` JSON and lists of compas meshes, legacy
+//! compas_rbe JSON (`blocks` + `assembly`), Wavefront OBJ (one block per `o`/`g`; names starting with `support` are
 //! supports), STL ascii/binary (one block). Writes are atomic (temporary file + rename).
 
 pub mod compas;
+pub mod compas_dem;
+pub mod compas_rbe;
 mod obj;
 pub mod report;
 pub mod robustness_report;
@@ -88,6 +91,12 @@ fn parse(kind: Kind, path: &Path, bytes: &[u8]) -> Result<Scene, IoError> {
                 serde_json::from_slice(bytes).map_err(|source| IoError::Json { path: path.to_path_buf(), source })?;
             if compas::is_compas(&value) {
                 compas::scene_from_value(path, &value)
+            } else if compas_dem::is_block_model(&value) {
+                compas_dem::block_model_from_value(path, &value)
+            } else if compas_dem::is_mesh_list(&value) {
+                compas_dem::mesh_list_from_value(path, &value)
+            } else if compas_rbe::is_rbe(&value) {
+                compas_rbe::scene_from_value(path, &value)
             } else {
                 scene_json::scene_from_value(path, value)
             }
@@ -95,6 +104,15 @@ fn parse(kind: Kind, path: &Path, bytes: &[u8]) -> Result<Scene, IoError> {
         Kind::Obj => obj::from_bytes(path, bytes),
         Kind::Stl => stl::from_bytes(path, bytes),
     }
+}
+
+/// Reads a JSON list of compas meshes as support blocks (`--supports-file`, as compas_dem's
+/// `pavillionvault/supports.json`), named `support <index>`.
+pub fn load_supports(path: &Path) -> Result<Vec<crate::model::Block>, IoError> {
+    let bytes = std::fs::read(path).map_err(|source| IoError::Read { path: path.to_path_buf(), source })?;
+    let value: serde_json::Value =
+        serde_json::from_slice(&bytes).map_err(|source| IoError::Json { path: path.to_path_buf(), source })?;
+    compas_dem::supports_from_value(path, &value)
 }
 
 pub(crate) fn read_text(path: &Path) -> Result<String, IoError> {
