@@ -17,6 +17,10 @@ pub struct AnalyzeArgs {
     /// Write the JSON report here (atomically).
     #[arg(long)]
     pub json: Option<PathBuf>,
+    /// Write the design with its interfaces and forces as a compas 2 Assembly JSON here
+    /// (atomically): compas' viewers draw it, compas_cra reads it.
+    #[arg(long)]
+    pub compas_out: Option<PathBuf>,
     #[command(flatten)]
     pub solver: SolverOptions,
     #[command(flatten)]
@@ -59,6 +63,9 @@ impl AnalyzeArgs {
 }
 
 pub fn run(args: &AnalyzeArgs) -> Result<i32, BadInput> {
+    if let Some(out) = &args.compas_out {
+        refuse_overwrite(args.scene.as_deref(), out, "--compas-out")?;
+    }
     if let Some(out) = &args.json {
         refuse_overwrite(args.scene.as_deref(), out, "--json")?;
     }
@@ -89,6 +96,9 @@ pub fn run(args: &AnalyzeArgs) -> Result<i32, BadInput> {
     } else {
         None
     };
+    if let Some(out) = &args.compas_out {
+        write_output(out, io::compas_out::assembly_json(&analysis).as_bytes())?;
+    }
     if let Some(out) = &args.json {
         write_output(out, io::report::to_json_with(&analysis, dynamic.as_ref(), kinematic.as_ref()).as_bytes())?;
         println!("report written to {}", out.display());

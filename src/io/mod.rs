@@ -7,6 +7,7 @@
 
 pub mod compas;
 pub mod compas_dem;
+pub mod compas_out;
 pub mod compas_rbe;
 mod obj;
 pub mod report;
