@@ -107,7 +107,8 @@ fn compas_cra_letters_h_and_a_fall_though_rbe_holds_them() {
 /// files' frame. The wedge then rests on the lower support's face: type-a/b's faces (60° from
 /// the file's horizontal) lie 30° from the turned horizontal, below the friction angle
 /// (40°): they stand; type-c/d's (30°) lie 60° from it, steeper than the friction angle: the
-/// wedge slides out, though RBE holds it by a squeeze between the two supports.
+/// wedge slides out — and the statics agrees (it needs more friction than μ: the two supports'
+/// faces do not make a seat a squeeze could hold it in). Both verdicts are asserted.
 #[test]
 fn compas_cra_wedges_turned_as_in_the_example_a_b_stand_c_d_fall() {
     for (name, stands) in [("type-a", true), ("type-b", true), ("type-c", false), ("type-d", false)] {
@@ -116,6 +117,7 @@ fn compas_cra_wedges_turned_as_in_the_example_a_b_stand_c_d_fall() {
         let (analysis, k) = both(&scene, &AnalysisSettings::default());
         let expected = if stands { KinematicVerdict::Stands } else { KinematicVerdict::Fails };
         assert_eq!(k.verdict, expected, "{name}: RBE stands = {}", analysis.statics.stands);
+        assert_eq!(analysis.statics.stands, stands, "{name}: RBE {:?}", analysis.statics.verdict);
     }
 }
 
