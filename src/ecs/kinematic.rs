@@ -34,8 +34,6 @@ pub enum KinematicRequest {
 #[derive(Resource, Clone, Debug, Default)]
 pub struct KinematicStatus {
     pub result: Option<Kinematic>,
-    /// The pipeline generation it checked.
-    pub generation: u64,
     pub error: Option<String>,
 }
 
@@ -57,7 +55,7 @@ fn update_kinematic(
         return;
     };
     *status = match kinematics::check(a, &settings.0.statics, k) {
-        Ok(r) => KinematicStatus { result: Some(r), generation: pipeline.generation, error: None },
-        Err(e) => KinematicStatus { generation: pipeline.generation, error: Some(e.to_string()), ..Default::default() },
+        Ok(r) => KinematicStatus { result: Some(r), error: None },
+        Err(e) => KinematicStatus { result: None, error: Some(e.to_string()) },
     };
 }

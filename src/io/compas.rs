@@ -82,9 +82,9 @@ pub(crate) fn with_slab_supports(path: &Path, mut blocks: Vec<Block>) -> Result<
         if polygon.len() < 3 || normal.norm() == 0.0 {
             return Err(IoError::format(path, format!("support '{}': its one face is degenerate", b.name)));
         }
-        let centre = polygon.iter().fold(Vector3::zeros(), |s, p| s + p.coords) / polygon.len() as f64;
+        let centre = crate::geometry::polygon::centroid(&polygon);
         let away = match towards {
-            Some(c) if (c - centre).dot(&normal) < 0.0 => normal.normalize(),
+            Some(c) if (c - centre.coords).dot(&normal) < 0.0 => normal.normalize(),
             _ => -normal.normalize(),
         };
         b.mesh = Mesh::prism(&polygon, away * SLAB * size);
