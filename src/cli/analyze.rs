@@ -5,7 +5,7 @@ use super::options::{DropOptions, LoadOptions, SolverOptions};
 use super::{BadInput, load, refuse_overwrite, scene_name, write_output};
 use crate::analysis::{AnalysisSettings, analyze};
 use crate::io::{self, text_report};
-use crate::model::{LoadKind, Scene};
+use crate::model::{LoadKind, Scene, SupportChoice};
 use clap::{Args, FromArgMatches};
 use std::path::PathBuf;
 
@@ -127,23 +127,13 @@ fn apply_scene_options(scene: &mut Scene, args: &AnalyzeArgs, settings: &Analysi
     if args.ground {
         scene.ground = true;
     }
-    match args.supports.as_deref() {
-        None => {}
-        Some("lowest") => {
-            scene.blocks.iter_mut().for_each(|b| b.support = false);
-            // "The lowest level" within the coplanarity tolerance: the Armadillo's 33 supports
-            // sit within 2.5 cm (1.2e-3 of its size) of each other.
-            scene.mark_lowest_as_supports(settings.tolerances.coplanar);
-        }
+    let choice = match args.supports.as_deref() {
+        None => return Ok(()),
+        Some("lowest") => SupportChoice::Lowest,
         Some(list) => {
-            let names: Vec<&str> = list.split(',').map(str::trim).filter(|s| !s.is_empty()).collect();
-            if let Some(missing) = names.iter().find(|n| scene.find(n).is_none()) {
-                return Err(BadInput(format!("--supports: the scene has no block named '{missing}'")));
-            }
-            for b in &mut scene.blocks {
-                b.support = names.contains(&b.name.as_str());
-            }
+            SupportChoice::Named(list.split(',').map(str::trim).filter(|s| !s.is_empty()).map(str::to_string).collect())
         }
-    }
+    };
+    scene.choose_supports(&choice, settings.tolerances.coplanar).map_err(|e| BadInput(format!("--supports: {e}")))?;
     Ok(())
 }

@@ -7,10 +7,10 @@
 
 use super::options::{LoadOptions, SolverOptions};
 use super::{BadInput, load, refuse_overwrite, scene_name, write_output};
-use crate::analysis::{Analysis, analyze};
+use crate::analysis::analyze;
 use crate::io::{robustness_report, text_report};
 use crate::plot::{MechanismPicture, PolarPlot, write_mechanism, write_polar};
-use crate::robustness::{self, DirectionSweep, Safety, SweepSettings, sweep};
+use crate::robustness::{self, Answer, Question, Safety};
 use clap::Args;
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
@@ -43,13 +43,6 @@ pub struct RobustnessArgs {
     pub mechanism: Option<PathBuf>,
 }
 
-/// What was asked: the given live loads, one direction, or the worst one.
-enum Question {
-    LiveLoads,
-    Direction(f64),
-    Worst(usize),
-}
-
 pub fn run(args: &RobustnessArgs) -> Result<i32, BadInput> {
     for out in [&args.json, &args.plot, &args.mechanism].into_iter().flatten() {
         refuse_overwrite(args.scene.as_deref(), out, "output")?;
@@ -59,36 +52,17 @@ pub fn run(args: &RobustnessArgs) -> Result<i32, BadInput> {
     scene.loads.extend(args.loads.loads()?);
     let settings = args.solver.settings();
     let analysis = analyze(&scene, &settings).map_err(|e| BadInput(format!("{name}: {e}")))?;
-    let has_live = analysis.assembly.has_live_loads();
-    let question = match (args.direction, args.directions) {
-        (Some(d), _) => Question::Direction(d),
-        (None, Some(n)) => Question::Worst(n),
-        (None, None) if has_live => Question::LiveLoads,
-        (None, None) => Question::Worst(SweepSettings::default().directions),
-    };
+    let question = Question::choose(&analysis, args.direction, args.directions);
     if args.plot.is_some() && !matches!(question, Question::Worst(_)) {
         return Err(BadInput("--plot draws a direction sweep: give --directions N (or no live load)".into()));
     }
-    let fail = |e: robustness::RobustnessError| BadInput(format!("{name}: {e}"));
-    let stands = analysis.statics.stands;
-    let (result, swept, load) = match question {
-        Question::Worst(n) if stands => {
-            let s = worst(&analysis, &settings.statics, n).map_err(fail)?;
-            let load = format!("1 g horizontal at {:.1}° (worst of {n})", s.worst_azimuth);
-            (s.worst.clone(), Some(s), load)
-        }
-        Question::Direction(d) => {
-            let field = sweep::with_horizontal_field(&analysis.assembly, d);
-            let r = robustness::assess_parts(&field, &analysis.interfaces, stands, &settings.statics).map_err(fail)?;
-            (r, None, format!("1 g horizontal at {d}°"))
-        }
-        // The scene's live loads; a design that does not stand has no worst direction: its
-        // failure mechanism, and the load factor of its live loads if it has any.
-        Question::LiveLoads | Question::Worst(_) => {
-            let r = robustness::assess(&analysis, &settings.statics).map_err(fail)?;
-            (r, None, if has_live { "the live loads".into() } else { "no live load".into() })
-        }
+    let directions = match &question {
+        Question::Worst(s) => s.directions,
+        _ => 0,
     };
+    let Answer { result, sweep: swept, load } =
+        with_progress(directions, |progress| robustness::answer(&analysis, &settings.statics, &question, progress))
+            .map_err(|e| BadInput(format!("{name}: {e}")))?;
     print!("{}", text_report::robustness(&analysis, &result, swept.as_ref(), &load));
     if let Some(out) = &args.json {
         let json = robustness_report::to_json(&analysis, &result, swept.as_ref(), &load);
@@ -111,14 +85,11 @@ pub fn run(args: &RobustnessArgs) -> Result<i32, BadInput> {
     })
 }
 
-/// The worst direction, with a progress bar once it takes longer than a moment.
-fn worst(
-    analysis: &Analysis,
-    settings: &crate::statics::StaticsSettings,
-    directions: usize,
-) -> Result<DirectionSweep, robustness::RobustnessError> {
+/// Runs `f` with a progress callback: a bar over `total` steps on stderr, shown only when the
+/// run takes longer than half a second.
+fn with_progress<T>(total: usize, f: impl FnOnce(&(dyn Fn(usize, usize) + Sync)) -> T) -> T {
     let bar = indicatif::ProgressBar::hidden();
-    bar.set_length(directions as u64);
+    bar.set_length(total as u64);
     let start = Instant::now();
     let shown = std::sync::Once::new();
     let progress = |done: usize, _total: usize| {
@@ -127,9 +98,7 @@ fn worst(
         }
         bar.set_position(done as u64);
     };
-    let sweep_settings = SweepSettings { directions, ..Default::default() };
-    let result =
-        robustness::worst_direction(&analysis.assembly, &analysis.interfaces, settings, &sweep_settings, &progress);
+    let result = f(&progress);
     bar.finish_and_clear();
     result
 }

@@ -66,6 +66,12 @@ pub fn scene_from_bytes(path: &Path, bytes: &[u8]) -> Result<Scene, IoError> {
     parse(kind_of(path)?, path, bytes)
 }
 
+/// Parses a scene from JSON text in any of the JSON formats [`load_scene`] reads (voussoir,
+/// compas Assembly, BlockModel, mesh list, compas_rbe); `source` names it in errors.
+pub fn scene_from_json(source: &Path, bytes: &[u8]) -> Result<Scene, IoError> {
+    parse(Kind::Json, source, bytes)
+}
+
 #[derive(Clone, Copy)]
 enum Kind {
     Json,

@@ -14,9 +14,11 @@
 //! density (mass scales both the weight and the live load).
 
 pub mod mechanism;
+mod question;
 pub mod sweep;
 
 pub use mechanism::{BlockMotion, InterfaceMotion, JointState, Mechanism};
+pub use question::{Answer, Question, answer};
 pub use sweep::{DirectionSweep, SweepSettings, worst_direction};
 
 use crate::analysis::Analysis;

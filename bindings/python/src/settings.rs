@@ -1,0 +1,83 @@
+//! The keyword arguments every solving function shares, and the one place they become the
+//! library's settings and amend the scene (as the command line's options do). `None` keeps the
+//! library's default (each written once, in its `Default`).
+
+use crate::errors;
+use clap::ValueEnum;
+use pyo3::prelude::*;
+use voussoir::analysis::AnalysisSettings;
+use voussoir::model::{Scene, SupportChoice};
+use voussoir::statics::{Backend, FrictionModel};
+
+/// `supports=`: `"lowest"`, or the names of the blocks that are supports.
+#[derive(FromPyObject)]
+pub enum Supports {
+    Keyword(String),
+    Names(Vec<String>),
+}
+
+/// The shared keyword arguments, as Python passed them.
+pub struct Options {
+    pub mu: Option<f64>,
+    pub friction_model: Option<String>,
+    pub solver: Option<String>,
+    pub supports: Option<Supports>,
+    pub ground: Option<bool>,
+    pub density: Option<f64>,
+    pub strict: bool,
+}
+
+/// A value of one of the library's named choices (`friction_model="pyramid8"`), by the names
+/// the command line takes.
+fn choice<T: ValueEnum>(what: &str, name: &str) -> PyResult<T> {
+    T::from_str(name, true).map_err(|_| {
+        let names: Vec<String> = T::value_variants()
+            .iter()
+            .filter_map(|v| v.to_possible_value())
+            .map(|p| p.get_name().to_string())
+            .collect();
+        errors::setting(format!("{what}: '{name}' is not one of {}", names.join(", ")))
+    })
+}
+
+impl Options {
+    /// The analysis settings: the library's defaults with these options.
+    pub fn settings(&self) -> PyResult<AnalysisSettings> {
+        let mut settings = AnalysisSettings::default();
+        if let Some(name) = &self.friction_model {
+            settings.statics.friction_model = choice::<FrictionModel>("friction_model", name)?;
+        }
+        if let Some(name) = &self.solver {
+            settings.statics.backend = choice::<Backend>("solver", name)?;
+        }
+        settings.statics.friction = self.mu;
+        settings.strict = self.strict;
+        Ok(settings)
+    }
+
+    /// `scene` amended by `supports`, `ground` and `density` (a copy; the caller's is kept).
+    pub fn amend(&self, scene: &Scene, source: &str, settings: &AnalysisSettings) -> PyResult<Scene> {
+        let mut scene = scene.clone();
+        if let Some(d) = self.density {
+            scene.material.density = d;
+            scene.blocks.iter_mut().for_each(|b| b.density = None);
+        }
+        if let Some(g) = self.ground {
+            scene.ground = g;
+        }
+        let choice = match &self.supports {
+            None => return Ok(scene),
+            Some(Supports::Keyword(k)) if k == "lowest" => SupportChoice::Lowest,
+            Some(Supports::Keyword(k)) => {
+                return Err(errors::setting(format!(
+                    "supports: '{k}' is neither \"lowest\" nor a list of block names"
+                )));
+            }
+            Some(Supports::Names(names)) => SupportChoice::Named(names.clone()),
+        };
+        scene
+            .choose_supports(&choice, settings.tolerances.coplanar)
+            .map_err(|e| errors::input(source, format!("supports: {e}")))?;
+        Ok(scene)
+    }
+}

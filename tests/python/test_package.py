@@ -1,0 +1,332 @@
+"""The Python package (bindings/python, the wheel scripts/python_tests builds and installs) with
+the real compas, compas_assembly, compas_cra and dask from PyPI — nothing mocked.
+
+Invariants, one per test: compas objects pass through their data and give the verdicts of the
+same files read by path, with the supports carrying exactly the free weight; verdicts agree with
+compas_cra's own rbe_solve on the shared samples; the forces written into a compas Assembly
+balance every free block in compas' own fields and frames (also on reversed edges); closed forms
+for interfaces and load factors; errors are the CLI's messages as ValueError/OSError subclasses;
+solves release the GIL; a Dask study on a 2-worker LocalCluster equals the plain loop; the
+README's and the package's examples run.
+"""
+
+import doctest
+import os
+import re
+import subprocess
+import threading
+from pathlib import Path
+
+import numpy as np
+import pytest
+from compas.data import json_load
+
+import voussoir
+
+ROOT = Path(__file__).resolve().parents[2]
+DATA = ROOT / "assets" / "compas"
+BIN = os.environ.get("VOUSSOIR_BIN", str(ROOT / "target" / "debug" / "voussoir"))
+G = 9.81  # the library's standard gravity (src/model/mod.rs)
+
+ASSEMBLIES = [
+    "compas_assembly/stack_assembly.json",
+    "compas_assembly/arch_assembly.json",
+    "compas_assembly/two-blocks_assembly.json",
+    "compas_assembly/wall_assembly.json",
+]
+
+# compas_cra's samples set up as its examples do (16_ha.py, 05_wedge.py, 07_shelf.py): the
+# supports, compas_cra's own interface detection with the example's tolerances, the wedges
+# turned 90° about y. name → (supports, detection settings, turned).
+LETTERS = {"nmax": 10, "amin": 1e-2, "tmax": 1e-2}
+SAMPLES = {
+    "H": ([0, 1], LETTERS, False),
+    "A": ([0, 1], LETTERS, False),
+    "shelf-stable": ([0], {"amin": 1e-6, "tmax": 1e-4}, False),
+    "type-a": ([0, 1], LETTERS, True),
+    "type-c": ([0, 1], LETTERS, True),
+}
+
+
+def cra_sample(name):
+    """A compas_cra CRA_Assembly object as the sample's example prepares it."""
+    from compas_cra.algorithms import assembly_interfaces_numpy
+    from compas_cra.datastructures import CRA_Assembly
+
+    supports, detect, turn = SAMPLES[name]
+    assembly = json_load(str(DATA / "compas_cra" / f"{name}.json")).copy(cls=CRA_Assembly)
+    assembly.set_boundary_conditions(supports)
+    assembly_interfaces_numpy(assembly, **detect)
+    if turn:
+        assembly.rotate_assembly([0, 0, 0], [0, 1, 0], 90)
+    return assembly
+
+
+@pytest.mark.parametrize("rel", ASSEMBLIES + ["compas_dem/dem_crossvault.json"])
+def test_from_compas_object_equals_the_file_and_supports_carry_the_weight(rel):
+    obj = json_load(str(DATA / rel))
+    from_obj = voussoir.analyze(voussoir.Scene.from_compas(obj), mu=0.84)
+    from_file = voussoir.analyze(voussoir.Scene.from_file(DATA / rel), mu=0.84)
+    assert from_obj.verdict == from_file.verdict
+    assert from_obj.tension_ratio == pytest.approx(from_file.tension_ratio, abs=1e-9)
+    assert len(from_obj.block_names) == len(from_file.block_names)
+    if from_obj.stands:
+        fx, fy, fz = from_obj.support_reaction
+        w = from_obj.free_weight
+        assert fz == pytest.approx(w, rel=1e-6)
+        assert abs(fx) < 1e-6 * w and abs(fy) < 1e-6 * w
+
+
+def rbe_stands(assembly, mu):
+    """compas_cra's RBE verdict with its tension criterion: no tension beyond 1e-4 of the
+    compression (w_t = 1e6 leaves ~1e-7 where none is needed)."""
+    from compas_cra.equilibrium import rbe_solve
+
+    rbe_solve(assembly, mu=mu, density=1.0, verbose=False)
+    forces = [f for u, v in assembly.graph.edges() for i in assembly.graph.edge_attribute((u, v), "interfaces") for f in i.forces]
+    compression = sum(f["c_np"] for f in forces)
+    tension = sum(f["c_nn"] for f in forces)
+    return tension <= 1e-4 * compression
+
+
+@pytest.mark.parametrize("rel", ASSEMBLIES)
+def test_verdicts_agree_with_compas_cra_rbe_solve(rel):
+    mu = 0.84
+    mine = voussoir.analyze(voussoir.Scene.from_compas(json_load(str(DATA / rel))), mu=mu)
+    assert mine.solver_status in ("solved", "almost_solved")
+    assert mine.stands == rbe_stands(json_load(str(DATA / rel)), mu)
+
+
+@pytest.mark.parametrize("name", sorted(SAMPLES))
+def test_cra_assembly_objects_agree_with_rbe_solve(name):
+    """A CRA_Assembly object (compas_cra's own class) goes in through its data; the verdict is
+    compas_cra's rbe_solve's on the same object, and a standing one's supports carry W."""
+    mu = 0.84
+    assembly = cra_sample(name)
+    mine = voussoir.analyze(voussoir.Scene.from_compas(assembly), mu=mu)
+    assert mine.solver_status in ("solved", "almost_solved")
+    assert mine.stands == rbe_stands(assembly, mu), mine
+    if mine.stands:
+        assert mine.support_reaction[2] == pytest.approx(mine.free_weight, rel=1e-6)
+
+
+def block_forces(assembly):
+    """Σ of the interface forces on each node, from compas' own fields and frames alone: the
+    force on the edge's v is c_n z + c_u x + c_v y (c_n = c_np − c_nn), u receives the opposite."""
+    total = {key: np.zeros(3) for key in assembly.graph.nodes()}
+    for u, v in assembly.graph.edges():
+        for i in assembly.graph.edge_attribute((u, v), "interfaces") or []:
+            x, y, z = (np.array(list(a)) for a in (i.frame.xaxis, i.frame.yaxis, i.frame.zaxis))
+            for f in i.forces:
+                force = (f["c_np"] - f["c_nn"]) * z + f["c_u"] * x + f["c_v"] * y
+                total[v] += force
+                total[u] -= force
+    return total
+
+
+def reverse_edges(assembly):
+    """The same assembly with every edge turned around and compas' interfaces dropped."""
+    from compas_assembly.datastructures import Assembly
+
+    turned = Assembly()
+    for key in assembly.graph.nodes():
+        turned.graph.add_node(key, **assembly.graph.node_attributes(key))
+    for u, v in assembly.graph.edges():
+        turned.graph.add_edge(v, u, interfaces=[])
+    return turned
+
+
+@pytest.mark.parametrize("turn", [False, True])
+def test_write_forces_balances_every_free_block_in_compas_fields(turn):
+    assembly = json_load(str(DATA / "compas_assembly/arch_assembly.json"))
+    if turn:
+        assembly = reverse_edges(assembly)
+    result = voussoir.analyze(voussoir.Scene.from_compas(assembly), mu=0.84)
+    assert result.stands
+    summary = result.write_forces(assembly)
+    assert summary["interfaces"] == sum(1 for a, b in result.interface_blocks if a >= 0 and b >= 0)
+    assert summary["edges_added"] == 0 and summary["edges_without_contact"] == []
+    totals = block_forces(assembly)
+    w = result.free_weight
+    free = [k for k in assembly.graph.nodes() if not assembly.graph.node_attribute(k, "is_support")]
+    volumes = {k: assembly.graph.node_attribute(k, "block").volume() for k in free}
+    for key in free:
+        # One density for every block: block weights share W in proportion to volume.
+        weight = w * volumes[key] / sum(volumes.values())
+        assert totals[key] == pytest.approx([0.0, 0.0, weight], abs=1e-6 * w), f"block {key}"
+
+
+def test_write_forces_round_trip_through_compas_json():
+    """What write_forces put in the object is what compas serialises and voussoir reads back:
+    the same points and forces per block pair."""
+    import compas
+
+    assembly = json_load(str(DATA / "compas_assembly/arch_assembly.json"))
+    result = voussoir.analyze(voussoir.Scene.from_compas(assembly))
+    result.write_forces(assembly)
+    again = compas.json_loads(compas.json_dumps(assembly))
+    before = sorted(f["c_np"] for _, _, f in _forces(assembly))
+    after = sorted(f["c_np"] for _, _, f in _forces(again))
+    assert after == pytest.approx(before, abs=0.0)
+    assert sum(before) == pytest.approx(result.point_forces[:, 0].sum(), rel=1e-12)
+    # And a second analysis of the written object gives the same answer.
+    second = voussoir.analyze(voussoir.Scene.from_compas(again))
+    assert second.verdict == result.verdict
+    assert second.tension_ratio == pytest.approx(result.tension_ratio, abs=1e-9)
+
+
+def _forces(assembly):
+    for u, v in assembly.graph.edges():
+        for i in assembly.graph.edge_attribute((u, v), "interfaces"):
+            for f in i.forces:
+                yield u, v, f
+
+
+def test_write_forces_refuses_what_it_cannot_write():
+    result = voussoir.analyze(voussoir.Scene.builtin("stack?n=2"))
+    with pytest.raises(TypeError, match="Assembly"):
+        result.write_forces(42)
+
+
+def cube(x, y, z, a=1.0):
+    v = [[x, y, z], [x + a, y, z], [x + a, y + a, z], [x, y + a, z]]
+    v += [[p[0], p[1], z + a] for p in v]
+    faces = [[0, 3, 2, 1], [4, 5, 6, 7], [0, 1, 5, 4], [1, 2, 6, 5], [2, 3, 7, 6], [3, 0, 4, 7]]
+    return np.array(v), faces
+
+
+def test_from_arrays_interfaces_and_weight_closed_forms():
+    """Two unit cubes stacked, the lower one a support: one interface of area 1 with a vertical
+    normal; the support carries ρ g · 1 m³; a 1-m cube on a support tips at λ* = b/h = 1 when
+    friction cannot slide it (μ = 2, along x)."""
+    scene = voussoir.Scene.from_arrays([cube(0, 0, 0), cube(0, 0, 1)], supports=[0], density=2000.0)
+    assert scene.block_names == ["0", "1"]
+    found = voussoir.detect_interfaces(scene)
+    assert found["blocks"].shape == (1, 2)
+    assert found["area"] == pytest.approx([1.0], rel=1e-12)
+    assert abs(found["normal"][0][2]) == pytest.approx(1.0, rel=1e-12)
+    assert found["polygons"][0].shape == (4, 3)
+    result = voussoir.analyze(scene)
+    assert result.stands
+    assert result.free_weight == pytest.approx(2000.0 * G, rel=1e-12)
+    assert result.support_reaction[2] == pytest.approx(2000.0 * G, rel=1e-6)
+    assert result.points.shape == (4, 3) and result.point_forces.shape == (4, 4)
+    assert result.point_forces[:, 0].sum() == pytest.approx(2000.0 * G, rel=1e-6)
+    report = voussoir.load_factor(scene, mu=2.0, direction=0.0)
+    assert report["robustness"]["load_factor"] == pytest.approx(1.0, rel=1e-5)
+
+
+def test_sequence_and_drop_of_a_stack():
+    scene = voussoir.Scene.builtin("stack?n=3")
+    report = voussoir.sequence(scene, order="bottom-up")
+    assert len(report["steps"]) == 3 and all(s["stands"] for s in report["steps"])
+    assert report["first_failure"] is None
+    dropped = voussoir.drop(scene, duration=0.5)
+    assert dropped["stands"]
+
+
+def test_cut_history_and_supports_edits():
+    scene = voussoir.Scene.builtin("stack?n=1&a=1")
+    cut = scene.with_cut([0.0, 0.0, 0.5], [0.0, 0.0, 1.0])
+    assert scene.cuts == 0 and cut.cuts == 1
+    assert scene.pieces() == ["base", "box0"]
+    assert cut.pieces() == ["base", "box0.0-", "box0.0+"]
+    again = voussoir.Scene.from_json(cut.to_json())
+    assert again.pieces() == cut.pieces()
+
+
+def cli_error(*args):
+    done = subprocess.run([BIN, *args], capture_output=True, text=True)
+    assert done.returncode == 2, done
+    return done.stderr.strip()
+
+
+def test_errors_are_exceptions_with_the_cli_messages(tmp_path):
+    missing = tmp_path / "missing.json"
+    with pytest.raises(voussoir.FileError) as e:
+        voussoir.Scene.from_file(missing)
+    assert isinstance(e.value, OSError)
+    assert str(e.value) in cli_error("analyze", str(missing))
+
+    broken = tmp_path / "broken.json"
+    broken.write_text('{"blocks": [')
+    with pytest.raises(voussoir.InputError) as e:
+        voussoir.Scene.from_file(broken)
+    assert isinstance(e.value, ValueError)
+    assert str(e.value) in cli_error("analyze", str(broken))
+
+    scene = voussoir.Scene.from_file(DATA / "compas_assembly/arch_assembly.json")
+    with pytest.raises(voussoir.InputError, match="the scene has no block named 'nope'"):
+        voussoir.analyze(scene, supports=["nope"])
+    with pytest.raises(voussoir.InputError, match="friction_model: 'coulomb' is not one of"):
+        voussoir.analyze(scene, friction_model="coulomb")
+    with pytest.raises(voussoir.InputError, match="friction coefficient -1"):
+        voussoir.analyze(scene, mu=-1.0)
+    open_box = (np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1.0]]), [[0, 2, 1], [0, 1, 3]])
+    with pytest.raises(voussoir.InputError, match="block 'lid'"):
+        voussoir.analyze(voussoir.Scene.from_arrays([open_box], names=["lid"]))
+    with pytest.raises(TypeError, match="from_compas takes"):
+        voussoir.Scene.from_compas(3.5)
+
+
+def test_solves_release_the_gil():
+    """A Python thread keeps counting while a solve runs: with the GIL held it could not."""
+    scene = voussoir.Scene.builtin("wall?courses=10&bricks=15")
+    ticks = [0]
+    stop = threading.Event()
+
+    def count():
+        while not stop.is_set():
+            ticks[0] += 1
+
+    worker = threading.Thread(target=count)
+    worker.start()
+    try:
+        before = ticks[0]
+        result = voussoir.analyze(scene)
+        during = ticks[0] - before
+    finally:
+        stop.set()
+        worker.join()
+    assert result.stands
+    assert during > 1000, f"the counting thread ran only {during} times during the solve"
+
+
+def test_dask_study_on_a_local_cluster_equals_the_loop():
+    from dask.distributed import Client, LocalCluster
+
+    from voussoir import study
+
+    cases = [(t, mu) for t in (0.05, 0.1, 0.15, 0.2) for mu in (0.3, 0.6)]
+    plain = study.run(study.arch, cases)
+    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
+        with Client(cluster) as client:
+            distributed = study.run(study.arch, cases, client=client)
+    assert distributed == plain
+    assert [r["verdict"] for r in plain if r["t_over_r"] == 0.05] == ["needs_tension", "needs_tension"]
+    # Thick enough (t/R ≥ 0.15 with 15 voussoirs) and rough enough (μ = 0.6): stands, with a
+    # positive horizontal load factor growing with thickness; at μ = 0.3 the springers slide.
+    standing = [r for r in plain if r["t_over_r"] >= 0.15 and r["mu"] == 0.6]
+    assert [r["verdict"] for r in standing] == ["stands", "stands"]
+    assert 0 < standing[0]["load_factor"] < standing[1]["load_factor"]
+    assert all(r["verdict"] == "needs_friction" for r in plain if r["t_over_r"] >= 0.15 and r["mu"] == 0.3)
+
+
+def test_package_docstring_examples_run():
+    from voussoir import study
+
+    for module in (voussoir, study):
+        failures, tried = doctest.testmod(module, verbose=False)
+        assert tried > 0 and failures == 0, module.__name__
+
+
+def test_readme_python_example_runs(monkeypatch):
+    monkeypatch.chdir(ROOT)  # the example's paths are the checkout's
+    text = (ROOT / "README.md").read_text()
+    blocks = re.findall(r"```pycon\n(.*?)```", text, flags=re.S)
+    assert blocks, "the README has no ```pycon example"
+    parser, runner = doctest.DocTestParser(), doctest.DocTestRunner(verbose=False)
+    for k, block in enumerate(blocks):
+        test = parser.get_doctest(block, {"__file__": str(ROOT / "README.md")}, f"README[{k}]", "README.md", 0)
+        runner.run(test)
+    assert runner.failures == 0 and runner.tries > 0
