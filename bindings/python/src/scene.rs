@@ -48,7 +48,8 @@ impl Scene {
     }
 
     /// A compas object — compas_assembly `Assembly`, compas_cra `CRA_Assembly`, compas_dem
-    /// `BlockModel`, or a list of compas `Mesh`es — through its data (`compas.json_dumps`).
+    /// `BlockModel`, or a list of compas `Mesh`es — through its data
+    /// (`voussoir._compas.data_json`: an Assembly's blocks and supports, else `compas.json_dumps`).
     /// Blocks are named by the compas node keys (as strings).
     #[staticmethod]
     fn from_compas(obj: &Bound<'_, PyAny>) -> PyResult<Self> {
@@ -60,7 +61,7 @@ impl Scene {
                  Meshes, not a {kind}"
             )));
         }
-        let text: String = py.import("compas")?.call_method1("json_dumps", (obj,))?.extract()?;
+        let text: String = py.import("voussoir._compas")?.call_method1("data_json", (obj,))?.extract()?;
         Self::from_json(&text, &format!("<compas {kind}>"))
     }
 

@@ -16,6 +16,13 @@ use voussoir::model::Assembly;
 use voussoir::robustness::{self, Question};
 use voussoir::sequence::{self as assembly_sequence, OrderSpec, SearchSettings, StepChecks};
 
+/// The validated blocks of `design` (its cut history replayed), or the error's message.
+fn assembly_of(design: &voussoir::model::Scene, settings: &AnalysisSettings) -> Result<Assembly, String> {
+    let (resolved, _) = voussoir::decompose::resolve(design, &settings.tolerances, &mut Default::default())
+        .map_err(|e| e.to_string())?;
+    Assembly::new(&resolved, &settings.tolerances).map_err(|e| e.to_string())
+}
+
 fn json_to_python<'py>(py: Python<'py>, text: &str) -> PyResult<Bound<'py, PyAny>> {
     py.import("json")?.call_method1("loads", (text,))
 }
@@ -38,9 +45,7 @@ pub fn detect_interfaces<'py>(
     let source = scene.source.as_str();
     let (assembly, interfaces) = py
         .detach(|| {
-            let (resolved, _) = voussoir::decompose::resolve(&design, &settings.tolerances, &mut Default::default())
-                .map_err(|e| e.to_string())?;
-            let assembly = Assembly::new(&resolved, &settings.tolerances).map_err(|e| e.to_string())?;
+            let assembly = assembly_of(&design, &settings)?;
             let interfaces = voussoir::interfaces::detect(&assembly);
             Ok((assembly, interfaces))
         })
@@ -197,9 +202,7 @@ pub fn drop<'py>(
     let source = scene.source.as_str();
     let text = py
         .detach(|| {
-            let (resolved, _) = voussoir::decompose::resolve(&design, &settings.tolerances, &mut Default::default())
-                .map_err(|e| e.to_string())?;
-            let assembly = Assembly::new(&resolved, &settings.tolerances).map_err(|e| e.to_string())?;
+            let assembly = assembly_of(&design, &settings)?;
             let result = voussoir::dynamics::drop_test(&assembly, &drop_settings).map_err(|e| e.to_string())?;
             Ok(serde_json::to_string(&result).unwrap_or_default())
         })

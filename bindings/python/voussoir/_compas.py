@@ -3,14 +3,36 @@
 compas_assembly's ``Assembly`` (and compas_cra's ``CRA_Assembly``, a subclass) keep contacts on
 the graph's edges: ``graph.edge_attribute((u, v), "interfaces")`` is a list of
 ``compas_assembly.datastructures.Interface`` with ``points``, ``frame`` (its z axis points from
-u into v), ``size``, ``mesh`` and ``forces`` — per point a dict ``c_np`` (compression),
+u into v), ``size`` and ``forces`` — per point a dict ``c_np`` (compression),
 ``c_nn`` (tension), ``c_u``, ``c_v`` (friction along the frame's x and y axes), the force on v.
 compas_cra's solvers write the same fields; its viewers and ``rbe_solve`` read them.
 """
 
 from __future__ import annotations
 
+import json
 from typing import Any
+
+
+def data_json(obj) -> str:
+    """The JSON ``Scene.from_compas`` reads for a compas object, through its data: for a graph
+    of blocks (compas_assembly ``Assembly``, compas_cra ``CRA_Assembly``) only the nodes' blocks
+    and supports — voussoir detects the interfaces itself, and serialising the stored ones costs
+    ten times more (the Armadillo: 27 ms against 350 ms); for anything else (a compas_dem
+    ``BlockModel``, a list of meshes) the whole ``compas.json_dumps``."""
+    import compas
+    from compas.data import DataEncoder
+
+    graph = getattr(obj, "graph", None)
+    nodes = list(graph.nodes(data=True)) if graph is not None and hasattr(graph, "nodes") else []
+    if not nodes or any(attr.get("block") is None for _, attr in nodes):
+        return compas.json_dumps(obj)
+    node = {
+        str(key): {"block": {"dtype": attr["block"].__dtype__, "data": attr["block"].__data__}, "is_support": bool(attr.get("is_support"))}
+        for key, attr in nodes
+    }
+    data = {"dtype": obj.__dtype__, "data": {"graph": {"data": {"node": node, "edge": {}}}}}
+    return json.dumps(data, cls=DataEncoder)
 
 
 def _node_keys(graph) -> dict:
@@ -18,24 +40,20 @@ def _node_keys(graph) -> dict:
     return {str(key): key for key in graph.nodes()}
 
 
-def _interface(result, row: int, points: list, forces: list, flip: bool):
-    """One compas Interface from row ``row`` of ``result``'s interface arrays."""
-    from compas.datastructures import Mesh
+def _interface(frames: dict, row: int, points: list, forces: list, flip: bool):
+    """One compas Interface from row ``row`` of the interface arrays in ``frames``."""
     from compas.geometry import Frame
     from compas_assembly.datastructures import Interface
 
-    origin = [float(x) for x in result.interface_centroid[row]]
-    u = [float(x) for x in result.interface_u[row]]
-    v = [float(x) for x in result.interface_v[row]]
+    origin, u, v = frames["origin"][row], frames["u"][row], frames["v"][row]
     if flip:
         # The edge runs b -> a: the normal turns over (x, y = v, u) and the forces are those on
         # a, the opposite of those on b: c_u' = -c_v, c_v' = -c_u along the swapped axes.
         u, v = v, u
         forces = [{"c_np": f["c_np"], "c_nn": f["c_nn"], "c_u": -f["c_v"], "c_v": -f["c_u"]} for f in forces]
-    mesh = Mesh.from_vertices_and_faces(points, [list(range(len(points)))])
-    return Interface(
-        size=float(result.interface_area[row]), points=points, frame=Frame(origin, u, v), forces=forces, mesh=mesh
-    )
+    # No mesh: compas_assembly's Interface makes it from the points when asked (a third of the
+    # cost of writing the Armadillo's 1014 interfaces, otherwise).
+    return Interface(size=frames["area"][row], points=points, frame=Frame(origin, u, v), forces=forces)
 
 
 def write_forces(result, assembly) -> dict[str, Any]:
@@ -57,14 +75,21 @@ def write_forces(result, assembly) -> dict[str, Any]:
             "BlockModel's contacts are not written yet: use Analysis.to_compas_json() for an Assembly"
         )
     keys = _node_keys(graph)
+    # Each array once, as lists (a getter builds its array anew; numpy scalars are slow to index).
     names = result.block_names
-    pairs = result.interface_blocks
-    owner = result.point_interface
-    points_all = result.points
-    forces_all = result.point_forces
+    pairs = result.interface_blocks.tolist()
+    owner = result.point_interface.tolist()
+    points_all = result.points.tolist()
+    forces_all = result.point_forces.tolist()
+    frames = {
+        "origin": result.interface_centroid.tolist(),
+        "u": result.interface_u.tolist(),
+        "v": result.interface_v.tolist(),
+        "area": result.interface_area.tolist(),
+    }
     by_row: dict[int, list[int]] = {}
     for k, row in enumerate(owner):
-        by_row.setdefault(int(row), []).append(k)
+        by_row.setdefault(row, []).append(k)
     written, added, ground = 0, 0, 0
     replaced = set()
     for row, (a, b) in enumerate(pairs):
@@ -83,9 +108,9 @@ def write_forces(result, assembly) -> dict[str, Any]:
             graph.add_edge(u, v)
             edge, flip, added = (u, v), False, added + 1
         ks = by_row.get(row, [])
-        points = [[float(x) for x in points_all[k]] for k in ks]
-        forces = [dict(zip(("c_np", "c_nn", "c_u", "c_v"), (float(x) for x in forces_all[k]))) for k in ks]
-        interface = _interface(result, row, points, forces, flip)
+        points = [points_all[k] for k in ks]
+        forces = [dict(zip(("c_np", "c_nn", "c_u", "c_v"), forces_all[k])) for k in ks]
+        interface = _interface(frames, row, points, forces, flip)
         if edge not in replaced:
             graph.edge_attribute(edge, "interfaces", [])
             replaced.add(edge)
