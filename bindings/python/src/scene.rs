@@ -12,6 +12,9 @@ use voussoir::geometry::{Mesh, Point3};
 use voussoir::io;
 use voussoir::model::{self, Block, Cut, SupportChoice};
 
+/// One block as Python gives it: vertices (m) and faces (vertex indices).
+type BlockArrays = (Vec<[f64; 3]>, Vec<Vec<usize>>);
+
 #[pyclass(module = "voussoir", frozen)]
 pub struct Scene {
     pub(crate) scene: model::Scene,
@@ -81,7 +84,7 @@ impl Scene {
     #[staticmethod]
     #[pyo3(signature = (blocks, *, names = None, supports = None, density = None, ground = false, name = "arrays"))]
     fn from_arrays(
-        blocks: Vec<(Vec<[f64; 3]>, Vec<Vec<usize>>)>,
+        blocks: Vec<BlockArrays>,
         names: Option<Vec<String>>,
         supports: Option<Vec<usize>>,
         density: Option<f64>,
