@@ -121,8 +121,7 @@ fn apply_scene_options(scene: &mut Scene, args: &AnalyzeArgs, settings: &Analysi
         scene.blocks.extend(supports);
     }
     if let Some(d) = args.density {
-        scene.material.density = d;
-        scene.blocks.iter_mut().for_each(|b| b.density = None);
+        scene.set_density(d);
     }
     if args.ground {
         scene.ground = true;

@@ -166,6 +166,13 @@ impl Scene {
         if all.diagonal() > 0.0 { all.diagonal() } else { 1.0 }
     }
 
+    /// One density for every block (kg/m³): the material's, with the blocks' own overrides
+    /// dropped (`analyze --density`, Python's `density=`).
+    pub fn set_density(&mut self, density: f64) {
+        self.material.density = density;
+        self.blocks.iter_mut().for_each(|b| b.density = None);
+    }
+
     /// Replaces the supports given in the scene by `choice` (`analyze --supports`, Python's
     /// `supports=`). "The lowest level" is within `rel_tol` × (model size): the Armadillo's 33
     /// supports sit within 2.5 cm (1.2e-3 of its size) of each other. Errors name the first

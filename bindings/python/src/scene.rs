@@ -10,7 +10,7 @@ use pyo3::types::PyList;
 use std::path::{Path, PathBuf};
 use voussoir::geometry::{Mesh, Point3};
 use voussoir::io;
-use voussoir::model::{self, Block, Cut, SupportChoice};
+use voussoir::model::{self, Block, Cut};
 
 /// One block as Python gives it: vertices (m) and faces (vertex indices).
 type BlockArrays = (Vec<[f64; 3]>, Vec<Vec<usize>>);
@@ -174,15 +174,7 @@ impl Scene {
 
     /// This scene with other supports: `"lowest"` or a list of block names.
     fn with_supports(&self, supports: Supports) -> PyResult<Self> {
-        let choice = match supports {
-            Supports::Keyword(k) if k == "lowest" => SupportChoice::Lowest,
-            Supports::Keyword(k) => {
-                return Err(errors::setting(format!(
-                    "supports: '{k}' is neither \"lowest\" nor a list of block names"
-                )));
-            }
-            Supports::Names(names) => SupportChoice::Named(names),
-        };
+        let choice = supports.choice()?;
         let mut scene = self.scene.clone();
         scene
             .choose_supports(&choice, voussoir::geometry::Tolerances::default().coplanar)

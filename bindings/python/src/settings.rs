@@ -16,6 +16,19 @@ pub enum Supports {
     Names(Vec<String>),
 }
 
+impl Supports {
+    /// The library's support choice.
+    pub fn choice(&self) -> PyResult<SupportChoice> {
+        match self {
+            Supports::Keyword(k) if k == "lowest" => Ok(SupportChoice::Lowest),
+            Supports::Keyword(k) => {
+                Err(errors::setting(format!("supports: '{k}' is neither \"lowest\" nor a list of block names")))
+            }
+            Supports::Names(names) => Ok(SupportChoice::Named(names.clone())),
+        }
+    }
+}
+
 /// The shared keyword arguments, as Python passed them.
 pub struct Options {
     pub mu: Option<f64>,
@@ -59,22 +72,13 @@ impl Options {
     pub fn amend(&self, scene: &Scene, source: &str, settings: &AnalysisSettings) -> PyResult<Scene> {
         let mut scene = scene.clone();
         if let Some(d) = self.density {
-            scene.material.density = d;
-            scene.blocks.iter_mut().for_each(|b| b.density = None);
+            scene.set_density(d);
         }
         if let Some(g) = self.ground {
             scene.ground = g;
         }
-        let choice = match &self.supports {
-            None => return Ok(scene),
-            Some(Supports::Keyword(k)) if k == "lowest" => SupportChoice::Lowest,
-            Some(Supports::Keyword(k)) => {
-                return Err(errors::setting(format!(
-                    "supports: '{k}' is neither \"lowest\" nor a list of block names"
-                )));
-            }
-            Some(Supports::Names(names)) => SupportChoice::Named(names.clone()),
-        };
+        let Some(supports) = &self.supports else { return Ok(scene) };
+        let choice = supports.choice()?;
         scene
             .choose_supports(&choice, settings.tolerances.coplanar)
             .map_err(|e| errors::input(source, format!("supports: {e}")))?;
