@@ -29,6 +29,7 @@
 pub mod analysis;
 pub mod cli;
 pub mod decompose;
+pub mod design;
 pub mod dynamics;
 pub mod ecs;
 pub mod geometry;

@@ -592,3 +592,44 @@ fn analyze_takes_a_supports_file() {
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("no-such-supports.json"));
 }
+
+/// Invariant: `repair` writes the repaired design (its moved cut reloads and stands by an
+/// independent analyze run, exit 0), prints before/after, refuses to write over its input,
+/// exits 1 with the support it proposes when no cut can help, and 2 naming a cut the history
+/// does not have.
+#[test]
+fn repair_writes_a_standing_design_or_says_why_not() {
+    let out = tmp("repair_fig4a.json");
+    let o = voussoir(&["repair", "assets/cases/fig4a_m_cut.json", "--max-turn", "0", "-o", out.to_str().unwrap()]);
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert_eq!(o.status.code(), Some(0), "{text}");
+    assert!(text.starts_with("REPAIRED: it stands now"), "{text}");
+    assert!(text.contains("needs tension") && text.contains("cut 0: plane through"), "{text}");
+    let check = voussoir(&["analyze", out.to_str().unwrap()]);
+    assert_eq!(check.status.code(), Some(0), "{}", String::from_utf8_lossy(&check.stdout));
+
+    let o = voussoir(&["repair", "assets/cases/fig3a_sc.json", "-o", tmp("repair_fig3a.json").to_str().unwrap()]);
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert_eq!(o.status.code(), Some(1), "{text}");
+    assert!(
+        text.starts_with("NOTHING TO MOVE") && text.contains("a support makes it stand") && text.contains("under 'SC'"),
+        "{text}"
+    );
+
+    let o = voussoir(&[
+        "repair",
+        "assets/cases/fig4a_m_cut.json",
+        "--cuts",
+        "4",
+        "-o",
+        tmp("repair_bad.json").to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    assert_eq!(
+        String::from_utf8_lossy(&o.stderr).trim(),
+        "error: assets/cases/fig4a_m_cut.json: cut 4: there are only 1 cuts in the design's history"
+    );
+    let o = voussoir(&["repair", "assets/cases/fig4a_m_cut.json", "-o", "assets/cases/fig4a_m_cut.json"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("would overwrite the input"));
+}

@@ -1,7 +1,7 @@
 //! Command line: `voussoir [analyze] [SCENE] [options]`. Exit codes: 0 the assembly stands,
 //! 1 it does not (or the solver could not tell), 2 bad input.
 //!
-//! One file per command ([`analyze`], [`cut`], [`export`], [`robustness`], [`sequence`], [`sweep`],
+//! One file per command ([`analyze`], [`cut`], [`export`], [`repair`], [`robustness`], [`sequence`], [`sweep`],
 //! [`view`]);
 //! the options several commands share are flattened structs in [`options`] that turn into the
 //! library's settings in one place. Every default is the library's (`default_value_t` reads its
@@ -22,6 +22,7 @@ mod choice;
 pub mod cut;
 pub mod export;
 pub mod options;
+pub mod repair;
 pub mod robustness;
 pub mod sequence;
 pub mod sweep;
@@ -31,6 +32,7 @@ pub use analyze::AnalyzeArgs;
 pub use cut::CutArgs;
 pub use export::ExportArgs;
 pub use options::{Diagram, DiagramOptions, DropOptions, LoadOptions, SolverOptions};
+pub use repair::RepairArgs;
 pub use robustness::RobustnessArgs;
 pub use sequence::SequenceArgs;
 pub use sweep::{FamilyName, SweepArgs};
@@ -72,6 +74,9 @@ pub enum Command {
     /// Add a plane or pattern cut to the scene's cut history and write the design (never over
     /// the input).
     Cut(CutArgs),
+    /// Move and turn the design's cuts until it stands, then stands most safely; write the
+    /// repaired design (or say why no placement helps, and which support would).
+    Repair(RepairArgs),
     /// Export the analysed design without a window: glTF binary with the blocks and the
     /// interface polygons coloured by a diagram mode.
     Export(ExportArgs),
@@ -94,6 +99,7 @@ pub fn run(cli: Cli) -> i32 {
         Some(Command::Sweep(args)) => sweep::run(&args),
         Some(Command::Sequence(args)) => sequence::run(&args),
         Some(Command::Robustness(args)) => robustness::run(&args),
+        Some(Command::Repair(args)) => repair::run(&args),
         Some(Command::Export(args)) => export::run(&args),
         Some(Command::View(args)) => view::run(&args),
     };

@@ -1,0 +1,254 @@
+//! Repair: move and turn a design's cuts until it stands, then until it stands most safely.
+//!
+//! A particle swarm (argmin's, seeded, evaluated in order: the same seed gives the same
+//! design) searches the cut parameters of [`super::params`] for the lowest
+//! [`super::objective`] score. The design as given is scored first and kept unless something
+//! scores lower, so a repair never makes a design worse. When the best design still fails,
+//! the answer names the interfaces that keep failing and, where one column under a failing
+//! block holds it, that support ([`super::props`]).
+
+use super::objective::{Evaluator, Score};
+use super::params::{CutParameters, Freedom};
+use super::props::{SupportProposal, propose_support};
+use super::{DesignError, RepairSettings};
+use crate::analysis::{Analysis, AnalysisSettings};
+use crate::model::{Cut, Scene};
+use crate::robustness::{SweepSettings, worst_direction};
+use argmin::core::{CostFunction, Error as ArgminError, Executor};
+use argmin::solver::particleswarm::ParticleSwarm;
+use rand_xoshiro::Xoshiro256PlusPlus;
+use rand_xoshiro::rand_core::SeedableRng;
+use serde::Serialize;
+use std::sync::Mutex;
+
+/// How a repair ended.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+pub enum RepairOutcome {
+    /// It did not stand and now does.
+    Repaired,
+    /// It stood already; `improved` when the load factor grew.
+    AlreadyStood { improved: bool },
+    /// No placement of the selected cuts found makes it stand.
+    NotRepaired,
+    /// The design has no cut to move (e.g. one solid piece).
+    NothingToMove,
+}
+
+/// One interface of the best design that still needs tension or more friction.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct FailingInterface {
+    pub a: String,
+    pub b: String,
+    /// Tension and friction excess at it, fractions of the free weight.
+    pub tension: f64,
+    pub friction_excess: f64,
+}
+
+/// A cut the repair moved.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct CutChange {
+    pub index: usize,
+    pub before: Cut,
+    pub after: Cut,
+}
+
+/// Before and after, and how the search went.
+#[derive(Clone, Debug, Serialize)]
+pub struct RepairReport {
+    pub outcome: RepairOutcome,
+    pub before: Score,
+    pub after: Score,
+    /// The worst-direction load factor of the design before and after (full sweep, when it
+    /// stands).
+    pub load_factor_before: Option<f64>,
+    pub load_factor_after: Option<f64>,
+    pub changed: Vec<CutChange>,
+    /// The best search cost after each evaluation (the score less the closeness bonus of a
+    /// standing design; non-increasing; the first is the design as given).
+    pub history: Vec<f64>,
+    pub evaluations: usize,
+    pub seconds: f64,
+    /// Where the best design still fails.
+    pub failing: Vec<FailingInterface>,
+    /// A support that makes the best design stand, when it does not and one column does.
+    pub support: Option<SupportProposal>,
+    /// The repaired design (the input with its cuts moved).
+    #[serde(skip)]
+    pub design: Scene,
+}
+
+/// Repairs `scene` (see the module docs). `progress` is called after each evaluation with
+/// (evaluations done, evaluations planned, best score so far).
+pub fn repair(
+    scene: &Scene,
+    analysis: &AnalysisSettings,
+    settings: &RepairSettings,
+    progress: &(dyn Fn(usize, usize, f64) + Sync),
+) -> Result<RepairReport, DesignError> {
+    settings.validate()?;
+    let start = std::time::Instant::now();
+    let freedom = Freedom { max_turn_degrees: settings.max_turn_degrees, apex_move: settings.apex_move };
+    let params = CutParameters::new(scene, settings.cuts.as_deref(), &freedom)?;
+    let (before, base) = first_look(scene, analysis, settings, &params)?;
+    let directions = settings.robust.then_some(settings.directions);
+    let min_volume = (settings.min_piece_fraction * base.mean_volume).min(base.smallest_volume);
+    let evaluator = Evaluator::new(analysis, directions, params.indices(), min_volume);
+    let planned = if params.is_empty() { 0 } else { settings.particles * (settings.iterations as usize + 1) };
+    let first = with_closeness(&before, 1.0);
+    let search =
+        Search { scene, params: &params, evaluator: &evaluator, log: Mutex::new(vec![first]), planned, progress };
+    let (history, best) = if params.is_empty() { (vec![before.cost], None) } else { search.run(settings)? };
+    let design = match &best {
+        Some((x, cost)) if *cost < first => params.apply(scene, x),
+        _ => scene.clone(),
+    };
+    let (after, after_analysis) = evaluator.score(&design);
+    let changed = changes(scene, &design);
+    let failing = after_analysis.as_ref().map(failing_interfaces).unwrap_or_default();
+    let support = match &after_analysis {
+        Some(a) if !after.stands() => propose_support(&design, a, analysis),
+        _ => None,
+    };
+    let outcome = match (before.stands(), after.stands()) {
+        _ if params.is_empty() => RepairOutcome::NothingToMove,
+        (true, _) => RepairOutcome::AlreadyStood { improved: after.cost < before.cost },
+        (false, true) => RepairOutcome::Repaired,
+        (false, false) => RepairOutcome::NotRepaired,
+    };
+    Ok(RepairReport {
+        outcome,
+        load_factor_before: full_load_factor(&base.analysis, analysis),
+        load_factor_after: after_analysis.as_ref().and_then(|a| full_load_factor(a, analysis)),
+        before,
+        after,
+        changed,
+        evaluations: history.len(),
+        history,
+        seconds: start.elapsed().as_secs_f64(),
+        failing,
+        support,
+        design,
+    })
+}
+
+/// The design as given: its score (with the search's own rules) and its analysis.
+struct Baseline {
+    analysis: Analysis,
+    /// Mean volume of its free pieces, m³ (the minimum piece volume is a fraction of it).
+    mean_volume: f64,
+    /// Its smallest free piece, m³: a piece as small as the designer's own is no sliver.
+    smallest_volume: f64,
+}
+
+fn first_look(
+    scene: &Scene,
+    analysis: &AnalysisSettings,
+    settings: &RepairSettings,
+    params: &CutParameters,
+) -> Result<(Score, Baseline), DesignError> {
+    let a = crate::analysis::analyze(scene, analysis)?;
+    let free: Vec<f64> = a.assembly.blocks.iter().filter(|b| !b.support).map(|b| b.mass.volume).collect();
+    let mean_volume = free.iter().sum::<f64>() / free.len().max(1) as f64;
+    let smallest_volume = free.iter().copied().fold(f64::INFINITY, f64::min);
+    let directions = settings.robust.then_some(settings.directions);
+    // The design as given passes its own cut rules: no minimum volume of its own pieces.
+    let (score, _) = Evaluator::new(analysis, directions, params.indices(), 0.0).score(scene);
+    Ok((score, Baseline { analysis: a, mean_volume, smallest_volume }))
+}
+
+/// The best parameters a search found and their cost.
+type Best = (Vec<f64>, f64);
+
+/// The particle swarm over the cut parameters, every evaluation logged.
+struct Search<'a> {
+    scene: &'a Scene,
+    params: &'a CutParameters,
+    evaluator: &'a Evaluator,
+    log: Mutex<Vec<f64>>,
+    planned: usize,
+    progress: &'a (dyn Fn(usize, usize, f64) + Sync),
+}
+
+impl CostFunction for Search<'_> {
+    type Param = Vec<f64>;
+    type Output = f64;
+    fn cost(&self, x: &Vec<f64>) -> Result<f64, ArgminError> {
+        let (score, _) = self.evaluator.score(&self.params.apply(self.scene, x));
+        let cost = with_closeness(&score, self.params.closeness(x));
+        let mut log = self.log.lock().expect("not poisoned");
+        let best = log.last().copied().unwrap_or(f64::INFINITY).min(cost);
+        log.push(best);
+        (self.progress)(log.len() - 1, self.planned, best);
+        Ok(cost)
+    }
+}
+
+impl Search<'_> {
+    /// Runs the swarm; the log of best scores and the best parameters found with their score.
+    fn run(self, settings: &RepairSettings) -> Result<(Vec<f64>, Option<Best>), DesignError> {
+        let solver = ParticleSwarm::new(self.params.bounds(), settings.particles)
+            .with_rng_generator(Xoshiro256PlusPlus::seed_from_u64(settings.seed));
+        let res = Executor::new(self, solver)
+            .configure(|state| state.max_iters(settings.iterations))
+            .run()
+            .map_err(|e| DesignError::Optimiser(e.to_string()))?;
+        let best = res.state.best_individual.as_ref().map(|p| (p.position.clone(), p.cost));
+        let log = res.problem.problem.map(|p| p.log.into_inner().expect("not poisoned")).unwrap_or_default();
+        Ok((log, best))
+    }
+}
+
+/// Among standing designs, the search prefers the least change: a standing score gains up to
+/// this much for being the design as given (less than any load-factor difference worth a
+/// change, and never enough to lift it above zero, where failing designs are).
+pub const CLOSENESS_WEIGHT: f64 = 1e-3;
+
+/// The search's cost: the score, less [`CLOSENESS_WEIGHT`] × closeness for a standing design.
+fn with_closeness(score: &Score, closeness: f64) -> f64 {
+    if score.stands() { score.cost - CLOSENESS_WEIGHT * closeness } else { score.cost }
+}
+
+/// The cuts that differ between two versions of a design.
+fn changes(before: &Scene, after: &Scene) -> Vec<CutChange> {
+    before
+        .cuts
+        .iter()
+        .zip(&after.cuts)
+        .enumerate()
+        .filter(|(_, (a, b))| a != b)
+        .map(|(index, (a, b))| CutChange { index, before: a.clone(), after: b.clone() })
+        .collect()
+}
+
+/// The interfaces carrying most of the tension and friction excess (each above 1e-3 of the
+/// largest), worst first.
+fn failing_interfaces(analysis: &Analysis) -> Vec<FailingInterface> {
+    let w = analysis.statics.free_weight.max(f64::MIN_POSITIVE);
+    let mut bad: Vec<FailingInterface> = analysis
+        .statics
+        .interfaces
+        .iter()
+        .map(|i| FailingInterface {
+            a: i.a.clone(),
+            b: i.b.clone(),
+            tension: i.tension / w,
+            friction_excess: i.friction_excess / w,
+        })
+        .collect();
+    let worst = bad.iter().map(|f| f.tension + f.friction_excess).fold(0.0, f64::max);
+    bad.retain(|f| worst > 0.0 && f.tension + f.friction_excess > 1e-3 * worst);
+    bad.sort_by(|x, y| (y.tension + y.friction_excess).total_cmp(&(x.tension + x.friction_excess)));
+    bad
+}
+
+/// The worst-direction load factor (the robustness command's default sweep) of a design that
+/// stands.
+fn full_load_factor(analysis: &Analysis, settings: &AnalysisSettings) -> Option<f64> {
+    if !analysis.statics.stands {
+        return None;
+    }
+    worst_direction(&analysis.assembly, &analysis.interfaces, &settings.statics, &SweepSettings::default(), &|_, _| {})
+        .ok()
+        .map(|s| s.worst_load_factor)
+}
