@@ -633,3 +633,30 @@ fn repair_writes_a_standing_design_or_says_why_not() {
     assert_eq!(o.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&o.stderr).contains("would overwrite the input"));
 }
+
+/// Invariant: `decompose` cuts a source shape into courses and writes a design whose pieces
+/// `analyze` finds (the count it printed), exits with the verdict's code, and refuses a shape
+/// that already has a cut history (exit 2, naming the file).
+#[test]
+fn decompose_writes_courses() {
+    let out = tmp("decompose_sc.json");
+    let o = voussoir(&["decompose", "assets/cases/fig3a_sc.json", "--max-size", "0.15", "-o", out.to_str().unwrap()]);
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(text.starts_with("4 courses, 22 pieces (block size 0.1500 m)"), "{text}");
+    assert_eq!(o.status.code(), Some(1), "the lettering in running bond needs tension: {text}");
+    let check = voussoir(&["analyze", out.to_str().unwrap()]);
+    assert!(String::from_utf8_lossy(&check.stdout).contains("22 blocks"), "{}", String::from_utf8_lossy(&check.stdout));
+    let o = voussoir(&[
+        "decompose",
+        "assets/cases/fig4a_m_cut.json",
+        "--blocks",
+        "5",
+        "-o",
+        tmp("decompose_bad.json").to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        String::from_utf8_lossy(&o.stderr)
+            .starts_with("error: assets/cases/fig4a_m_cut.json: the shape already has a cut history")
+    );
+}

@@ -1,7 +1,7 @@
 //! Command line: `voussoir [analyze] [SCENE] [options]`. Exit codes: 0 the assembly stands,
 //! 1 it does not (or the solver could not tell), 2 bad input.
 //!
-//! One file per command ([`analyze`], [`cut`], [`export`], [`repair`], [`robustness`], [`sequence`], [`sweep`],
+//! One file per command ([`analyze`], [`cut`], [`decompose`], [`export`], [`repair`], [`robustness`], [`sequence`], [`sweep`],
 //! [`view`]);
 //! the options several commands share are flattened structs in [`options`] that turn into the
 //! library's settings in one place. Every default is the library's (`default_value_t` reads its
@@ -20,6 +20,7 @@ macro_rules! println {
 pub mod analyze;
 mod choice;
 pub mod cut;
+pub mod decompose;
 pub mod export;
 pub mod options;
 pub mod repair;
@@ -30,6 +31,7 @@ pub mod view;
 
 pub use analyze::AnalyzeArgs;
 pub use cut::CutArgs;
+pub use decompose::DecomposeArgs;
 pub use export::ExportArgs;
 pub use options::{Diagram, DiagramOptions, DropOptions, LoadOptions, SolverOptions};
 pub use repair::RepairArgs;
@@ -74,6 +76,9 @@ pub enum Command {
     /// Add a plane or pattern cut to the scene's cut history and write the design (never over
     /// the input).
     Cut(CutArgs),
+    /// Cut a source shape into courses (horizontal, or through an axis for arches) with
+    /// staggered head joints; `--optimize` then repairs it. Writes the design.
+    Decompose(DecomposeArgs),
     /// Move and turn the design's cuts until it stands, then stands most safely; write the
     /// repaired design (or say why no placement helps, and which support would).
     Repair(RepairArgs),
@@ -100,6 +105,7 @@ pub fn run(cli: Cli) -> i32 {
         Some(Command::Sequence(args)) => sequence::run(&args),
         Some(Command::Robustness(args)) => robustness::run(&args),
         Some(Command::Repair(args)) => repair::run(&args),
+        Some(Command::Decompose(args)) => decompose::run(&args),
         Some(Command::Export(args)) => export::run(&args),
         Some(Command::View(args)) => view::run(&args),
     };

@@ -9,6 +9,7 @@ use super::{BadInput, load, refuse_overwrite, scene_name, write_output};
 use crate::design::{self, RepairOutcome, RepairReport, RepairSettings, Score};
 use crate::io::scene_json;
 use crate::model::CutShape;
+use crate::statics::Verdict;
 use clap::Args;
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
@@ -94,6 +95,9 @@ fn with_bar<T>(f: impl FnOnce(&(dyn Fn(usize, usize, f64) + Sync)) -> T) -> T {
     result
 }
 
+/// Failing interfaces listed in the text (all of them in the JSON report).
+const SHOWN: usize = 6;
+
 /// The before/after table, the moved cuts and the honest answer.
 pub fn text(r: &RepairReport) -> String {
     let mut s = String::new();
@@ -131,12 +135,13 @@ pub fn text(r: &RepairReport) -> String {
     }
     s += &format!("  {} evaluations in {:.2} s\n", r.evaluations, r.seconds);
     if !r.failing.is_empty() {
-        s += "  still failing:\n";
-        for f in &r.failing {
-            s += &format!(
-                "    {} – {}: tension {:.3e} W, friction excess {:.3e} W\n",
-                f.a, f.b, f.tension, f.friction_excess
-            );
+        s += "  still failing (worst first):\n";
+        for f in r.failing.iter().take(SHOWN) {
+            let (t, e) = (f.tension.max(0.0), f.friction_excess.max(0.0));
+            s += &format!("    {} – {}: tension {t:.3e} W, friction excess {e:.3e} W\n", f.a, f.b);
+        }
+        if r.failing.len() > SHOWN {
+            s += &format!("    and {} more (all in --json)\n", r.failing.len() - SHOWN);
         }
     }
     match (&r.support, r.after.stands()) {
@@ -155,7 +160,15 @@ pub fn text(r: &RepairReport) -> String {
 fn verdict(score: &Score) -> String {
     match (&score.verdict, &score.invalid) {
         (_, Some(_)) => "cannot cut".into(),
-        (Some(v), None) => format!("{v:?}").to_lowercase().replace("needs", "needs "),
+        (Some(v), None) => match v {
+            Verdict::Stands => "stands",
+            Verdict::NeedsTension => "needs tension",
+            Verdict::NeedsFriction => "needs friction",
+            Verdict::NeedsTensionAndFriction => "needs both",
+            Verdict::Unsupported => "unsupported",
+            Verdict::Unresolved => "unresolved",
+        }
+        .into(),
         (None, None) => "-".into(),
     }
 }

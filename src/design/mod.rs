@@ -8,11 +8,13 @@
 //!
 //! Units: metres, radians inside (degrees in settings), forces as fractions of the free weight.
 
+pub mod generate;
 pub mod objective;
 pub mod params;
 pub mod props;
 pub mod repair;
 
+pub use generate::{BlockSize, Field, Generated, courses};
 pub use objective::{Evaluator, Score};
 pub use params::{CutParameters, Freedom};
 pub use props::{SupportProposal, propose_support};

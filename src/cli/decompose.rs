@@ -1,0 +1,90 @@
+//! `voussoir decompose SHAPE (--blocks N | --max-size L) -o OUT.json`: a cut history for a
+//! source shape by courses ([`crate::design::generate`]) — horizontal beds, or beds through an
+//! axis with `--center`/`--axis` (arches, vaults) — with staggered head joints; prints the
+//! design's verdict and with `--optimize` repairs it ([`crate::design::repair`]). Writes the
+//! design atomically, never over the input. Exit codes: 0 it stands, 1 it does not, 2 bad input.
+
+use super::options::SolverOptions;
+use super::{BadInput, load, numbers, refuse_overwrite, scene_name, write_output};
+use crate::analysis::analyze;
+use crate::design::{self, BlockSize, Field, RepairSettings};
+use crate::io::scene_json;
+use clap::Args;
+use std::path::PathBuf;
+
+#[derive(Args, Debug, Clone, PartialEq)]
+pub struct DecomposeArgs {
+    /// The source shape (any scene or mesh file the readers accept, without a cut history).
+    pub scene: String,
+    #[command(flatten)]
+    pub solver: SolverOptions,
+    /// About this many blocks (along the arc for `--center`).
+    #[arg(long, required_unless_present = "max_size", conflicts_with = "max_size")]
+    pub blocks: Option<usize>,
+    /// Largest block dimension along the cut directions, m.
+    #[arg(long)]
+    pub max_size: Option<f64>,
+    /// Courses through an axis (arches, barrel vaults): a point `x,y,z` on it.
+    #[arg(long, allow_hyphen_values = true)]
+    pub center: Option<String>,
+    /// The axis' direction `x,y,z` (with `--center`).
+    #[arg(long, allow_hyphen_values = true, default_value = "0,1,0", requires = "center")]
+    pub axis: String,
+    /// Head joints in line between courses (stack bond) instead of staggered.
+    #[arg(long)]
+    pub no_stagger: bool,
+    /// Then move and turn the cuts until it stands most safely (`voussoir repair`).
+    #[arg(long)]
+    pub optimize: bool,
+    /// Seed of the optimiser.
+    #[arg(long, default_value_t = RepairSettings::default().seed)]
+    pub seed: u64,
+    /// The design (scene JSON with its cut history, written atomically).
+    #[arg(short, long)]
+    pub output: PathBuf,
+}
+
+pub fn run(args: &DecomposeArgs) -> Result<i32, BadInput> {
+    refuse_overwrite(Some(&args.scene), &args.output, "-o")?;
+    let name = scene_name(Some(&args.scene)).to_string();
+    let shape = load(Some(&args.scene))?;
+    let field = match &args.center {
+        None => Field::Vertical,
+        Some(c) => Field::Radial {
+            center: numbers::<3>("--center", c, "x,y,z")?,
+            axis: numbers::<3>("--axis", &args.axis, "x,y,z")?,
+        },
+    };
+    let size = match (args.blocks, args.max_size) {
+        (Some(n), _) => BlockSize::Count(n),
+        (None, Some(l)) => BlockSize::Max(l),
+        (None, None) => return Err(BadInput("give --blocks N or --max-size L".into())),
+    };
+    let bad = |e: design::DesignError| BadInput(format!("{name}: {e}"));
+    let generated = design::courses(&shape, &field, &size, !args.no_stagger).map_err(bad)?;
+    println!(
+        "{} courses, {} pieces (block size {:.4} m), {} cuts",
+        generated.courses,
+        generated.pieces,
+        generated.max_size,
+        generated.design.cuts.len()
+    );
+    let settings = args.solver.settings();
+    let mut design = generated.design;
+    if args.optimize {
+        let repair = RepairSettings { seed: args.seed, ..Default::default() };
+        let report = design::repair(&design, &settings, &repair, &|_, _, _| {}).map_err(bad)?;
+        print!("{}", super::repair::text(&report));
+        design = report.design;
+    }
+    let a = analyze(&design, &settings).map_err(|e| BadInput(format!("{name}: {e}")))?;
+    println!(
+        "{}: minimum tension {:.3e} W, friction excess {:.3e} W",
+        if a.statics.stands { "STANDS" } else { "DOES NOT STAND" },
+        a.statics.tension_ratio,
+        a.statics.friction_excess_ratio
+    );
+    write_output(&args.output, scene_json::scene_to_string(&design).as_bytes())?;
+    println!("design written to {}", args.output.display());
+    Ok(if a.statics.stands { 0 } else { 1 })
+}
