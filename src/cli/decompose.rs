@@ -70,21 +70,22 @@ pub fn run(args: &DecomposeArgs) -> Result<i32, BadInput> {
         generated.design.cuts.len()
     );
     let settings = args.solver.settings();
-    let mut design = generated.design;
-    if args.optimize {
+    let (design, stands, tension, excess) = if args.optimize {
         let repair = RepairSettings { seed: args.seed, ..Default::default() };
-        let report = design::repair(&design, &settings, &repair, &|_, _, _| {}).map_err(bad)?;
+        let report = design::repair(&generated.design, &settings, &repair, &|_, _, _| {}).map_err(bad)?;
         print!("{}", super::repair::text(&report));
-        design = report.design;
-    }
-    let a = analyze(&design, &settings).map_err(|e| BadInput(format!("{name}: {e}")))?;
+        let after = &report.after;
+        (report.design.clone(), after.stands(), after.tension_ratio, after.friction_excess_ratio)
+    } else {
+        let a = analyze(&generated.design, &settings).map_err(|e| BadInput(format!("{name}: {e}")))?;
+        let s = &a.statics;
+        (generated.design, s.stands, s.tension_ratio, s.friction_excess_ratio)
+    };
     println!(
-        "{}: minimum tension {:.3e} W, friction excess {:.3e} W",
-        if a.statics.stands { "STANDS" } else { "DOES NOT STAND" },
-        a.statics.tension_ratio,
-        a.statics.friction_excess_ratio
+        "{}: minimum tension {tension:.3e} W, friction excess {excess:.3e} W",
+        if stands { "STANDS" } else { "DOES NOT STAND" }
     );
     write_output(&args.output, scene_json::scene_to_string(&design).as_bytes())?;
     println!("design written to {}", args.output.display());
-    Ok(if a.statics.stands { 0 } else { 1 })
+    Ok(if stands { 0 } else { 1 })
 }

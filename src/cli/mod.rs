@@ -118,6 +118,41 @@ pub fn run(cli: Cli) -> i32 {
     }
 }
 
+/// A progress bar on stderr that appears only once a run has taken half a second (quick runs
+/// print nothing); `template` is indicatif's, `{msg}` filled by [`LateBar::update`].
+struct LateBar {
+    bar: indicatif::ProgressBar,
+    start: std::time::Instant,
+    shown: std::sync::Once,
+}
+
+impl LateBar {
+    fn new(template: Option<&str>) -> Self {
+        let bar = indicatif::ProgressBar::hidden();
+        if let Some(t) = template {
+            bar.set_style(indicatif::ProgressStyle::with_template(t).expect("a valid template"));
+        }
+        Self { bar, start: std::time::Instant::now(), shown: std::sync::Once::new() }
+    }
+
+    fn update(&self, done: usize, total: usize, message: Option<String>) {
+        if self.start.elapsed() > std::time::Duration::from_millis(500) {
+            self.shown.call_once(|| self.bar.set_draw_target(indicatif::ProgressDrawTarget::stderr()));
+        }
+        self.bar.set_length(total as u64);
+        self.bar.set_position(done as u64);
+        if let Some(m) = message {
+            self.bar.set_message(m);
+        }
+    }
+}
+
+impl Drop for LateBar {
+    fn drop(&mut self) {
+        self.bar.finish_and_clear();
+    }
+}
+
 /// Loads the scene named on the command line.
 pub fn load(spec: Option<&str>) -> Result<Scene, BadInput> {
     match spec {

@@ -12,7 +12,6 @@ use crate::model::CutShape;
 use crate::statics::Verdict;
 use clap::Args;
 use std::path::PathBuf;
-use std::time::{Duration, Instant};
 
 #[derive(Args, Debug, Clone, PartialEq)]
 pub struct RepairArgs {
@@ -73,26 +72,10 @@ pub fn run(args: &RepairArgs) -> Result<i32, BadInput> {
     Ok(if report.after.stands() { 0 } else { 1 })
 }
 
-/// Runs the repair with a bar on stderr (after half a second) showing the best score so far.
+/// Runs the repair with a bar on stderr ([`super::LateBar`]) showing the best score so far.
 fn with_bar<T>(f: impl FnOnce(&(dyn Fn(usize, usize, f64) + Sync)) -> T) -> T {
-    let bar = indicatif::ProgressBar::hidden();
-    bar.set_style(
-        indicatif::ProgressStyle::with_template("{bar:30} {pos}/{len} evaluations, best {msg}")
-            .expect("a valid template"),
-    );
-    let start = Instant::now();
-    let shown = std::sync::Once::new();
-    let progress = |done: usize, total: usize, best: f64| {
-        if start.elapsed() > Duration::from_millis(500) {
-            shown.call_once(|| bar.set_draw_target(indicatif::ProgressDrawTarget::stderr()));
-        }
-        bar.set_length(total as u64);
-        bar.set_position(done as u64);
-        bar.set_message(format!("{best:.4}"));
-    };
-    let result = f(&progress);
-    bar.finish_and_clear();
-    result
+    let bar = super::LateBar::new(Some("{bar:30} {pos}/{len} evaluations, best {msg}"));
+    f(&|done, total, best| bar.update(done, total, Some(format!("{best:.4}"))))
 }
 
 /// Failing interfaces listed in the text (all of them in the JSON report).

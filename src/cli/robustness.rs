@@ -13,7 +13,6 @@ use crate::plot::{MechanismPicture, PolarPlot, write_mechanism, write_polar};
 use crate::robustness::{self, Answer, Question, Safety};
 use clap::Args;
 use std::path::PathBuf;
-use std::time::{Duration, Instant};
 
 #[derive(Args, Debug, Clone, PartialEq)]
 pub struct RobustnessArgs {
@@ -85,20 +84,9 @@ pub fn run(args: &RobustnessArgs) -> Result<i32, BadInput> {
     })
 }
 
-/// Runs `f` with a progress callback: a bar over `total` steps on stderr, shown only when the
-/// run takes longer than half a second.
+/// Runs `f` with a progress callback: a bar over `total` steps ([`super::LateBar`]).
 fn with_progress<T>(total: usize, f: impl FnOnce(&(dyn Fn(usize, usize) + Sync)) -> T) -> T {
-    let bar = indicatif::ProgressBar::hidden();
-    bar.set_length(total as u64);
-    let start = Instant::now();
-    let shown = std::sync::Once::new();
-    let progress = |done: usize, _total: usize| {
-        if start.elapsed() > Duration::from_millis(500) {
-            shown.call_once(|| bar.set_draw_target(indicatif::ProgressDrawTarget::stderr()));
-        }
-        bar.set_position(done as u64);
-    };
-    let result = f(&progress);
-    bar.finish_and_clear();
-    result
+    let bar = super::LateBar::new(None);
+    bar.update(0, total, None);
+    f(&|done: usize, _total: usize| bar.update(done, total, None))
 }

@@ -267,6 +267,13 @@ pub fn replay(
     Ok((pieces.into_iter().map(|(b, _, _)| b).collect(), stats))
 }
 
+/// Whether piece `name` comes from cut `index` of the history (the naming above: `body.3-`,
+/// `body.3+1`, `body.3/0-`).
+pub fn made_by(name: &str, index: usize) -> bool {
+    let tag = format!(".{index}");
+    name.match_indices(&tag).any(|(at, _)| matches!(name[at + tag.len()..].chars().next(), Some('-' | '+' | '/')))
+}
+
 /// The scene's blocks after its cut history (the scene itself when it has no cuts). The source
 /// shapes are validated and repaired first (the cutter needs closed, outward, planar meshes);
 /// a vertex within `tolerances.weld` (relative to the model size) of a plane is on it.
@@ -306,4 +313,20 @@ pub fn resolve(
     out.removed.clear();
     out.supports.clear();
     Ok((out, stats))
+}
+
+#[cfg(test)]
+mod naming_tests {
+    use super::made_by;
+
+    /// Invariant: a piece's name tells which cuts made it, and no other cut's index matches.
+    #[test]
+    fn names_tell_their_cuts() {
+        assert!(made_by("M.0-", 0));
+        assert!(made_by("M.0+.3/1-", 3));
+        assert!(made_by("M.13+0", 13));
+        assert!(!made_by("M.13+0", 3));
+        assert!(!made_by("M.1", 1));
+        assert!(!made_by("M", 0));
+    }
 }

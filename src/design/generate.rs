@@ -17,7 +17,7 @@
 //! pieces below [`crate::decompose`]'s sliver fraction). Units: metres.
 
 use super::DesignError;
-use crate::decompose::{CutCache, resolve};
+use crate::decompose::{CutCache, made_by, resolve};
 use crate::geometry::{Point3, Tolerances, Vector3};
 use crate::model::{Block, Cut, Scene};
 
@@ -268,8 +268,9 @@ fn head_joints(
                 continue;
             }
             design.cuts.push(Cut::plane(point.into(), frame.run.into()).on(&part.name));
-            let prefix = format!("{}.{}", part.name, design.cuts.len() - 1);
-            next.extend(pieces(design, cache)?.into_iter().filter(|p| p.name.starts_with(&prefix)));
+            let index = design.cuts.len() - 1;
+            let children = |p: &Block| p.name.strip_prefix(&part.name).is_some_and(|rest| made_by(rest, index));
+            next.extend(pieces(design, cache)?.into_iter().filter(children));
         }
         parts = next;
     }

@@ -13,6 +13,7 @@
 //! moved cut and re-solves only the components whose blocks or interfaces changed.
 
 use crate::analysis::{Analysis, AnalysisSettings, Pipeline};
+use crate::decompose::made_by;
 use crate::model::Scene;
 use crate::robustness::{SweepSettings, worst_direction};
 use crate::statics::Verdict;
@@ -80,16 +81,20 @@ impl Evaluator {
     /// The score of `scene` and its analysis (when it could be analysed).
     pub fn score(&self, scene: &Scene) -> (Score, Option<Analysis>) {
         let run = self.pipeline.lock().expect("not poisoned").run(scene, &self.settings);
-        let analysis = match run {
-            Ok(a) => a,
-            Err(e) => return (Score::invalid(e.to_string()), None),
-        };
-        if let Some(why) = self.cannot_cut(&analysis) {
-            return (Score::invalid(why), Some(analysis));
+        match run {
+            Ok(analysis) => (self.judge(&analysis), Some(analysis)),
+            Err(e) => (Score::invalid(e.to_string()), None),
+        }
+    }
+
+    /// The score of a design already analysed (with this evaluator's settings).
+    pub fn judge(&self, analysis: &Analysis) -> Score {
+        if let Some(why) = self.cannot_cut(analysis) {
+            return Score::invalid(why);
         }
         let s = &analysis.statics;
         let pieces = analysis.assembly.blocks.iter().filter(|b| !b.support).count();
-        let load_factor = (s.stands && self.directions.is_some()).then(|| self.load_factor(&analysis));
+        let load_factor = (s.stands && self.directions.is_some()).then(|| self.load_factor(analysis));
         let cost = match s.verdict {
             Verdict::Stands => -load_factor.unwrap_or(0.0).min(LAMBDA_CAP),
             Verdict::NeedsTension | Verdict::NeedsFriction | Verdict::NeedsTensionAndFriction => {
@@ -98,7 +103,7 @@ impl Evaluator {
             Verdict::Unsupported => UNSUPPORTED,
             Verdict::Unresolved => INVALID,
         };
-        let score = Score {
+        Score {
             verdict: Some(s.verdict),
             tension_ratio: s.tension_ratio,
             friction_excess_ratio: s.friction_excess_ratio,
@@ -106,8 +111,7 @@ impl Evaluator {
             pieces,
             invalid: None,
             cost,
-        };
-        (score, Some(analysis))
+        }
     }
 
     /// Why `analysis` is not the design the cuts were meant to make.
@@ -129,28 +133,5 @@ impl Evaluator {
         worst_direction(&analysis.assembly, &analysis.interfaces, &self.settings.statics, &sweep, &|_, _| {})
             .map(|s| s.worst_load_factor)
             .unwrap_or(0.0)
-    }
-}
-
-/// Whether piece `name` comes from cut `index` of the history (see [`crate::decompose`]'s
-/// naming: `body.3-`, `body.3+1`, `body.3/0-`).
-pub fn made_by(name: &str, index: usize) -> bool {
-    let tag = format!(".{index}");
-    name.match_indices(&tag).any(|(at, _)| matches!(name[at + tag.len()..].chars().next(), Some('-' | '+' | '/')))
-}
-
-#[cfg(test)]
-mod tests {
-    use super::made_by;
-
-    /// Invariant: a piece's name tells which cuts made it, and no other cut's index matches.
-    #[test]
-    fn names_tell_their_cuts() {
-        assert!(made_by("M.0-", 0));
-        assert!(made_by("M.0+.3/1-", 3));
-        assert!(made_by("M.13+0", 13));
-        assert!(!made_by("M.13+0", 3));
-        assert!(!made_by("M.1", 1));
-        assert!(!made_by("M", 0));
     }
 }

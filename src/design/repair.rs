@@ -90,10 +90,10 @@ pub fn repair(
     let start = std::time::Instant::now();
     let freedom = Freedom { max_turn_degrees: settings.max_turn_degrees, apex_move: settings.apex_move };
     let params = CutParameters::new(scene, settings.cuts.as_deref(), &freedom)?;
-    let (before, base) = first_look(scene, analysis, settings, &params)?;
+    let base = crate::analysis::analyze(scene, analysis)?;
     let directions = settings.robust.then_some(settings.directions);
-    let min_volume = (settings.min_piece_fraction * base.mean_volume).min(base.smallest_volume);
-    let evaluator = Evaluator::new(analysis, directions, params.indices(), min_volume);
+    let evaluator = Evaluator::new(analysis, directions, params.indices(), min_volume(&base, settings));
+    let before = evaluator.judge(&base);
     let planned = if params.is_empty() { 0 } else { settings.particles * (settings.iterations as usize + 1) };
     let first = with_closeness(&before, 1.0);
     let search =
@@ -103,8 +103,16 @@ pub fn repair(
         Some((x, cost)) if *cost < first => params.apply(scene, x),
         _ => scene.clone(),
     };
-    let (after, after_analysis) = evaluator.score(&design);
     let changed = changes(scene, &design);
+    let load_factor_before = full_load_factor(&base, analysis);
+    // Unchanged: the design as given, already analysed and swept.
+    let (after, after_analysis, load_factor_after) = if changed.is_empty() {
+        (before.clone(), Some(base), load_factor_before)
+    } else {
+        let (score, a) = evaluator.score(&design);
+        let lambda = a.as_ref().and_then(|a| full_load_factor(a, analysis));
+        (score, a, lambda)
+    };
     let failing = after_analysis.as_ref().map(failing_interfaces).unwrap_or_default();
     let support = match &after_analysis {
         Some(a) if !after.stands() => propose_support(&design, a, analysis),
@@ -118,8 +126,8 @@ pub fn repair(
     };
     Ok(RepairReport {
         outcome,
-        load_factor_before: full_load_factor(&base.analysis, analysis),
-        load_factor_after: after_analysis.as_ref().and_then(|a| full_load_factor(a, analysis)),
+        load_factor_before,
+        load_factor_after,
         before,
         after,
         changed,
@@ -132,29 +140,14 @@ pub fn repair(
     })
 }
 
-/// The design as given: its score (with the search's own rules) and its analysis.
-struct Baseline {
-    analysis: Analysis,
-    /// Mean volume of its free pieces, m³ (the minimum piece volume is a fraction of it).
-    mean_volume: f64,
-    /// Its smallest free piece, m³: a piece as small as the designer's own is no sliver.
-    smallest_volume: f64,
-}
-
-fn first_look(
-    scene: &Scene,
-    analysis: &AnalysisSettings,
-    settings: &RepairSettings,
-    params: &CutParameters,
-) -> Result<(Score, Baseline), DesignError> {
-    let a = crate::analysis::analyze(scene, analysis)?;
-    let free: Vec<f64> = a.assembly.blocks.iter().filter(|b| !b.support).map(|b| b.mass.volume).collect();
-    let mean_volume = free.iter().sum::<f64>() / free.len().max(1) as f64;
-    let smallest_volume = free.iter().copied().fold(f64::INFINITY, f64::min);
-    let directions = settings.robust.then_some(settings.directions);
-    // The design as given passes its own cut rules: no minimum volume of its own pieces.
-    let (score, _) = Evaluator::new(analysis, directions, params.indices(), 0.0).score(scene);
-    Ok((score, Baseline { analysis: a, mean_volume, smallest_volume }))
+/// The smallest volume a free piece may have: a fraction of the design's mean piece, but never
+/// more than its own smallest piece (a piece as small as the designer's own is no sliver, and
+/// the design as given passes its own rules).
+fn min_volume(base: &Analysis, settings: &RepairSettings) -> f64 {
+    let free: Vec<f64> = base.assembly.blocks.iter().filter(|b| !b.support).map(|b| b.mass.volume).collect();
+    let mean = free.iter().sum::<f64>() / free.len().max(1) as f64;
+    let smallest = free.iter().copied().fold(f64::INFINITY, f64::min);
+    (settings.min_piece_fraction * mean).min(smallest)
 }
 
 /// The best parameters a search found and their cost.
