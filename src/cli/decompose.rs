@@ -1,15 +1,19 @@
-//! `voussoir decompose SHAPE (--blocks N | --max-size L) -o OUT.json`: a cut history for a
-//! source shape by courses ([`crate::design::generate`]) — horizontal beds, or beds through an
-//! axis with `--center`/`--axis` (arches, vaults) — with staggered head joints; prints the
-//! design's verdict and with `--optimize` repairs it ([`crate::design::repair`]). Writes the
+//! `voussoir decompose SHAPE (--blocks N | --max-size L) [--strategy courses|thrust] -o OUT.json`:
+//! a cut history for a source shape by courses ([`crate::design::generate`]) — horizontal
+//! beds, or beds through an axis with `--center`/`--axis` (arches, vaults) — with staggered
+//! head joints, the beds turned normal to the thrust with `--strategy thrust`
+//! ([`crate::design::thrust`]); prints the design's verdict and with `--optimize` repairs it
+//! ([`crate::design::repair`]). Writes the
 //! design atomically, never over the input. Exit codes: 0 it stands, 1 it does not, 2 bad input.
 
+use super::choice::Choice;
 use super::options::SolverOptions;
 use super::{BadInput, load, numbers, refuse_overwrite, scene_name, write_output};
 use crate::analysis::analyze;
-use crate::design::{self, BlockSize, Field, RepairSettings};
+use crate::design::{self, BlockSize, Field, RepairSettings, ThrustSettings};
 use crate::io::scene_json;
 use clap::Args;
+use clap::ValueEnum;
 use std::path::PathBuf;
 
 #[derive(Args, Debug, Clone, PartialEq)]
@@ -30,6 +34,10 @@ pub struct DecomposeArgs {
     /// The axis' direction `x,y,z` (with `--center`).
     #[arg(long, allow_hyphen_values = true, default_value = "0,1,0", requires = "center")]
     pub axis: String,
+    /// How the beds are placed: `courses` across the field, or `thrust`: turned normal to the
+    /// force an analysis finds crossing them (arches, vaults, buttresses).
+    #[arg(long, value_enum, value_parser = Choice::<Strategy>::new(), default_value_t = Strategy::Courses)]
+    pub strategy: Strategy,
     /// Head joints in line between courses (stack bond) instead of staggered.
     #[arg(long)]
     pub no_stagger: bool,
@@ -42,6 +50,13 @@ pub struct DecomposeArgs {
     /// The design (scene JSON with its cut history, written atomically).
     #[arg(short, long)]
     pub output: PathBuf,
+}
+
+/// A generation strategy ([`crate::design::generate`], [`crate::design::thrust`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum Strategy {
+    Courses,
+    Thrust,
 }
 
 pub fn run(args: &DecomposeArgs) -> Result<i32, BadInput> {
@@ -61,7 +76,14 @@ pub fn run(args: &DecomposeArgs) -> Result<i32, BadInput> {
         (None, None) => return Err(BadInput("give --blocks N or --max-size L".into())),
     };
     let bad = |e: design::DesignError| BadInput(format!("{name}: {e}"));
-    let generated = design::courses(&shape, &field, &size, !args.no_stagger).map_err(bad)?;
+    let settings = args.solver.settings();
+    let generated = match args.strategy {
+        Strategy::Courses => design::courses(&shape, &field, &size, !args.no_stagger),
+        Strategy::Thrust => {
+            design::thrust(&shape, &field, &size, !args.no_stagger, &ThrustSettings::default(), &settings)
+        }
+    }
+    .map_err(bad)?;
     println!(
         "{} courses, {} pieces (block size {:.4} m), {} cuts",
         generated.courses,
@@ -69,7 +91,16 @@ pub fn run(args: &DecomposeArgs) -> Result<i32, BadInput> {
         generated.max_size,
         generated.design.cuts.len()
     );
-    let settings = args.solver.settings();
+    if let Some(r) = &generated.rounds {
+        println!(
+            "beds normal to the thrust after {} analyses ({}; last turn {:.3}°), at most {:.2}° from the field's{}",
+            r.rounds,
+            if r.settled { "settled" } else { "NOT settled" },
+            r.last_turn_degrees,
+            r.largest_turn_degrees,
+            if r.held > 0 { format!(", {} held at the largest turn", r.held) } else { String::new() }
+        );
+    }
     let (design, stands, tension, excess) = if args.optimize {
         let repair = RepairSettings { seed: args.seed, ..Default::default() };
         let report = design::repair(&generated.design, &settings, &repair, &|_, _, _| {}).map_err(bad)?;

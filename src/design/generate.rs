@@ -17,6 +17,7 @@
 //! pieces below [`crate::decompose`]'s sliver fraction). Units: metres.
 
 use super::DesignError;
+use super::thrust::ThrustRounds;
 use crate::decompose::{CutCache, made_by, resolve};
 use crate::geometry::{Point3, Tolerances, Vector3};
 use crate::model::{Block, Cut, Scene};
@@ -50,6 +51,8 @@ pub struct Generated {
     pub max_size: f64,
     pub courses: usize,
     pub pieces: usize,
+    /// Strategy *thrust*: how the bed joints settled.
+    pub rounds: Option<ThrustRounds>,
 }
 
 /// Cuts `shape` (its free blocks; supports stay whole) into courses (see the module docs).
@@ -61,14 +64,28 @@ pub fn courses(shape: &Scene, field: &Field, size: &BlockSize, stagger: bool) ->
     }
     let frame = Frame::new(shape, field)?;
     let l = frame.block_size(size)?;
-    let mut design = shape.clone();
     let beds = frame.beds(l);
-    design.cuts.extend(beds.iter().map(|&t| frame.bed_cut(t)));
+    let bed_cuts: Vec<Cut> = beds.iter().map(|&t| frame.bed_cut(t)).collect();
+    with_head_joints(shape, &frame, &beds, bed_cuts, l, stagger)
+}
+
+/// `shape` cut by `bed_cuts` (at course coordinates `beds` of the field), then by head joints
+/// across every course piece; checked against the block size.
+pub(super) fn with_head_joints(
+    shape: &Scene,
+    frame: &Frame,
+    beds: &[f64],
+    bed_cuts: Vec<Cut>,
+    l: f64,
+    stagger: bool,
+) -> Result<Generated, DesignError> {
+    let mut design = shape.clone();
+    design.cuts.extend(bed_cuts);
     let mut cache = CutCache::new();
     let course_pieces: Vec<Block> = pieces(&design, &mut cache)?.into_iter().filter(|b| !b.support).collect();
     for piece in &course_pieces {
-        let course = frame.course_of(&piece.mesh.vertices, &beds);
-        head_joints(&mut design, &mut cache, &frame, piece, l, stagger && course % 2 == 1)?;
+        let course = frame.course_of(&piece.mesh.vertices, beds);
+        head_joints(&mut design, &mut cache, frame, piece, l, stagger && course % 2 == 1)?;
     }
     let out = pieces(&design, &mut cache)?;
     let free: Vec<&Block> = out.iter().filter(|b| !b.support).collect();
@@ -79,18 +96,18 @@ pub fn courses(shape: &Scene, field: &Field, size: &BlockSize, stagger: bool) ->
             frame.thickness_of(&b.mesh.vertices)
         )));
     }
-    Ok(Generated { courses: beds.len() + 1, pieces: free.len(), max_size: l, design })
+    Ok(Generated { courses: beds.len() + 1, pieces: free.len(), max_size: l, design, rounds: None })
 }
 
 /// The shape's pieces after its history.
-fn pieces(design: &Scene, cache: &mut CutCache) -> Result<Vec<Block>, DesignError> {
+pub(super) fn pieces(design: &Scene, cache: &mut CutCache) -> Result<Vec<Block>, DesignError> {
     let (resolved, _) = resolve(design, &Tolerances::default(), cache).map_err(|e| DesignError::Analysis(e.into()))?;
     Ok(resolved.blocks)
 }
 
 /// The field's coordinates: `course` along the load path (z, or the angle about the axis), `run`
 /// along the courses (the longer horizontal extent, or along the axis), and across them.
-struct Frame {
+pub(super) struct Frame {
     field: Field,
     /// Vertical: the run axis (horizontal unit) and the thickness axis. Radial: the axis, and
     /// the in-plane reference directions e0 (angle 0) and e1 (angle 90°).
@@ -106,7 +123,7 @@ struct Frame {
 }
 
 impl Frame {
-    fn new(shape: &Scene, field: &Field) -> Result<Self, DesignError> {
+    pub(super) fn new(shape: &Scene, field: &Field) -> Result<Self, DesignError> {
         let free: Vec<&Block> = shape.blocks.iter().filter(|b| !b.support).collect();
         let points: Vec<Point3> = free.iter().flat_map(|b| b.mesh.vertices.iter().copied()).collect();
         if points.is_empty() {
@@ -174,7 +191,7 @@ impl Frame {
 
     /// The block size L of `size`: given, or from a count — blocks of L × L × thickness for
     /// the vertical field, N voussoirs along the outer arc for the radial one.
-    fn block_size(&self, size: &BlockSize) -> Result<f64, DesignError> {
+    pub(super) fn block_size(&self, size: &BlockSize) -> Result<f64, DesignError> {
         let l = match *size {
             BlockSize::Max(l) => l,
             BlockSize::Count(n) if n > 0 => match self.field {
@@ -191,7 +208,7 @@ impl Frame {
 
     /// Course coordinates of the bed joints: equal courses no larger than L (along the outer
     /// arc for the radial field).
-    fn beds(&self, l: f64) -> Vec<f64> {
+    pub(super) fn beds(&self, l: f64) -> Vec<f64> {
         let span = self.range.1 - self.range.0;
         let length = match self.field {
             Field::Vertical => span,
@@ -202,25 +219,29 @@ impl Frame {
     }
 
     /// The bed joint at course coordinate `t`.
-    fn bed_cut(&self, t: f64) -> Cut {
+    pub(super) fn bed_cut(&self, t: f64) -> Cut {
+        let (point, normal) = self.bed_plane(t);
+        Cut::plane(point.into(), normal.into())
+    }
+
+    /// The plane of the bed joint at course coordinate `t`: a point and the unit normal along
+    /// the course coordinate.
+    pub(super) fn bed_plane(&self, t: f64) -> (Point3, Vector3) {
         match self.field {
-            Field::Vertical => Cut::plane([0.0, 0.0, t], [0.0, 0.0, 1.0]),
-            Field::Radial { .. } => {
-                let normal = -self.across * t.sin() + self.e1() * t.cos();
-                Cut::plane(self.center.into(), normal.into())
-            }
+            Field::Vertical => (Point3::new(0.0, 0.0, t), Vector3::z()),
+            Field::Radial { .. } => (self.center, -self.across * t.sin() + self.e1() * t.cos()),
         }
     }
 
     /// Which course the vertices lie in (0 the first).
-    fn course_of(&self, vertices: &[Point3], beds: &[f64]) -> usize {
+    pub(super) fn course_of(&self, vertices: &[Point3], beds: &[f64]) -> usize {
         let mid = vertices.iter().map(|p| self.course_coordinate(p)).sum::<f64>() / vertices.len().max(1) as f64;
         beds.iter().filter(|&&t| t < mid).count()
     }
 
     /// A piece's extent across the courses and the run (its thickness): along `across` for
     /// the vertical field, radially for the radial one.
-    fn thickness_of(&self, vertices: &[Point3]) -> f64 {
+    pub(super) fn thickness_of(&self, vertices: &[Point3]) -> f64 {
         let along = |p: &Point3| match self.field {
             Field::Vertical => (p - self.center).dot(&self.across),
             Field::Radial { .. } => self.radial(p).norm(),

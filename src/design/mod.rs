@@ -13,12 +13,14 @@ pub mod objective;
 pub mod params;
 pub mod props;
 pub mod repair;
+pub mod thrust;
 
 pub use generate::{BlockSize, Field, Generated, courses};
 pub use objective::{Evaluator, Score};
 pub use params::{CutParameters, Freedom};
 pub use props::{SupportProposal, propose_support};
 pub use repair::{CutChange, FailingInterface, RepairOutcome, RepairReport, repair};
+pub use thrust::{ThrustRounds, ThrustSettings, thrust};
 
 use crate::analysis::AnalysisError;
 use thiserror::Error;
