@@ -343,3 +343,54 @@ fn kinematic_plugin_reports_both_verdicts_and_the_mechanism() {
     app.update();
     assert!(app.world().resource::<KinematicStatus>().result.is_none());
 }
+
+/// Invariants (the repair plugin on the paper's Fig 4a, whose cut needs tension): the design
+/// stays as it is while the search runs off the main thread; then the changed cut moves into
+/// place over ANIMATION_FRAMES updates, each an analysed design, its point moving
+/// monotonically from the old place to the new one; at the end the design's cuts are the
+/// report's and the app's verdict is the core's on that design: it stands.
+#[test]
+fn repair_plugin_moves_the_cut_into_place() {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/cases/fig4a_m_cut.json");
+    let scene = voussoir::io::load_scene(&path).unwrap();
+    let mut app = app();
+    send(&mut app, Edit::Load(scene.clone()));
+    assert!(!status(&app).stands);
+    app.world_mut().write_message(RunRepair(Default::default()));
+    let cut_point = |app: &App| match &app.world().resource::<Design>().0.as_ref().unwrap().cuts[0].shape {
+        voussoir::model::CutShape::Plane { point, .. } => *point,
+        voussoir::model::CutShape::Pattern { .. } => panic!("fig4a's cut is a plane"),
+    };
+    let start = std::time::Instant::now();
+    let mut points = vec![cut_point(&app)];
+    let runs_before = counters(&app).runs;
+    while app.world().resource::<RepairStatus>().finished == 0 {
+        assert!(start.elapsed().as_secs() < 60, "the repair did not finish");
+        let searching = app.world().resource::<RepairStatus>().running();
+        app.update();
+        if searching {
+            std::thread::sleep(std::time::Duration::from_millis(2));
+        }
+        let p = cut_point(&app);
+        if p != *points.last().unwrap() {
+            points.push(p);
+        }
+    }
+    let repair_status = app.world().resource::<RepairStatus>();
+    assert_eq!(repair_status.error, None);
+    let report = repair_status.report.clone().unwrap();
+    assert_eq!(report.changed.len(), 1);
+    assert_eq!(points.len(), ANIMATION_FRAMES as usize + 1, "one position per frame: {points:?}");
+    assert_eq!(counters(&app).runs - runs_before, ANIMATION_FRAMES as usize, "one analysis per frame");
+    for axis in 0..3 {
+        let rising = points.last().unwrap()[axis] >= points[0][axis];
+        assert!(
+            points.windows(2).all(|w| if rising { w[1][axis] >= w[0][axis] } else { w[1][axis] <= w[0][axis] }),
+            "axis {axis} not monotone: {points:?}"
+        );
+    }
+    let design = app.world().resource::<Design>().0.clone().unwrap();
+    assert_eq!(design.cuts, report.design.cuts);
+    let core = analyze(&report.design, &AnalysisSettings::default()).unwrap();
+    assert!(core.statics.stands && status(&app).stands);
+}

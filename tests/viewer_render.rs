@@ -165,6 +165,14 @@ fn main() {
         Act(A::ToggleKinematic),
         Settle(5),
         Shot(path("kinematic")),
+        // The paper's M (Fig 4a: its cut through the V needs tension), repaired with O: the
+        // cut glides into place and the design stands.
+        Act(A::ToggleKinematic),
+        Load(Box::new(fig4a())),
+        Settle(3),
+        Act(A::Repair),
+        Settle(3),
+        Shot(path("repaired")),
     ];
     let report_path = dir.join("report.json");
     let mut options = ViewerOptions::new(default_scene);
@@ -180,6 +188,11 @@ fn main() {
     if std::env::var_os("VOUSSOIR_KEEP_SHOTS").is_none() {
         let _ = std::fs::remove_dir_all(&dir);
     }
+}
+
+/// The seed paper's Fig 4a: the M cut at z = 0.2 through its V.
+fn fig4a() -> voussoir::model::Scene {
+    voussoir::io::load_scene(&Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/cases/fig4a_m_cut.json")).unwrap()
 }
 
 /// compas_cra's letter H on its two posts (as tests/kinematics.rs sets it up).
@@ -308,4 +321,18 @@ fn check(report: &Value, saved: &Path) {
     let c = picture(&s, "physics_viewport");
     println!("kinematic view: {c:?}");
     assert!(c.sandstone > c.total / 100, "the blocks are drawn beside the design: {c:?}");
+    // Repair (O): the M stands with its one cut moved, one undo step back to Fig 4a, the
+    // message the repair's, no red tension on screen; the design is the core's repair.
+    let s = shot(report, "repaired");
+    assert_eq!(
+        (s["verdict"].as_str(), s["cuts"].as_u64(), s["undo"].as_u64()),
+        (Some("Stands"), Some(1), Some(1)),
+        "{s}"
+    );
+    assert!(s["message"].as_str().is_some_and(|m| m.starts_with("repaired: it stands now")), "{s}");
+    let core = voussoir::design::repair(&fig4a(), &Default::default(), &Default::default(), &|_, _, _| {}).unwrap();
+    assert_eq!(s["blocks"].as_u64(), Some(core.after.pieces as u64), "{s}");
+    let c = picture(&s, "main_viewport");
+    println!("repaired M: {c:?}");
+    assert!(c.blue > c.total / 400 && c.red < c.blue / 50, "compression only: {c:?}");
 }

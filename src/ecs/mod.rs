@@ -14,6 +14,7 @@
 pub mod diagram;
 pub mod dynamics;
 pub mod kinematic;
+pub mod repair;
 pub mod robustness;
 pub mod sequence;
 mod systems;
@@ -21,6 +22,7 @@ mod systems;
 pub use diagram::{DiagramPlugin, DiagramSettings, InterfaceColors, SetDiagram};
 pub use dynamics::{BlockPose, DropStatus, DynamicsPlugin, RunDropTest};
 pub use kinematic::{KinematicPlugin, KinematicRequest, KinematicStatus};
+pub use repair::{ANIMATION_FRAMES, RepairPlugin, RepairStatus, RunRepair};
 pub use robustness::{JointMotion, MechanismMotion, RobustnessPlugin, RobustnessRequest, RobustnessStatus};
 pub use sequence::{Placed, SequencePlugin, SequenceSettings, SequenceStatus, StartSequence, StepSequence};
 
@@ -45,6 +47,7 @@ impl PluginGroup for VoussoirPlugins {
             .add(SequencePlugin)
             .add(RobustnessPlugin)
             .add(KinematicPlugin)
+            .add(RepairPlugin)
     }
 }
 

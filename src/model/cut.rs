@@ -46,6 +46,35 @@ impl Cut {
         self.target = Some(target.to_string());
         self
     }
+
+    /// The cut a fraction `s` (0 to 1) of the way from this one to `other` (an animation of a
+    /// cut moving): points, apexes and segment ends move on straight lines, a plane's normal
+    /// turns in the plane of the two normals (normalised linear blend; `other`'s normal is
+    /// flipped into this one's hemisphere for the blend — the same plane — and back from
+    /// halfway, so that the end is `other` exactly). The target is `other`'s.
+    /// `None` when the two are not the same kind or have different numbers of segments.
+    pub fn toward(&self, other: &Cut, s: f64) -> Option<Cut> {
+        let lerp = |a: [f64; 3], b: [f64; 3]| -> [f64; 3] { std::array::from_fn(|i| a[i] + s * (b[i] - a[i])) };
+        let shape = match (&self.shape, &other.shape) {
+            (CutShape::Plane { point: p0, normal: n0 }, CutShape::Plane { point: p1, normal: n1 }) => {
+                let (a, b) = (Vector3::from(*n0).normalize(), Vector3::from(*n1).normalize());
+                let flip = if a.dot(&b) < 0.0 { -1.0 } else { 1.0 };
+                let b = b * flip;
+                let n = a + (b - a) * s;
+                let n = if n.norm() > 1e-12 { n.normalize() } else { b };
+                let n = if s >= 0.5 { n * flip } else { n };
+                CutShape::Plane { point: lerp(*p0, *p1), normal: n.into() }
+            }
+            (CutShape::Pattern { apex: a0, segments: s0 }, CutShape::Pattern { apex: a1, segments: s1 })
+                if s0.len() == s1.len() =>
+            {
+                let segments = s0.iter().zip(s1).map(|(u, v)| [lerp(u[0], v[0]), lerp(u[1], v[1])]).collect();
+                CutShape::Pattern { apex: lerp(*a0, *a1), segments }
+            }
+            _ => return None,
+        };
+        Some(Cut { shape, target: other.target.clone() })
+    }
 }
 
 /// The plane through a point with a normal.
@@ -99,5 +128,34 @@ impl From<Cut> for RawCut {
             }
         }
         r
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{Cut, CutShape};
+
+    /// Invariant: `toward` is the cut itself at 0 and the other at 1 (a flipped normal is the
+    /// same plane), halfway the points meet in the middle and the normal is the unit bisector;
+    /// cuts of different kinds do not blend.
+    #[test]
+    fn toward_runs_from_one_cut_to_the_other() {
+        let a = Cut::plane([0.0, 0.0, 0.0], [0.0, 0.0, 2.0]);
+        let b = Cut::plane([2.0, 0.0, 1.0], [0.0, -1.0, 0.0]).on("piece");
+        assert_eq!(a.toward(&b, 0.0).unwrap().shape, CutShape::Plane { point: [0.0; 3], normal: [0.0, 0.0, 1.0] });
+        assert_eq!(
+            a.toward(&b, 1.0).unwrap().shape,
+            CutShape::Plane { point: [2.0, 0.0, 1.0], normal: [0.0, -1.0, 0.0] }
+        );
+        let half = a.toward(&b, 0.5).unwrap();
+        assert_eq!(half.target.as_deref(), Some("piece"));
+        let CutShape::Plane { point, normal } = half.shape else { panic!("a plane") };
+        assert_eq!(point, [1.0, 0.0, 0.5]);
+        let h = std::f64::consts::FRAC_1_SQRT_2;
+        assert!((normal[1] + h).abs() < 1e-15 && (normal[2] - h).abs() < 1e-15 && normal[0] == 0.0, "{normal:?}");
+        let flipped = Cut::plane([0.0; 3], [0.0, 0.0, -1.0]);
+        let CutShape::Plane { normal, .. } = a.toward(&flipped, 0.5).unwrap().shape else { panic!("a plane") };
+        assert_eq!(normal, [0.0, 0.0, -1.0], "the same plane: its own orientation kept at the end");
+        assert!(a.toward(&Cut::pattern([0.0; 3], vec![]), 0.5).is_none());
     }
 }

@@ -6,8 +6,8 @@
 use super::ViewerOptions;
 use crate::dynamics::DropSettings;
 use crate::ecs::{
-    DropStatus, EditDesign, KinematicRequest, PipelineState, RobustnessRequest, RunDropTest, SequenceStatus,
-    SetDiagram, StartSequence, StepSequence, VoussoirSet,
+    Design, DropStatus, EditDesign, KinematicRequest, PipelineState, RepairStatus, RobustnessRequest, RunDropTest,
+    RunRepair, SequenceStatus, SetDiagram, StartSequence, StepSequence, VoussoirSet,
 };
 use crate::model::Scene;
 use crate::model::cut::{Cut, CutShape};
@@ -23,7 +23,8 @@ pub struct ActionsPlugin;
 impl Plugin for ActionsPlugin {
     fn build(&self, app: &mut App) {
         app.add_message::<ViewerAction>()
-            .add_systems(Update, apply_actions.in_set(ActionSystems).before(VoussoirSet::Edit));
+            .add_systems(Update, apply_actions.in_set(ActionSystems).before(VoussoirSet::Edit))
+            .add_systems(Update, follow_repair.after(VoussoirSet::Edit));
     }
 }
 
@@ -62,6 +63,9 @@ pub enum ViewerAction {
     },
     /// Drop the cut being edited from the history.
     DeleteCut,
+    /// Move and turn the cuts that made the selected block (every cut when none is selected)
+    /// until the design stands most safely; the cuts glide into place when the search ends.
+    Repair,
     ToggleSupport,
     RemoveBlock,
     /// Put the most recently removed block back.
@@ -222,6 +226,7 @@ fn apply_actions(
     mut steps: MessageWriter<StepSequence>,
     mut robustness: ResMut<RobustnessRequest>,
     mut kinematic: ResMut<KinematicRequest>,
+    mut repairs: MessageWriter<RunRepair>,
 ) {
     for action in actions.read() {
         let s = &mut *state;
@@ -294,6 +299,22 @@ fn apply_actions(
                     edits.write(e);
                 }
             }
+            ViewerAction::Repair => {
+                let cuts = s.selected.as_ref().map(|name| {
+                    (0..s.design.cuts.len()).filter(|&i| crate::decompose::made_by(name, i)).collect::<Vec<_>>()
+                });
+                if cuts.as_ref().is_some_and(Vec::is_empty) || s.design.cuts.is_empty() {
+                    s.message =
+                        Some("no cut made this design or block: nothing to move (C cuts the selected block)".into());
+                    continue;
+                }
+                s.message = Some(match &cuts {
+                    Some(c) => format!("repairing cuts {c:?} of {}…", s.selected.as_deref().unwrap_or_default()),
+                    None => format!("repairing all {} cuts…", s.design.cuts.len()),
+                });
+                s.active_cut = None;
+                repairs.write(RunRepair(crate::design::RepairSettings { cuts, ..Default::default() }));
+            }
             ViewerAction::ToggleSupport | ViewerAction::RemoveBlock => {
                 let Some(name) = s.selected.clone() else {
                     s.message = Some("select a block first (click it)".into());
@@ -363,6 +384,57 @@ fn apply_actions(
             ViewerAction::Frame => s.frame_pending = true,
         }
     }
+}
+
+/// Adopts a repaired design once its cuts are in place (one undo step back to the design as it
+/// was), and says how the repair went.
+fn follow_repair(
+    repair: Res<RepairStatus>,
+    design: Res<Design>,
+    mut state: ResMut<ViewerState>,
+    mut seen: Local<(u64, Option<String>)>,
+) {
+    if repair.error != seen.1 {
+        seen.1 = repair.error.clone();
+        if let Some(e) = &repair.error {
+            state.message = Some(format!("repair: {e}"));
+        }
+    }
+    if repair.finished == seen.0 {
+        return;
+    }
+    seen.0 = repair.finished;
+    let (Some(report), Some(after)) = (&repair.report, &design.0) else { return };
+    if !report.changed.is_empty() {
+        let before = std::mem::replace(&mut state.design, after.clone());
+        state.undo.push(before);
+        state.redo.clear();
+    }
+    state.message = Some(repair_summary(report));
+}
+
+/// One line: the outcome, the verdicts and load factors before and after, the cuts moved.
+fn repair_summary(r: &crate::design::RepairReport) -> String {
+    use crate::design::RepairOutcome;
+    let verdict = |s: &crate::design::Score| s.verdict.map_or("cannot be cut".to_string(), |v| format!("{v:?}"));
+    let lambda = |l: Option<f64>| l.map_or("—".into(), |l| format!("{l:.3}"));
+    let outcome = match &r.outcome {
+        RepairOutcome::Repaired => "repaired: it stands now",
+        RepairOutcome::AlreadyStood { improved: true } => "it stood; now more safely",
+        RepairOutcome::AlreadyStood { improved: false } => "it stood; no safer placement found",
+        RepairOutcome::NotRepaired => "NOT repaired: no placement of these cuts makes it stand",
+        RepairOutcome::NothingToMove => "nothing to move",
+    };
+    format!(
+        "{outcome} ({} → {}, λ* {} → {}, {} cut(s) moved, {} evaluations in {:.2} s)",
+        verdict(&r.before),
+        verdict(&r.after),
+        lambda(r.load_factor_before),
+        lambda(r.load_factor_after),
+        r.changed.len(),
+        r.evaluations,
+        r.seconds
+    )
 }
 
 #[cfg(test)]

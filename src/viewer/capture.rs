@@ -6,8 +6,8 @@
 use super::actions::{ViewerAction, ViewerState};
 use super::camera::{MainCamera, PhysicsCamera};
 use crate::ecs::{
-    DropStatus, EditDesign, InterfaceColors, KinematicStatus, PipelineState, RobustnessStatus, SceneStatus,
-    SequenceStatus,
+    DropStatus, EditDesign, InterfaceColors, KinematicStatus, PipelineState, RepairStatus, RobustnessStatus,
+    SceneStatus, SequenceStatus,
 };
 use crate::model::Scene;
 use crate::model::edit::Edit;
@@ -26,8 +26,8 @@ pub enum ScriptStep {
     Act(ViewerAction),
     /// Replace the design (the viewer's undo history starts again).
     Load(Box<Scene>),
-    /// Wait until the analysis, the colours, a running drop test and a requested sequence are
-    /// done, then this many frames more (for the renderer to catch up).
+    /// Wait until the analysis, the colours, a running drop test or repair and a requested
+    /// sequence are done, then this many frames more (for the renderer to catch up).
     Settle(u32),
     /// Screenshot of the window to this PNG path.
     Shot(PathBuf),
@@ -92,6 +92,7 @@ fn run_script(
     pipeline: Res<PipelineState>,
     drop: Res<DropStatus>,
     sequence: Res<SequenceStatus>,
+    repair: Res<RepairStatus>,
     coloured: Query<(), With<InterfaceColors>>,
     mut actions: MessageWriter<ViewerAction>,
     mut edits: MessageWriter<EditDesign>,
@@ -112,6 +113,8 @@ fn run_script(
     if runner.settling {
         let busy = pipeline.dirty
             || drop.running.is_some()
+            || repair.running()
+            || repair.animating()
             || (state.sequence_view && sequence.error.is_none() && sequence.analysis.is_none())
             || (pipeline.analysis.as_ref().is_some_and(|a| !a.statics.interfaces.is_empty()) && coloured.is_empty());
         if busy {

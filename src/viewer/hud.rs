@@ -46,7 +46,7 @@ struct Label;
 
 const KEYS: &str = "mouse: left click select · right drag orbit · shift+right / middle drag pan · wheel zoom\n\
 1/2/3 compression/friction/vectors · T translucent · M mass centres · V vertex arrows · L labels · F frame\n\
-C cut selected · PgUp/PgDn move cut · arrows turn cut · Backspace drop cut\n\
+C cut selected · PgUp/PgDn move cut · arrows turn cut · Backspace drop cut · O repair (selected block's cuts)\n\
 G support · X remove · R restore · Ctrl+Z/Y undo/redo · Ctrl+S save\n\
 D drop test · Esc leave drop / sequence · Q sequence · ,/. step · K collapse mechanism · J kinematic check";
 
@@ -115,6 +115,7 @@ fn spawn_panel(mut commands: Commands) {
                 row(),
                 children![
                     button("C Cut", ViewerAction::AddCut),
+                    button("O Repair", ViewerAction::Repair),
                     button("G Support", ViewerAction::ToggleSupport),
                     button("X Remove", ViewerAction::RemoveBlock),
                     button("R Restore", ViewerAction::RestoreBlock),

@@ -52,6 +52,7 @@ fn keys(keys: Res<ButtonInput<KeyCode>>, mut actions: MessageWriter<ViewerAction
             (KeyCode::ArrowUp, _) => send(ViewerAction::TurnCut { yaw: 0.0, tilt: turn }),
             (KeyCode::ArrowDown, _) => send(ViewerAction::TurnCut { yaw: 0.0, tilt: -turn }),
             (KeyCode::Backspace, _) => send(ViewerAction::DeleteCut),
+            (KeyCode::KeyO, _) => send(ViewerAction::Repair),
             (KeyCode::KeyG, _) => send(ViewerAction::ToggleSupport),
             (KeyCode::KeyX | KeyCode::Delete, _) => send(ViewerAction::RemoveBlock),
             (KeyCode::KeyR, _) => send(ViewerAction::RestoreBlock),
