@@ -125,3 +125,28 @@ fn bad_selection_and_settings_are_errors() {
     .unwrap_err();
     assert!(matches!(e, DesignError::Settings(_)), "{e}");
 }
+
+/// Invariants (the paper's M given as one solid, cut by courses of 0.1 m: 26 pieces, 21 cuts,
+/// the pieces in the V hanging on tension as in Fig 4a):
+/// - a swarm over all 21 cuts at once (63 parameters, focus_rounds 0) does not make it stand;
+/// - the focused rounds (only the cuts that hold the failing joint, then those bounding its
+///   blocks) do: an independent analysis of the written design stands, with no tension;
+/// - the history stays non-increasing across the rounds and counts every evaluation.
+#[test]
+fn m_by_courses_repaired_by_focusing_on_the_failing_joint() {
+    let mut m = case("fig4a_m_cut");
+    m.cuts.clear();
+    let g =
+        voussoir::design::courses(&m, &voussoir::design::Field::Vertical, &voussoir::design::BlockSize::Max(0.1), true)
+            .unwrap();
+    assert_eq!((g.pieces, g.design.cuts.len()), (26, 21));
+    let whole = run(&g.design, &RepairSettings { focus_rounds: 0, ..Default::default() });
+    assert_eq!(whole.outcome, RepairOutcome::NotRepaired);
+    assert_eq!(whole.evaluations, 193);
+    let focused = run(&g.design, &RepairSettings::default());
+    assert_eq!(focused.outcome, RepairOutcome::Repaired, "{:?}", focused.failing);
+    assert!(focused.evaluations > 193 && focused.evaluations == focused.history.len());
+    assert!(focused.history.windows(2).all(|w| w[1] <= w[0]));
+    let check = analyze(&focused.design, &AnalysisSettings::default()).unwrap();
+    assert!(check.statics.stands && check.statics.tension_ratio == 0.0);
+}

@@ -61,6 +61,9 @@ pub struct RepairSettings {
     pub particles: usize,
     pub iterations: u64,
     pub seed: u64,
+    /// When the search over every selected cut leaves the design failing: more searches over
+    /// only the cuts that hold its failing interfaces, at most this many.
+    pub focus_rounds: usize,
 }
 
 impl Default for RepairSettings {
@@ -75,6 +78,7 @@ impl Default for RepairSettings {
             particles: 12,
             iterations: 15,
             seed: 0,
+            focus_rounds: 3,
         }
     }
 }

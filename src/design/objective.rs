@@ -74,8 +74,13 @@ pub struct Evaluator {
 }
 
 impl Evaluator {
+    /// Scores with `settings` less the force distribution of a failing design (the QP after
+    /// its minimum-tension and friction-excess LPs): the score needs only their optimum, and
+    /// the QP is half of a failing design's solve.
     pub fn new(settings: &AnalysisSettings, directions: Option<usize>, must_cut: Vec<usize>, min_volume: f64) -> Self {
-        Self { pipeline: Mutex::new(Pipeline::new()), settings: settings.clone(), directions, must_cut, min_volume }
+        let mut settings = settings.clone();
+        settings.statics.distribution = false;
+        Self { pipeline: Mutex::new(Pipeline::new()), settings, directions, must_cut, min_volume }
     }
 
     /// The score of `scene` and its analysis (when it could be analysed).

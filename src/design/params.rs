@@ -5,6 +5,7 @@
 //! of its apex along x, y, z (m). The zero vector is the design as given.
 
 use super::DesignError;
+use crate::analysis::Analysis;
 use crate::geometry::{Point3, Vector3};
 use crate::model::{Cut, CutShape, Scene};
 use nalgebra::{Unit, UnitQuaternion};
@@ -37,14 +38,41 @@ const PER_CUT: usize = 3;
 
 impl CutParameters {
     /// The parameters of `selection` (indices into `scene.cuts`; every cut when `None`).
-    /// A plane cut's offsets range over the source shapes' extent along its normal.
+    /// A plane cut's offsets range over the source shapes' extent along its normal, and it
+    /// turns about its own point.
     pub fn new(scene: &Scene, selection: Option<&[usize]>, freedom: &Freedom) -> Result<Self, DesignError> {
+        Self::build(scene, None, selection, freedom)
+    }
+
+    /// As [`Self::new`], but a plane cut that holds joints of `analysis` (of `scene`) turns
+    /// about their centre and moves only within the pieces on either side of them: further,
+    /// it would run through a neighbouring cut (what matters in a design of many cuts, such as
+    /// the courses of an arch, where a move over the whole extent makes a different design).
+    pub fn around(
+        scene: &Scene,
+        analysis: &Analysis,
+        selection: Option<&[usize]>,
+        freedom: &Freedom,
+    ) -> Result<Self, DesignError> {
+        Self::build(scene, Some(analysis), selection, freedom)
+    }
+
+    fn build(
+        scene: &Scene,
+        analysis: Option<&Analysis>,
+        selection: Option<&[usize]>,
+        freedom: &Freedom,
+    ) -> Result<Self, DesignError> {
         let all: Vec<usize> = (0..scene.cuts.len()).collect();
         let chosen = selection.unwrap_or(&all);
         let mut cuts = Vec::with_capacity(chosen.len());
         for &index in chosen {
             let cut = scene.cuts.get(index).ok_or(DesignError::UnknownCut { index, count: scene.cuts.len() })?;
-            cuts.push((index, motion(scene, index, cut, freedom)?));
+            let mut m = motion(scene, index, cut, freedom)?;
+            if let Some(a) = analysis {
+                m = m.around_joints(cut, a, scene.scale());
+            }
+            cuts.push((index, m));
         }
         Ok(Self { cuts })
     }
@@ -140,6 +168,47 @@ fn motion(scene: &Scene, index: usize, cut: &Cut, freedom: &Freedom) -> Result<M
             segments: segments.clone(),
             reach: freedom.apex_move * scene.scale(),
         }),
+    }
+}
+
+impl Motion {
+    /// A plane's pivot moved to the centre of the joints it holds in `analysis`, its offsets
+    /// narrowed to the pieces on either side of them (see [`CutParameters::around`]).
+    fn around_joints(self, cut: &Cut, analysis: &Analysis, scale: f64) -> Self {
+        let Motion::Plane { point, normal, axes, offsets, turn } = self else { return self };
+        let joints: Vec<&crate::interfaces::Interface> =
+            analysis.interfaces.iter().filter(|itf| holds(cut, itf, 1e-6 * scale)).collect();
+        let area: f64 = joints.iter().map(|j| j.area).sum();
+        if joints.is_empty() || area <= 0.0 {
+            return Motion::Plane { point, normal, axes, offsets, turn };
+        }
+        let centre = joints.iter().fold(Vector3::zeros(), |c, j| c + j.centroid().coords * j.area) / area;
+        let pivot = Point3::from(centre);
+        let blocks = joints.iter().flat_map(|j| [j.a.block(), j.b.block()]).flatten();
+        let along = blocks
+            .flat_map(|b| analysis.assembly.blocks[b.0].mesh.vertices.iter())
+            .map(|v| (v - pivot).dot(&normal))
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), t| (lo.min(t), hi.max(t)));
+        // The source extent, measured from the new pivot.
+        let shift = (pivot - point).dot(&normal);
+        let narrowed = (along.0.max(offsets.0 - shift), along.1.min(offsets.1 - shift));
+        let offsets = if narrowed.0 < narrowed.1 { narrowed } else { (offsets.0 - shift, offsets.1 - shift) };
+        // The pivot in the plane (its centre lies in it up to the tolerance).
+        let pivot = pivot - normal * (pivot - point).dot(&normal);
+        Motion::Plane { point: pivot, normal, axes, offsets, turn }
+    }
+}
+
+/// Whether joint `itf` lies in cut's surface: a plane cut whose plane holds it, a pattern cut
+/// whose apex lies in its plane (within `tolerance`, m).
+pub(super) fn holds(cut: &Cut, itf: &crate::interfaces::Interface, tolerance: f64) -> bool {
+    let (n, c) = (itf.frame.n, itf.centroid());
+    match &cut.shape {
+        CutShape::Plane { point, normal } => {
+            let m = Vector3::from(*normal).normalize();
+            m.dot(&n).abs() > 1.0 - 1e-6 && (c - Point3::from(*point)).dot(&m).abs() < tolerance
+        }
+        CutShape::Pattern { apex, .. } => (Point3::from(*apex) - c).dot(&n).abs() < tolerance,
     }
 }
 

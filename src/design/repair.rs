@@ -8,7 +8,7 @@
 //! block holds it, that support ([`super::props`]).
 
 use super::objective::{Evaluator, Score};
-use super::params::{CutParameters, Freedom};
+use super::params::{CutParameters, Freedom, holds};
 use super::props::{SupportProposal, propose_support};
 use super::{DesignError, RepairSettings};
 use crate::analysis::{Analysis, AnalysisSettings};
@@ -89,20 +89,28 @@ pub fn repair(
     settings.validate()?;
     let start = std::time::Instant::now();
     let freedom = Freedom { max_turn_degrees: settings.max_turn_degrees, apex_move: settings.apex_move };
-    let params = CutParameters::new(scene, settings.cuts.as_deref(), &freedom)?;
     let base = crate::analysis::analyze(scene, analysis)?;
+    let params = CutParameters::around(scene, &base, settings.cuts.as_deref(), &freedom)?;
     let directions = settings.robust.then_some(settings.directions);
     let evaluator = Evaluator::new(analysis, directions, params.indices(), min_volume(&base, settings));
     let before = evaluator.judge(&base);
     let planned = if params.is_empty() { 0 } else { settings.particles * (settings.iterations as usize + 1) };
     let first = with_closeness(&before, 1.0);
-    let search =
-        Search { scene, params: &params, evaluator: &evaluator, log: Mutex::new(vec![first]), planned, progress };
-    let (history, best) = if params.is_empty() { (vec![before.cost], None) } else { search.run(settings)? };
-    let design = match &best {
+    let search = Search {
+        scene,
+        params: &params,
+        evaluator: &evaluator,
+        log: Mutex::new(vec![first]),
+        done_before: 0,
+        planned,
+        progress,
+    };
+    let (mut history, best) = if params.is_empty() { (vec![before.cost], None) } else { search.run(settings)? };
+    let mut design = match &best {
         Some((x, cost)) if *cost < first => params.apply(scene, x),
         _ => scene.clone(),
     };
+    focus(&mut design, &mut history, &params, &evaluator, &freedom, settings, progress)?;
     let changed = changes(scene, &design);
     let load_factor_before = full_load_factor(&base, analysis);
     // Unchanged: the design as given, already analysed and swept.
@@ -140,6 +148,89 @@ pub fn repair(
     })
 }
 
+/// When the best design still fails, searches again over only the cuts in whose planes its
+/// failing interfaces lie — or, when moving those alone does not help, also the cuts that
+/// bound the blocks on either side (a swarm in a few dimensions finds what one over every cut
+/// of a large design misses) — from the best design so far, up to `focus_rounds` times while
+/// it fails and such cuts are fewer than the whole selection. Each round's log continues the
+/// history (its running best never rises).
+fn focus(
+    design: &mut Scene,
+    history: &mut Vec<f64>,
+    params: &CutParameters,
+    evaluator: &Evaluator,
+    freedom: &Freedom,
+    settings: &RepairSettings,
+    progress: &(dyn Fn(usize, usize, f64) + Sync),
+) -> Result<(), DesignError> {
+    let selected = params.indices();
+    let mut tried: Vec<Vec<usize>> = Vec::new();
+    for round in 0..settings.focus_rounds {
+        let (score, analysis) = evaluator.score(design);
+        let Some(analysis) = analysis.filter(|_| !score.stands() && score.invalid.is_none()) else { break };
+        // The cuts holding the failing joints, then also those bounding the blocks on either side.
+        let holding = failing_cuts(design, &analysis, &selected);
+        let mut bounding = holding.clone();
+        bounding.extend(bounding_cuts(&analysis, &selected));
+        bounding.sort_unstable();
+        bounding.dedup();
+        let Some(cuts) =
+            [holding, bounding].into_iter().find(|c| !c.is_empty() && c.len() < selected.len() && !tried.contains(c))
+        else {
+            break;
+        };
+        let focused = CutParameters::around(design, &analysis, Some(&cuts), freedom)?;
+        let current = history.last().copied().unwrap_or(score.cost).min(score.cost);
+        let search = Search {
+            scene: design,
+            params: &focused,
+            evaluator,
+            log: Mutex::new(vec![current]),
+            done_before: history.len() - 1,
+            planned: history.len() - 1 + settings.particles * (settings.iterations as usize + 1),
+            progress,
+        };
+        let round_settings = RepairSettings { seed: settings.seed.wrapping_add(1 + round as u64), ..settings.clone() };
+        let (log, best) = search.run(&round_settings)?;
+        history.extend(log.into_iter().skip(1));
+        match best {
+            Some((x, cost)) if cost < current => {
+                *design = focused.apply(design, &x);
+                tried.clear();
+            }
+            _ => tried.push(cuts),
+        }
+    }
+    Ok(())
+}
+
+/// The selected cuts that made a block on either side of a failing interface (they bound it).
+fn bounding_cuts(analysis: &Analysis, selected: &[usize]) -> Vec<usize> {
+    let w = analysis.statics.free_weight;
+    let names: Vec<&str> = analysis
+        .statics
+        .interfaces
+        .iter()
+        .filter(|r| r.tension + r.friction_excess > 1e-9 * w)
+        .flat_map(|r| [r.a.as_str(), r.b.as_str()])
+        .collect();
+    selected.iter().copied().filter(|&i| names.iter().any(|n| crate::decompose::made_by(n, i))).collect()
+}
+
+/// The selected cuts in whose plane a failing interface of `analysis` lies: a plane cut whose
+/// plane holds the interface, a pattern cut whose apex lies in its plane.
+fn failing_cuts(design: &Scene, analysis: &Analysis, selected: &[usize]) -> Vec<usize> {
+    let tolerance = 1e-6 * design.scale();
+    let failing: Vec<&crate::interfaces::Interface> = analysis
+        .statics
+        .interfaces
+        .iter()
+        .filter(|r| r.tension + r.friction_excess > 1e-9 * analysis.statics.free_weight)
+        .map(|r| &analysis.interfaces[r.index])
+        .collect();
+    selected.iter().copied().filter(|&i| failing.iter().any(|itf| holds(&design.cuts[i], itf, tolerance))).collect()
+}
+
 /// The smallest volume a free piece may have: a fraction of the design's mean piece, but never
 /// more than its own smallest piece (a piece as small as the designer's own is no sliver, and
 /// the design as given passes its own rules).
@@ -159,6 +250,8 @@ struct Search<'a> {
     params: &'a CutParameters,
     evaluator: &'a Evaluator,
     log: Mutex<Vec<f64>>,
+    /// Evaluations logged by earlier searches of the same repair (for the progress count).
+    done_before: usize,
     planned: usize,
     progress: &'a (dyn Fn(usize, usize, f64) + Sync),
 }
@@ -172,7 +265,7 @@ impl CostFunction for Search<'_> {
         let mut log = self.log.lock().expect("not poisoned");
         let best = log.last().copied().unwrap_or(f64::INFINITY).min(cost);
         log.push(best);
-        (self.progress)(log.len() - 1, self.planned, best);
+        (self.progress)(self.done_before + log.len() - 1, self.planned, best);
         Ok(cost)
     }
 }
