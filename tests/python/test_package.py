@@ -11,6 +11,7 @@ README's and the package's examples run.
 """
 
 import doctest
+import json
 import os
 import re
 import subprocess
@@ -233,6 +234,42 @@ def test_cut_history_and_supports_edits():
     assert cut.pieces() == ["base", "box0.0-", "box0.0+"]
     again = voussoir.Scene.from_json(cut.to_json())
     assert again.pieces() == cut.pieces()
+
+
+def test_pattern_cut_is_a_running_bond():
+    """A line across a 2 x 2 x 0.5 slab, then a half line on either side of it, extruded to an
+    apex 3 m below: 4 pieces, not 6 (each half line cuts only the piece its cone meets), the
+    slab's volume kept, every internal joint's plane through the apex (as tests/pattern_cut.rs);
+    a target that is not a piece is an InputError naming the cut."""
+    slab = {
+        "name": "slab",
+        "ground": True,
+        "blocks": [
+            {
+                "name": "slab",
+                "vertices": [[-1, -1, 0], [1, -1, 0], [1, 1, 0], [-1, 1, 0], [-1, -1, 0.5], [1, -1, 0.5], [1, 1, 0.5], [-1, 1, 0.5]],
+                "faces": [[0, 3, 2, 1], [4, 5, 6, 7], [0, 1, 5, 4], [1, 2, 6, 5], [2, 3, 7, 6], [3, 0, 4, 7]],
+            }
+        ],
+    }
+    scene = voussoir.Scene.from_json(json.dumps(slab))
+    apex = [0.0, 0.0, -3.0]
+    bond = [
+        [[0.0, -1.0, 0.5], [0.0, 1.0, 0.5]],
+        [[-1.0, 0.3, 0.5], [0.0, 0.3, 0.5]],
+        [[0.0, -0.4, 0.5], [1.0, -0.4, 0.5]],
+    ]
+    cut = scene.with_pattern_cut(apex, bond)
+    assert scene.cuts == 0 and cut.cuts == 1 and len(cut.pieces()) == 4
+    result = voussoir.analyze(cut)
+    assert result.stands
+    internal = np.all(result.interface_blocks >= 0, axis=1)
+    assert int(internal.sum()) == 5
+    to_apex = np.asarray(apex) - result.interface_centroid[internal]
+    assert np.max(np.abs(np.sum(result.interface_normal[internal] * to_apex, axis=1))) < 1e-9
+    assert voussoir.Scene.from_json(cut.to_json()).pieces() == cut.pieces()
+    with pytest.raises(voussoir.InputError, match="cut 0 targets 'nope', which is not a piece"):
+        scene.with_pattern_cut(apex, bond, target="nope")
 
 
 def cli_error(*args):

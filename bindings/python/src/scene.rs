@@ -172,6 +172,19 @@ impl Scene {
         Ok(self.edited(scene))
     }
 
+    /// This scene with a pattern cut appended to its history: each segment `[p, q]` (drawn on a
+    /// face, in order) cuts with the plane through `apex`, `p` and `q`, but only the pieces the
+    /// cone from the apex through the segment meets (brick bonds, voussoir courses); `target`
+    /// restricts it to one piece and the pieces cut from it.
+    #[pyo3(signature = (apex, segments, target = None))]
+    fn with_pattern_cut(&self, apex: [f64; 3], segments: Vec<[[f64; 3]; 2]>, target: Option<String>) -> PyResult<Self> {
+        let mut scene = self.scene.clone();
+        scene.cuts.push(Cut { target, ..Cut::pattern(apex, segments) });
+        voussoir::decompose::resolve(&scene, &Default::default(), &mut voussoir::decompose::CutCache::new())
+            .map_err(|e| errors::input(&self.source, e))?;
+        Ok(self.edited(scene))
+    }
+
     /// This scene with other supports: `"lowest"` or a list of block names.
     fn with_supports(&self, supports: Supports) -> PyResult<Self> {
         let choice = supports.choice()?;

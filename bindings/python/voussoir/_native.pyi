@@ -66,6 +66,15 @@ class Scene:
     def with_cut(self, point: Sequence[float], normal: Sequence[float], target: Optional[str] = None) -> Scene:
         """A plane cut appended to the history (the `-` pieces on the side the normal points away
         from); `target` cuts one piece only."""
+    def with_pattern_cut(
+        self,
+        apex: Sequence[float],
+        segments: Sequence[Sequence[Sequence[float]]],
+        target: Optional[str] = None,
+    ) -> Scene:
+        """A pattern cut appended to the history: each segment [p, q] (in order) cuts with the
+        plane through apex, p and q, only the pieces the cone from the apex through the segment
+        meets; `target` restricts it to one piece and the pieces cut from it."""
     def with_supports(self, supports: Supports) -> Scene: ...
     def to_json(self) -> str:
         """voussoir scene JSON, with the cut history."""
