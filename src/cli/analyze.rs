@@ -17,10 +17,15 @@ pub struct AnalyzeArgs {
     /// Write the JSON report here (atomically).
     #[arg(long)]
     pub json: Option<PathBuf>,
-    /// Write the design with its interfaces and forces as a compas 2 Assembly JSON here
-    /// (atomically): compas' viewers draw it, compas_cra reads it.
+    /// Write the design with its interfaces and forces as compas JSON here (atomically): a
+    /// compas_dem BlockModel for a BlockModel input, else a compas 2 Assembly (compas' viewers
+    /// draw it, compas_cra reads it); `--compas-format` chooses.
     #[arg(long)]
     pub compas_out: Option<PathBuf>,
+    /// The format of `--compas-out`: `assembly` or `block-model` (default: that of the input
+    /// when it is a BlockModel, else an Assembly).
+    #[arg(long, value_enum, value_parser = super::choice::Choice::<CompasFormat>::new(), requires = "compas_out")]
+    pub compas_format: Option<CompasFormat>,
     #[command(flatten)]
     pub solver: SolverOptions,
     #[command(flatten)]
@@ -51,6 +56,24 @@ pub struct AnalyzeArgs {
     pub kinematic: bool,
     #[command(flatten)]
     pub drop: DropOptions,
+}
+
+/// Which compas JSON `--compas-out` writes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum CompasFormat {
+    Assembly,
+    BlockModel,
+}
+
+impl CompasFormat {
+    /// A BlockModel for a BlockModel input file, else an Assembly.
+    fn of_input(scene: Option<&str>) -> Self {
+        let block_model = scene
+            .and_then(|path| std::fs::read(path).ok())
+            .and_then(|bytes| serde_json::from_slice::<serde_json::Value>(&bytes).ok())
+            .is_some_and(|v| io::compas_dem::is_block_model(&v));
+        if block_model { Self::BlockModel } else { Self::Assembly }
+    }
 }
 
 impl AnalyzeArgs {
@@ -97,7 +120,12 @@ pub fn run(args: &AnalyzeArgs) -> Result<i32, BadInput> {
         None
     };
     if let Some(out) = &args.compas_out {
-        write_output(out, io::compas_out::assembly_json(&analysis).as_bytes())?;
+        let format = args.compas_format.unwrap_or_else(|| CompasFormat::of_input(args.scene.as_deref()));
+        let text = match format {
+            CompasFormat::Assembly => io::compas_out::assembly_json(&analysis),
+            CompasFormat::BlockModel => io::compas_out::block_model_json(&analysis),
+        };
+        write_output(out, text.as_bytes())?;
     }
     if let Some(out) = &args.json {
         write_output(out, io::report::to_json_with(&analysis, dynamic.as_ref(), kinematic.as_ref()).as_bytes())?;

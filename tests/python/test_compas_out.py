@@ -22,12 +22,12 @@ ARCH = "compas_assembly/arch_assembly.json"
 
 
 def write(rel, tmp_path):
-    """voussoir's compas file and JSON report of the reference file `rel`."""
+    """voussoir's compas Assembly file (for every input format) and JSON report of the
+    reference file `rel`."""
     out, report = tmp_path / "out.json", tmp_path / "report.json"
     scene = ROOT / "assets" / "compas" / rel
-    done = subprocess.run(
-        [BIN, "analyze", str(scene), "--compas-out", str(out), "--json", str(report)], capture_output=True, text=True
-    )
+    args = [BIN, "analyze", str(scene), "--compas-out", str(out), "--compas-format", "assembly", "--json", str(report)]
+    done = subprocess.run(args, capture_output=True, text=True)
     assert done.returncode in (0, 1), done.stderr
     return json_load(str(out)), json.loads(report.read_text())
 

@@ -183,6 +183,68 @@ def _forces(assembly):
                 yield u, v, f
 
 
+def _contacts(model):
+    for u, v in model.graph.edges():
+        for c in model.graph.edge_attribute((u, v), "contacts") or []:
+            yield u, v, c
+
+
+def _check_block_model(model, result, w):
+    """Every contact a compas_dem FrictionContact with one force per point; each free block in
+    equilibrium with its share of W by volume, from compas' own fields and frames alone (the
+    force on v is c_n z + c_u x + c_v y, u receives the opposite); compas_dem's own resultant
+    agrees with that sum. Returns the contact count."""
+    from compas_dem.interactions import FrictionContact
+
+    total = {key: np.zeros(3) for key in model.graph.nodes()}
+    count = 0
+    for u, v, c in _contacts(model):
+        assert isinstance(c, FrictionContact) and len(c.forces) == len(c.points)
+        f = np.zeros(3)
+        for p in c.forces:
+            f += (p["c_np"] - p["c_nn"]) * np.array(c.frame.zaxis) + p["c_u"] * np.array(c.frame.xaxis) + p["c_v"] * np.array(c.frame.yaxis)
+        total[v] += f
+        total[u] -= f
+        count += 1
+    free = [k for k in model.graph.nodes() if not model.graph.node_element(k).is_support]
+    volumes = {k: model.graph.node_element(k).modelgeometry.volume() for k in free}
+    for key in free:
+        weight = w * volumes[key] / sum(volumes.values())
+        assert total[key] == pytest.approx([0.0, 0.0, weight], abs=1e-6 * w), f"block {key}"
+    return count
+
+
+def test_write_forces_into_a_block_model_and_the_cli_block_model():
+    """compas_dem's cross vault (a BlockModel: 38 blocks, 5 supports): write_forces puts one
+    FrictionContact per block-block interface on the model's edges (60, none with the ground),
+    every free block balances its weight from compas' fields alone, and compas saves and
+    reloads the model with the same forces; `analyze --compas-out` of the BlockModel file writes
+    a BlockModel that compas loads with the same contacts and the same total compression."""
+    import compas
+
+    path = DATA / "compas_dem/dem_crossvault.json"
+    model = json_load(str(path))
+    result = voussoir.analyze(voussoir.Scene.from_compas(model))
+    assert result.stands
+    summary = result.write_forces(model)
+    assert summary["interfaces"] == 60 and summary["ground_interfaces"] == 0
+    assert _check_block_model(model, result, result.free_weight) == 60
+    compression = result.point_forces[:, 0].sum()
+    again = compas.json_loads(compas.json_dumps(model))
+    assert sum(p["c_np"] for _, _, c in _contacts(again) for p in c.forces) == pytest.approx(compression, rel=1e-12)
+
+    out = Path(os.environ.get("TMPDIR", "/tmp")) / f"voussoir-bm-{os.getpid()}.json"
+    done = subprocess.run([BIN, "analyze", str(path), "--compas-out", str(out)], capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    written = json_load(str(out))
+    out.unlink()
+    assert type(written).__name__ == "BlockModel"
+    assert _check_block_model(written, result, result.free_weight) == 60
+    assert sum(p["c_np"] for _, _, c in _contacts(written) for p in c.forces) == pytest.approx(compression, rel=1e-9)
+    names = sorted(written.graph.node_element(k).name for k in written.graph.nodes())
+    assert names == sorted(result.block_names)
+
+
 def test_write_forces_refuses_what_it_cannot_write():
     result = voussoir.analyze(voussoir.Scene.builtin("stack?n=2"))
     with pytest.raises(TypeError, match="Assembly"):

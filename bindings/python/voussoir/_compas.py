@@ -6,6 +6,11 @@ the graph's edges: ``graph.edge_attribute((u, v), "interfaces")`` is a list of
 u into v), ``size`` and ``forces`` — per point a dict ``c_np`` (compression),
 ``c_nn`` (tension), ``c_u``, ``c_v`` (friction along the frame's x and y axes), the force on v.
 compas_cra's solvers write the same fields; its viewers and ``rbe_solve`` read them.
+
+compas_dem's ``BlockModel`` (a compas_model ``Model``) keeps them in the graph's ``contacts``
+edge attribute: a list of ``compas_dem.interactions.FrictionContact`` with the same ``points``,
+``frame``, ``size`` and ``forces``, from which compas_dem computes its resultant, compression
+and friction forces.
 """
 
 from __future__ import annotations
@@ -40,10 +45,10 @@ def _node_keys(graph) -> dict:
     return {str(key): key for key in graph.nodes()}
 
 
-def _interface(frames: dict, row: int, points: list, forces: list, flip: bool):
-    """One compas Interface from row ``row`` of the interface arrays in ``frames``."""
+def _interface(frames: dict, row: int, points: list, forces: list, flip: bool, contact: bool = False):
+    """One compas_assembly Interface (or, with ``contact``, a compas_dem FrictionContact) from
+    row ``row`` of the interface arrays in ``frames``."""
     from compas.geometry import Frame
-    from compas_assembly.datastructures import Interface
 
     origin, u, v = frames["origin"][row], frames["u"][row], frames["v"][row]
     if flip:
@@ -51,6 +56,12 @@ def _interface(frames: dict, row: int, points: list, forces: list, flip: bool):
         # a, the opposite of those on b: c_u' = -c_v, c_v' = -c_u along the swapped axes.
         u, v = v, u
         forces = [{"c_np": f["c_np"], "c_nn": f["c_nn"], "c_u": -f["c_v"], "c_v": -f["c_u"]} for f in forces]
+    if contact:
+        from compas_dem.interactions import FrictionContact
+
+        return FrictionContact(points=points, frame=Frame(origin, u, v), size=frames["area"][row], forces=forces)
+    from compas_assembly.datastructures import Interface
+
     # No mesh: compas_assembly's Interface makes it from the points when asked (a third of the
     # cost of writing the Armadillo's 1014 interfaces, otherwise).
     return Interface(size=frames["area"][row], points=points, frame=Frame(origin, u, v), forces=forces)
@@ -68,12 +79,13 @@ def write_forces(result, assembly) -> dict[str, Any]:
     """
     graph = getattr(assembly, "graph", None)
     if graph is None or not hasattr(graph, "edge_attribute"):
-        raise TypeError(f"write_forces takes a compas_assembly Assembly or CRA_Assembly, not a {type(assembly).__name__}")
-    if any(graph.node_attribute(key, "element") is not None for key in graph.nodes()):
         raise TypeError(
-            "write_forces writes into compas_assembly Assemblies (and compas_cra's); a compas_dem "
-            "BlockModel's contacts are not written yet: use Analysis.to_compas_json() for an Assembly"
+            f"write_forces takes a compas_assembly Assembly, a compas_cra CRA_Assembly or a compas_dem "
+            f"BlockModel, not a {type(assembly).__name__}"
         )
+    # A compas_model Model (compas_dem's BlockModel): nodes hold elements, edges contacts.
+    model = any(graph.node_attribute(key, "element") is not None for key in graph.nodes())
+    attribute = "contacts" if model else "interfaces"
     keys = _node_keys(graph)
     # Each array once, as lists (a getter builds its array anew; numpy scalars are slow to index).
     names = result.block_names
@@ -110,11 +122,11 @@ def write_forces(result, assembly) -> dict[str, Any]:
         ks = by_row.get(row, [])
         points = [points_all[k] for k in ks]
         forces = [dict(zip(("c_np", "c_nn", "c_u", "c_v"), forces_all[k])) for k in ks]
-        interface = _interface(frames, row, points, forces, flip)
+        interface = _interface(frames, row, points, forces, flip, contact=model)
         if edge not in replaced:
-            graph.edge_attribute(edge, "interfaces", [])
+            graph.edge_attribute(edge, attribute, [])
             replaced.add(edge)
-        graph.edge_attribute(edge, "interfaces").append(interface)
+        graph.edge_attribute(edge, attribute).append(interface)
         written += 1
     without = [edge for edge in graph.edges() if edge not in replaced]
     return {"interfaces": written, "edges_added": added, "ground_interfaces": ground, "edges_without_contact": without}

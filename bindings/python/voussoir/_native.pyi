@@ -134,7 +134,8 @@ class Analysis:
         """compas 2 Assembly JSON with the interfaces and forces (`analyze --compas-out`)."""
     def write_forces(self, assembly: Any) -> dict[str, Any]:
         """Writes the interfaces and forces into a compas_assembly Assembly / compas_cra
-        CRA_Assembly in compas' own fields; returns a summary."""
+        CRA_Assembly (edge `interfaces`) or a compas_dem BlockModel (edge `contacts`, as
+        FrictionContacts) in compas' own fields; returns a summary."""
 
 def analyze(
     scene: Scene,
