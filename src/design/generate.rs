@@ -57,6 +57,18 @@ pub struct Generated {
 
 /// Cuts `shape` (its free blocks; supports stay whole) into courses (see the module docs).
 pub fn courses(shape: &Scene, field: &Field, size: &BlockSize, stagger: bool) -> Result<Generated, DesignError> {
+    let (frame, l, beds) = candidate_beds(shape, field, size)?;
+    let bed_cuts: Vec<Cut> = beds.iter().map(|&t| frame.bed_cut(t)).collect();
+    with_head_joints(shape, &frame, &beds, bed_cuts, l, stagger)
+}
+
+/// The field's frame over a source shape without a history, the block size and the course
+/// coordinates of the bed joints (the candidates of every strategy).
+pub(super) fn candidate_beds(
+    shape: &Scene,
+    field: &Field,
+    size: &BlockSize,
+) -> Result<(Frame, f64, Vec<f64>), DesignError> {
     if !shape.cuts.is_empty() {
         return Err(DesignError::Settings(
             "the shape already has a cut history: decompose starts from the source shapes".into(),
@@ -65,8 +77,7 @@ pub fn courses(shape: &Scene, field: &Field, size: &BlockSize, stagger: bool) ->
     let frame = Frame::new(shape, field)?;
     let l = frame.block_size(size)?;
     let beds = frame.beds(l);
-    let bed_cuts: Vec<Cut> = beds.iter().map(|&t| frame.bed_cut(t)).collect();
-    with_head_joints(shape, &frame, &beds, bed_cuts, l, stagger)
+    Ok((frame, l, beds))
 }
 
 /// `shape` cut by `bed_cuts` (at course coordinates `beds` of the field), then by head joints

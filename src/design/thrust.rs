@@ -16,7 +16,7 @@
 //! Units: metres, degrees in settings; the forces are the analysis' (N).
 
 use super::DesignError;
-use super::generate::{BlockSize, Field, Frame, Generated, pieces, with_head_joints};
+use super::generate::{BlockSize, Field, Generated, candidate_beds, pieces, with_head_joints};
 use crate::analysis::{Analysis, AnalysisSettings, Pipeline};
 use crate::decompose::CutCache;
 use crate::geometry::{Point3, Vector3};
@@ -81,14 +81,7 @@ pub fn thrust(
     analysis: &AnalysisSettings,
 ) -> Result<Generated, DesignError> {
     settings.validate()?;
-    if !shape.cuts.is_empty() {
-        return Err(DesignError::Settings(
-            "the shape already has a cut history: decompose starts from the source shapes".into(),
-        ));
-    }
-    let frame = Frame::new(shape, field)?;
-    let l = frame.block_size(size)?;
-    let beds = frame.beds(l);
+    let (frame, l, beds) = candidate_beds(shape, field, size)?;
     let start: Vec<Bed> = beds.iter().map(|&t| Bed::of(frame.bed_plane(t))).collect();
     let mut current = start.clone();
     let mut pipeline = Pipeline::new();
