@@ -245,6 +245,54 @@ def test_write_forces_into_a_block_model_and_the_cli_block_model():
     assert names == sorted(result.block_names)
 
 
+PIER = {
+    "name": "pier",
+    "ground": True,
+    "blocks": [
+        {
+            "name": "pier",
+            "vertices": [[0, 0, 0], [0.4, 0, 0], [0.4, 0.3, 0], [0, 0.3, 0], [0, 0, 1.2], [0.4, 0, 1.2], [0.4, 0.3, 1.2], [0, 0.3, 1.2]],
+            "faces": [[0, 3, 2, 1], [4, 5, 6, 7], [0, 1, 5, 4], [1, 2, 6, 5], [2, 3, 7, 6], [3, 0, 4, 7]],
+        }
+    ],
+}
+
+
+def test_repair_from_python_is_the_cli_repair(tmp_path):
+    """voussoir.repair on the paper's Fig 4a gives the design and report `voussoir repair` writes
+    (the same seed, the same cut), which stands by an independent analysis; its history never
+    rises; a bad cut index is an InputError with the library's message."""
+    path = ROOT / "assets" / "cases" / "fig4a_m_cut.json"
+    scene = voussoir.Scene.from_file(path)
+    design, report = voussoir.repair(scene)
+    assert report["outcome"]["kind"] == "repaired"
+    assert voussoir.analyze(design).stands and not voussoir.analyze(scene).stands
+    assert all(b <= a for a, b in zip(report["history"], report["history"][1:]))
+    out = tmp_path / "m.json"
+    done = subprocess.run([BIN, "repair", str(path), "-o", str(out)], capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    assert json.loads(out.read_text())["cuts"] == json.loads(design.to_json())["cuts"]
+    with pytest.raises(voussoir.InputError, match="cut 4: there are only 1 cuts"):
+        voussoir.repair(scene, cuts=[4])
+
+
+def test_decompose_from_python_by_courses_and_by_thrust():
+    """A 0.4 x 0.3 x 1.2 m pier as one solid, blocks of at most 0.4 m: 3 courses of one block
+    each, by either strategy (the thrust is vertical: the beds settle at once, unturned), and
+    the design stands; a size given twice, or an unknown strategy, is an InputError."""
+    shape = voussoir.Scene.from_json(json.dumps(PIER))
+    design, info = voussoir.decompose(shape, max_size=0.4)
+    assert (info["courses"], info["pieces"], info["rounds"]) == (3, 3, None)
+    assert design.cuts == 2 and len(design.pieces()) == 3 and voussoir.analyze(design).stands
+    design, info = voussoir.decompose(shape, max_size=0.4, strategy="thrust")
+    rounds = info["rounds"]
+    assert rounds["settled"] and rounds["rounds"] == 1 and rounds["largest_turn_degrees"] < 1e-6
+    with pytest.raises(voussoir.InputError, match="exactly one of blocks and max_size"):
+        voussoir.decompose(shape, blocks=3, max_size=0.4)
+    with pytest.raises(voussoir.InputError, match="strategy: 'funicular'"):
+        voussoir.decompose(shape, max_size=0.4, strategy="funicular")
+
+
 def test_write_forces_refuses_what_it_cannot_write():
     result = voussoir.analyze(voussoir.Scene.builtin("stack?n=2"))
     with pytest.raises(TypeError, match="Assembly"):

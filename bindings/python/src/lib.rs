@@ -10,6 +10,7 @@
 
 mod analysis;
 mod arrays;
+mod design;
 mod errors;
 mod scene;
 mod settings;
@@ -30,5 +31,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(tasks::load_factor, m)?)?;
     m.add_function(wrap_pyfunction!(tasks::sequence, m)?)?;
     m.add_function(wrap_pyfunction!(tasks::drop, m)?)?;
+    m.add_function(wrap_pyfunction!(design::repair, m)?)?;
+    m.add_function(wrap_pyfunction!(design::decompose, m)?)?;
     Ok(())
 }

@@ -27,7 +27,7 @@ impl Scene {
         Self { scene, source: source.into() }
     }
 
-    fn edited(&self, scene: model::Scene) -> Self {
+    pub(crate) fn edited(&self, scene: model::Scene) -> Self {
         Self { scene, source: self.source.clone() }
     }
 }

@@ -23,7 +23,7 @@ fn assembly_of(design: &voussoir::model::Scene, settings: &AnalysisSettings) -> 
     Assembly::new(&resolved, &settings.tolerances).map_err(|e| e.to_string())
 }
 
-fn json_to_python<'py>(py: Python<'py>, text: &str) -> PyResult<Bound<'py, PyAny>> {
+pub(crate) fn json_to_python<'py>(py: Python<'py>, text: &str) -> PyResult<Bound<'py, PyAny>> {
     py.import("json")?.call_method1("loads", (text,))
 }
 

@@ -26,9 +26,11 @@ from ._native import (
     Scene,
     __version__,
     analyze,
+    decompose,
     detect_interfaces,
     drop,
     load_factor,
+    repair,
     sequence,
 )
 
@@ -39,8 +41,10 @@ __all__ = [
     "Scene",
     "__version__",
     "analyze",
+    "decompose",
     "detect_interfaces",
     "drop",
     "load_factor",
+    "repair",
     "sequence",
 ]

@@ -201,3 +201,43 @@ def drop(
     density: Optional[float] = None,
 ) -> dict[str, Any]:
     """The rapier drop test's result."""
+
+def repair(
+    scene: Scene,
+    *,
+    cuts: Optional[Sequence[int]] = None,
+    max_turn: Optional[float] = None,
+    robust: bool = True,
+    seed: Optional[int] = None,
+    particles: Optional[int] = None,
+    iterations: Optional[int] = None,
+    mu: Optional[float] = None,
+    friction_model: Optional[FrictionModel] = None,
+    solver: Optional[Solver] = None,
+    supports: Optional[Supports] = None,
+    ground: Optional[bool] = None,
+    density: Optional[float] = None,
+) -> tuple[Scene, dict[str, Any]]:
+    """`voussoir repair`: the design with its cuts (all, or `cuts`) moved and turned until it
+    stands, then (`robust`) stands most safely; and the report (`repair --json`). The same
+    `seed` gives the same design."""
+
+def decompose(
+    scene: Scene,
+    *,
+    blocks: Optional[int] = None,
+    max_size: Optional[float] = None,
+    strategy: Literal["courses", "thrust"] = "courses",
+    center: Optional[Sequence[float]] = None,
+    axis: Optional[Sequence[float]] = None,
+    stagger: bool = True,
+    mu: Optional[float] = None,
+    friction_model: Optional[FrictionModel] = None,
+    solver: Optional[Solver] = None,
+    supports: Optional[Supports] = None,
+    ground: Optional[bool] = None,
+    density: Optional[float] = None,
+) -> tuple[Scene, dict[str, Any]]:
+    """`voussoir decompose`: a cut history for a source shape (exactly one of `blocks` and
+    `max_size`; beds through the axis `center` + s·`axis` for arches); the design and
+    `{courses, pieces, max_size, rounds}` (`rounds` for "thrust")."""
