@@ -37,6 +37,7 @@ pub mod interfaces;
 pub mod io;
 pub mod kinematics;
 pub mod model;
+pub mod optimise;
 pub mod plot;
 pub mod robustness;
 pub mod sequence;

@@ -1,7 +1,7 @@
 //! Repair: move and turn a design's cuts until it stands, then until it stands most safely.
 //!
-//! A particle swarm (argmin's, seeded, evaluated in order: the same seed gives the same
-//! design) searches the cut parameters of [`super::params`] for the lowest
+//! A particle swarm ([`crate::optimise`]: argmin's, seeded, evaluated in order: the same seed
+//! gives the same design) searches the cut parameters of [`super::params`] for the lowest
 //! [`super::objective`] score. The design as given is scored first and kept unless something
 //! scores lower, so a repair never makes a design worse. When the best design still fails,
 //! the answer names the interfaces that keep failing and, where one column under a failing
@@ -14,10 +14,6 @@ use super::{DesignError, RepairSettings};
 use crate::analysis::{Analysis, AnalysisSettings};
 use crate::model::{Cut, Scene};
 use crate::robustness::{SweepSettings, worst_direction};
-use argmin::core::{CostFunction, Error as ArgminError, Executor};
-use argmin::solver::particleswarm::ParticleSwarm;
-use rand_xoshiro::Xoshiro256PlusPlus;
-use rand_xoshiro::rand_core::SeedableRng;
 use serde::Serialize;
 use std::sync::Mutex;
 
@@ -256,32 +252,29 @@ struct Search<'a> {
     progress: &'a (dyn Fn(usize, usize, f64) + Sync),
 }
 
-impl CostFunction for Search<'_> {
-    type Param = Vec<f64>;
-    type Output = f64;
-    fn cost(&self, x: &Vec<f64>) -> Result<f64, ArgminError> {
+impl Search<'_> {
+    /// The search cost of `x`, logged with the running best.
+    fn cost(&self, x: &[f64]) -> f64 {
         let (score, _) = self.evaluator.score(&self.params.apply(self.scene, x));
         let cost = with_closeness(&score, self.params.closeness(x));
         let mut log = self.log.lock().expect("not poisoned");
         let best = log.last().copied().unwrap_or(f64::INFINITY).min(cost);
         log.push(best);
         (self.progress)(self.done_before + log.len() - 1, self.planned, best);
-        Ok(cost)
+        cost
     }
-}
 
-impl Search<'_> {
     /// Runs the swarm; the log of best scores and the best parameters found with their score.
     fn run(self, settings: &RepairSettings) -> Result<(Vec<f64>, Option<Best>), DesignError> {
-        let solver = ParticleSwarm::new(self.params.bounds(), settings.particles)
-            .with_rng_generator(Xoshiro256PlusPlus::seed_from_u64(settings.seed));
-        let res = Executor::new(self, solver)
-            .configure(|state| state.max_iters(settings.iterations))
-            .run()
-            .map_err(|e| DesignError::Optimiser(e.to_string()))?;
-        let best = res.state.best_individual.as_ref().map(|p| (p.position.clone(), p.cost));
-        let log = res.problem.problem.map(|p| p.log.into_inner().expect("not poisoned")).unwrap_or_default();
-        Ok((log, best))
+        let best = crate::optimise::particle_swarm(
+            &|x| self.cost(x),
+            self.params.bounds(),
+            settings.particles,
+            settings.iterations,
+            settings.seed,
+        )
+        .map_err(DesignError::Optimiser)?;
+        Ok((self.log.into_inner().expect("not poisoned"), best))
     }
 }
 

@@ -17,8 +17,6 @@ use super::{Robustness, RobustnessError, Safety, assess_parts};
 use crate::interfaces::Interface;
 use crate::model::Assembly;
 use crate::statics::StaticsSettings;
-use argmin::core::{CostFunction, Error as ArgminError, Executor};
-use argmin::solver::brent::BrentRoot;
 use serde::Serialize;
 use std::sync::Mutex;
 
@@ -114,21 +112,18 @@ struct Offset<'a> {
     solved: &'a Mutex<Vec<(f64, Robustness)>>,
 }
 
-impl CostFunction for Offset<'_> {
-    type Param = f64;
-    type Output = f64;
-    fn cost(&self, azimuth: &f64) -> Result<f64, ArgminError> {
-        let known = self.solved.lock().expect("not poisoned").iter().find(|(a, _)| a == azimuth).map(|k| k.1.clone());
+impl Offset<'_> {
+    fn at(&self, azimuth: f64) -> Result<f64, String> {
+        let known = self.solved.lock().expect("not poisoned").iter().find(|(a, _)| *a == azimuth).map(|k| k.1.clone());
         let r = match known {
             Some(r) => r,
             None => {
-                let r = factor_at(self.assembly, self.interfaces, self.settings, *azimuth)?;
-                self.solved.lock().expect("not poisoned").push((*azimuth, r.clone()));
+                let r = factor_at(self.assembly, self.interfaces, self.settings, azimuth).map_err(|e| e.to_string())?;
+                self.solved.lock().expect("not poisoned").push((azimuth, r.clone()));
                 r
             }
         };
-        normal_offset(self.assembly, &r, *azimuth)
-            .ok_or_else(|| ArgminError::msg(format!("no mechanism at {azimuth}°")))
+        normal_offset(self.assembly, &r, azimuth).ok_or_else(|| format!("no mechanism at {azimuth}°"))
     }
 }
 
@@ -195,9 +190,8 @@ fn refine(
     let bracket = vec![(lo.0, lo.1.clone()), (hi.0, hi.1.clone())];
     let solved = Mutex::new(bracket);
     let offset = Offset { assembly, interfaces, settings, solved: &solved };
-    let solver = BrentRoot::new(lo.0, hi.0, 1e-4);
     // A failed solve ends the search; what was solved so far still counts.
-    let _ = Executor::new(offset, solver).configure(|s| s.max_iters(sweep.refine)).run();
+    let _ = crate::optimise::brent_root(&|az| offset.at(az), lo.0, hi.0, 1e-4, sweep.refine);
     let solved = solved.into_inner().expect("not poisoned");
     // Everything after the bracket's two ends was solved here.
     let solves = solved.len() - 2;
