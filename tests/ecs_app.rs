@@ -361,12 +361,14 @@ fn repair_plugin_moves_the_cut_into_place() {
         voussoir::model::CutShape::Plane { point, .. } => *point,
         voussoir::model::CutShape::Pattern { .. } => panic!("fig4a's cut is a plane"),
     };
-    let start = std::time::Instant::now();
+    let mut updates = 0;
     let mut points = vec![cut_point(&app)];
     let generation = |app: &App| app.world().resource::<PipelineState>().generation;
     let runs_before = generation(&app);
     while app.world().resource::<RepairStatus>().finished == 0 {
-        assert!(start.elapsed().as_secs() < 60, "the repair did not finish");
+        // A bound on updates, not a timing: the search runs on another thread meanwhile.
+        updates += 1;
+        assert!(updates < 30_000, "the repair did not finish");
         let searching = app.world().resource::<RepairStatus>().running();
         app.update();
         if searching {

@@ -68,10 +68,8 @@ pub enum CompasFormat {
 impl CompasFormat {
     /// A BlockModel for a BlockModel input file, else an Assembly.
     fn of_input(scene: Option<&str>) -> Self {
-        let block_model = scene
-            .and_then(|path| std::fs::read(path).ok())
-            .and_then(|bytes| serde_json::from_slice::<serde_json::Value>(&bytes).ok())
-            .is_some_and(|v| io::compas_dem::is_block_model(&v));
+        let block_model =
+            scene.and_then(|path| std::fs::read(path).ok()).is_some_and(|b| io::compas_dem::is_block_model_bytes(&b));
         if block_model { Self::BlockModel } else { Self::Assembly }
     }
 }

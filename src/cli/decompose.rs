@@ -12,6 +12,7 @@ use super::{BadInput, load, numbers, refuse_overwrite, scene_name, write_output}
 use crate::analysis::analyze;
 use crate::design::{self, BlockSize, Field, RepairSettings, ThrustSettings};
 use crate::io::scene_json;
+use crate::statics::Verdict;
 use clap::Args;
 use clap::ValueEnum;
 use std::path::PathBuf;
@@ -101,20 +102,21 @@ pub fn run(args: &DecomposeArgs) -> Result<i32, BadInput> {
             if r.held > 0 { format!(", {} held at the largest turn", r.held) } else { String::new() }
         );
     }
-    let (design, stands, tension, excess) = if args.optimize {
+    let (design, verdict, tension, excess) = if args.optimize {
         let repair = RepairSettings { seed: args.seed, ..Default::default() };
         let report = design::repair(&generated.design, &settings, &repair, &|_, _, _| {}).map_err(bad)?;
         print!("{}", super::repair::text(&report));
         let after = &report.after;
-        (report.design.clone(), after.stands(), after.tension_ratio, after.friction_excess_ratio)
+        (report.design.clone(), after.verdict, after.tension_ratio, after.friction_excess_ratio)
     } else {
         let a = analyze(&generated.design, &settings).map_err(|e| BadInput(format!("{name}: {e}")))?;
         let s = &a.statics;
-        (generated.design, s.stands, s.tension_ratio, s.friction_excess_ratio)
+        (generated.design, Some(s.verdict), s.tension_ratio, s.friction_excess_ratio)
     };
+    let stands = verdict == Some(Verdict::Stands);
     println!(
-        "{}: minimum tension {tension:.3e} W, friction excess {excess:.3e} W",
-        if stands { "STANDS" } else { "DOES NOT STAND" }
+        "{} (minimum tension {tension:.3e} W, friction excess {excess:.3e} W)",
+        verdict.map_or("DOES NOT STAND: the design cannot be cut as asked", crate::io::text_report::headline)
     );
     write_output(&args.output, scene_json::scene_to_string(&design).as_bytes())?;
     println!("design written to {}", args.output.display());

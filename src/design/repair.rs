@@ -162,6 +162,10 @@ fn focus(
     let selected = params.indices();
     let mut tried: Vec<Vec<usize>> = Vec::new();
     for round in 0..settings.focus_rounds {
+        // A cost ≤ 0 is a standing design's: nothing to focus on (and no need to score it).
+        if history.last().is_some_and(|&best| best <= 0.0) {
+            break;
+        }
         let (score, analysis) = evaluator.score(design);
         let Some(analysis) = analysis.filter(|_| !score.stands() && score.invalid.is_none()) else { break };
         // The cuts holding the failing joints, then also those bounding the blocks on either side.
@@ -202,14 +206,7 @@ fn focus(
 
 /// The selected cuts that made a block on either side of a failing interface (they bound it).
 fn bounding_cuts(analysis: &Analysis, selected: &[usize]) -> Vec<usize> {
-    let w = analysis.statics.free_weight;
-    let names: Vec<&str> = analysis
-        .statics
-        .interfaces
-        .iter()
-        .filter(|r| r.tension + r.friction_excess > 1e-9 * w)
-        .flat_map(|r| [r.a.as_str(), r.b.as_str()])
-        .collect();
+    let names: Vec<&str> = failing_results(analysis).flat_map(|r| [r.a.as_str(), r.b.as_str()]).collect();
     selected.iter().copied().filter(|&i| names.iter().any(|n| crate::decompose::made_by(n, i))).collect()
 }
 
@@ -217,14 +214,15 @@ fn bounding_cuts(analysis: &Analysis, selected: &[usize]) -> Vec<usize> {
 /// plane holds the interface, a pattern cut whose apex lies in its plane.
 fn failing_cuts(design: &Scene, analysis: &Analysis, selected: &[usize]) -> Vec<usize> {
     let tolerance = 1e-6 * design.scale();
-    let failing: Vec<&crate::interfaces::Interface> = analysis
-        .statics
-        .interfaces
-        .iter()
-        .filter(|r| r.tension + r.friction_excess > 1e-9 * analysis.statics.free_weight)
-        .map(|r| &analysis.interfaces[r.index])
-        .collect();
+    let failing: Vec<&crate::interfaces::Interface> =
+        failing_results(analysis).map(|r| &analysis.interfaces[r.index]).collect();
     selected.iter().copied().filter(|&i| failing.iter().any(|itf| holds(&design.cuts[i], itf, tolerance))).collect()
+}
+
+/// The interface results of `analysis` that carry tension or friction excess (above 1e-9 W).
+fn failing_results(analysis: &Analysis) -> impl Iterator<Item = &crate::statics::InterfaceResult> {
+    let floor = 1e-9 * analysis.statics.free_weight;
+    analysis.statics.interfaces.iter().filter(move |r| r.tension + r.friction_excess > floor)
 }
 
 /// The smallest volume a free piece may have: a fraction of the design's mean piece, but never

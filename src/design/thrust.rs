@@ -97,6 +97,11 @@ pub fn thrust(
     while rounds.rounds < settings.rounds && !rounds.settled {
         let design = with_beds(shape, &current);
         let a = pipeline.run(&design, analysis)?;
+        if a.statics.verdict == crate::statics::Verdict::Unsupported {
+            return Err(DesignError::Settings(
+                "the coursed shape touches no support (mark supports, or give it a ground plane): the thrust strategy turns joints to the forces an analysis finds".into(),
+            ));
+        }
         rounds.rounds += 1;
         let mut turned = Vec::with_capacity(current.len());
         let (mut largest, mut held) = (0.0f64, 0);

@@ -27,6 +27,16 @@ pub fn is_block_model(value: &Value) -> bool {
     value.get("dtype").and_then(Value::as_str) == Some(BLOCK_MODEL)
 }
 
+/// True when the bytes are a compas_dem `BlockModel` file (its top-level `dtype`; the rest is
+/// skipped, not built).
+pub fn is_block_model_bytes(bytes: &[u8]) -> bool {
+    #[derive(serde::Deserialize)]
+    struct Top {
+        dtype: Option<String>,
+    }
+    serde_json::from_slice::<Top>(bytes).is_ok_and(|t| t.dtype.as_deref() == Some(BLOCK_MODEL))
+}
+
 /// True when the JSON value is a non-empty list whose first item is a compas mesh (or a list
 /// holding one).
 pub fn is_mesh_list(value: &Value) -> bool {

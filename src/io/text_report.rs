@@ -9,20 +9,25 @@ use crate::statics::{FrictionModel, Verdict};
 /// Warnings printed in full; the JSON report lists them all.
 const SHOWN_WARNINGS: usize = 5;
 
+/// The verdict as the first line of a report says it.
+pub fn headline(verdict: Verdict) -> &'static str {
+    match verdict {
+        Verdict::Stands => "STANDS: compression and friction suffice",
+        Verdict::NeedsTension => "DOES NOT STAND: needs tension",
+        Verdict::NeedsFriction => "DOES NOT STAND: needs more friction",
+        Verdict::NeedsTensionAndFriction => "DOES NOT STAND: needs tension and more friction",
+        Verdict::Unsupported => "DOES NOT STAND: something touches no support",
+        Verdict::Unresolved => "UNRESOLVED: the solver did not converge",
+    }
+}
+
 /// Human-readable summary: verdict first, then the graded numbers, then the worst interfaces.
 pub fn summary(analysis: &Analysis, worst: usize) -> String {
     use std::fmt::Write;
     let a = &analysis.assembly;
     let s = &analysis.statics;
     let mut o = String::new();
-    let verdict = match s.verdict {
-        Verdict::Stands => "STANDS: compression and friction suffice".to_string(),
-        Verdict::NeedsTension => "DOES NOT STAND: needs tension".to_string(),
-        Verdict::NeedsFriction => "DOES NOT STAND: needs more friction".to_string(),
-        Verdict::NeedsTensionAndFriction => "DOES NOT STAND: needs tension and more friction".to_string(),
-        Verdict::Unsupported => "DOES NOT STAND: something touches no support".to_string(),
-        Verdict::Unresolved => "UNRESOLVED: the solver did not converge".to_string(),
-    };
+    let verdict = headline(s.verdict);
     let supports = a.blocks.iter().filter(|b| b.support).count();
     let _ = writeln!(o, "{verdict}");
     let _ = writeln!(
