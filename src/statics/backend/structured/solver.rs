@@ -63,6 +63,8 @@ struct Newton {
     xi: Vec<f64>,
     we: Vec<f64>,
     wg: Vec<f64>,
+    /// Zeros of the inequality rows (the constant part's r_G).
+    zeros_g: Vec<f64>,
 }
 
 /// The corrector's right-hand side (the residuals scaled by 1 − σ, the Δs constant term).
@@ -115,6 +117,7 @@ impl<'a, const C: usize> Solver<'a, C> {
             xi: vec![0.0; n],
             we: vec![0.0; me],
             wg: vec![0.0; mg],
+            zeros_g: vec![0.0; mg],
         };
         let corrector = Corrector { rx: vec![0.0; n], re: vec![0.0; me], rg: vec![0.0; mg], c: vec![0.0; mg] };
         let mut v = Vars::zeros(n, me, mg);
@@ -208,9 +211,8 @@ impl<'a, const C: usize> Solver<'a, C> {
             return Err(SolverStatus::NumericalError);
         }
         // Constant part of the step: K [x2; z2] = [−q; b].
-        let zeros_g = vec![0.0; mg];
-        let c2 = &mut self.newton.c2;
-        if !self.kkt.solve(sh, &self.sc, &self.minus_q, &sh.b_e, &zeros_g, &mut c2.x, &mut c2.ze, &mut c2.z, true) {
+        let Newton { c2, zeros_g, .. } = &mut self.newton;
+        if !self.kkt.solve(sh, &self.sc, &self.minus_q, &sh.b_e, zeros_g, &mut c2.x, &mut c2.ze, &mut c2.z, true) {
             return Err(SolverStatus::NumericalError);
         }
         for j in 0..n {
@@ -265,22 +267,26 @@ impl<'a, const C: usize> Solver<'a, C> {
         az.min(as_)
     }
 
-    /// v ← v + α Δ (the combined direction), keeping the previous iterate.
+    /// v ← v + α Δ (the combined direction), keeping the previous iterate. The new iterate is
+    /// written into the previous one's buffers and the two swapped, and so are the measures
+    /// (the next termination check overwrites every field): no allocation per iteration (each
+    /// was a fresh set of vectors of the problem's size, page faults included).
     fn take_step(&mut self, alpha: f64) {
-        self.prev = Some((self.v.clone(), self.inf.clone()));
-        let (v, d) = (&mut self.v, &self.comb);
-        for (x, dx) in v.x.iter_mut().zip(&d.x) {
-            *x += alpha * dx;
-        }
-        for (z, dz) in v.ze.iter_mut().zip(&d.ze) {
-            *z += alpha * dz;
-        }
-        for i in 0..v.s.len() {
-            v.s[i] += alpha * d.s[i];
-            v.z[i] += alpha * d.z[i];
-        }
-        v.tau += alpha * d.tau;
-        v.kappa += alpha * d.kappa;
+        let (prev_v, prev_inf) = self.prev.get_or_insert_with(|| (self.v.clone(), self.inf.clone()));
+        let (v, d) = (&self.v, &self.comb);
+        let axpy = |out: &mut [f64], x: &[f64], dx: &[f64]| {
+            for ((o, x), dx) in out.iter_mut().zip(x).zip(dx) {
+                *o = x + alpha * dx;
+            }
+        };
+        axpy(&mut prev_v.x, &v.x, &d.x);
+        axpy(&mut prev_v.ze, &v.ze, &d.ze);
+        axpy(&mut prev_v.s, &v.s, &d.s);
+        axpy(&mut prev_v.z, &v.z, &d.z);
+        prev_v.tau = v.tau + alpha * d.tau;
+        prev_v.kappa = v.kappa + alpha * d.kappa;
+        std::mem::swap(&mut self.v, prev_v);
+        std::mem::swap(&mut self.inf, prev_inf);
     }
 
     /// Like clarabel: on insufficient progress go back to the last iterate; on trouble or the
