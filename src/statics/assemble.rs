@@ -388,5 +388,6 @@ pub fn contact_problem<'a>(sys: &'a System, stage: Stage, settings: &StaticsSett
     if let (Stage::Distribution { excess, .. }, true) = (stage, lay.friction) {
         budgets.push(Budget { var: Var::Slack, limit: tension_budget(excess) });
     }
-    ContactProblem { geometry: &sys.geometry, vars, model: sys.model, mu: sys.mu, p, q, budgets, factor: None }
+    let threads = if settings.parallel { 2 } else { 1 };
+    ContactProblem { geometry: &sys.geometry, vars, model: sys.model, mu: sys.mu, p, q, budgets, factor: None, threads }
 }

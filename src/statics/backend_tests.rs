@@ -89,3 +89,31 @@ fn the_cone_slope_excess_is_sin_minus_mu_cos() {
     let c = run(&cp, Backend::Clarabel, LP, 200);
     assert!((o.objective - c.objective).abs() < 1e-9, "{} vs clarabel {}", o.objective, c.objective);
 }
+
+/// Invariant: the factorisation on two threads (faer's supernodal kernels on rayon, forced here
+/// on a problem below the size where it is used) solves the same problem to the same answer as
+/// the serial one: same status, the objectives within 1e-10 relative, the forces within 1e-8
+/// of the largest.
+#[test]
+fn two_thread_factorisation_gives_the_serial_answer() {
+    use super::backend::structured::solve_from;
+    let settings = StaticsSettings::default();
+    let sys = system("wall?courses=10&bricks=10", 0.6, FrictionModel::Pyramid8, false);
+    let mut cp = contact_problem(&sys, Stage::Strict, &settings);
+    cp.threads = 1;
+    let serial = solve_from(&cp, LP, 200, 0).expect("the structured solver takes the strict QP");
+    cp.threads = 2;
+    let parallel = solve_from(&cp, LP, 200, 0).expect("the structured solver takes the strict QP");
+    assert_eq!(serial.status, SolverStatus::Solved);
+    assert_eq!(parallel.status, serial.status);
+    let scale = serial.objective.abs().max(1e-300);
+    assert!(
+        (parallel.objective - serial.objective).abs() <= 1e-10 * scale,
+        "{} vs {}",
+        parallel.objective,
+        serial.objective
+    );
+    let largest = serial.x.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let worst = serial.x.iter().zip(&parallel.x).fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+    assert!(worst <= 1e-8 * largest, "forces differ by {worst} (largest {largest})");
+}

@@ -384,6 +384,9 @@ pub fn solve_components(
             right.push(i);
         }
     }
+    // Each thread solves serially: the two already use both cores.
+    let serial = StaticsSettings { parallel: false, ..settings.clone() };
+    let solve = |c: &Component| solve_component(assembly, interfaces, c, mu, &serial);
     let mut out: Vec<Option<ComponentOutcome>> = vec![None; comps.len()];
     let right_results = std::thread::scope(|s| {
         let handle = s.spawn(|| right.iter().map(|&i| (i, solve(&comps[i]))).collect::<Vec<_>>());

@@ -28,12 +28,23 @@ use solver::solve_c;
 /// Solves `cp`; `None` when it has a shape this solver does not take (it then goes to
 /// clarabel).
 pub fn solve(cp: &ContactProblem, acc: Accuracy, max_iter: u32) -> Option<IpmOutcome> {
+    solve_from(cp, acc, max_iter, kkt::PARALLEL_FROM)
+}
+
+/// [`solve`], its factorisation on `cp.threads` threads from `parallel_from` entries of the
+/// factor (tests force the parallel path on small problems with 0).
+pub(crate) fn solve_from(
+    cp: &ContactProblem,
+    acc: Accuracy,
+    max_iter: u32,
+    parallel_from: usize,
+) -> Option<IpmOutcome> {
     match cp.per_point() {
-        1 => solve_c::<1>(cp, acc, max_iter),
-        2 => solve_c::<2>(cp, acc, max_iter),
-        3 => solve_c::<3>(cp, acc, max_iter),
-        4 => solve_c::<4>(cp, acc, max_iter),
-        5 => solve_c::<5>(cp, acc, max_iter),
+        1 => solve_c::<1>(cp, acc, max_iter, parallel_from),
+        2 => solve_c::<2>(cp, acc, max_iter, parallel_from),
+        3 => solve_c::<3>(cp, acc, max_iter, parallel_from),
+        4 => solve_c::<4>(cp, acc, max_iter, parallel_from),
+        5 => solve_c::<5>(cp, acc, max_iter, parallel_from),
         _ => None,
     }
 }

@@ -21,9 +21,14 @@ pub struct IpmOutcome {
     pub iterations: u32,
 }
 
-pub(super) fn solve_c<const C: usize>(cp: &ContactProblem, acc: Accuracy, max_iter: u32) -> Option<IpmOutcome> {
+pub(super) fn solve_c<const C: usize>(
+    cp: &ContactProblem,
+    acc: Accuracy,
+    max_iter: u32,
+    parallel_from: usize,
+) -> Option<IpmOutcome> {
     let sh = Shape::<C>::new(cp)?;
-    let kkt = Kkt::<C>::new(&sh)?;
+    let kkt = Kkt::<C>::new(&sh, cp.threads, parallel_from)?;
     let mut ip = Solver::new(&sh, kkt, acc);
     if !ip.initial_point() {
         return Some(ip.outcome(SolverStatus::NumericalError, 0));
