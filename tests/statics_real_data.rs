@@ -120,3 +120,38 @@ fn the_relaxed_first_path_gives_the_strict_verdict_on_the_armadillo() {
     assert!(strict.statics.stands && relaxed.statics.stands);
     assert_eq!((relaxed.statics.tension_ratio, relaxed.statics.friction_excess_ratio), (0.0, 0.0));
 }
+
+/// Invariant: where the Armadillo stands — μ = 0.84, and μ = 0.3 near its limit, where a few
+/// interfaces carry only the solver's round-off (~1e-9 W) — every interface's friction is within
+/// pyramid8's capacity, 1/cos 22.5° = 108.24 % of μ·compression, up to what the solver resolves
+/// (1e-8 W, the verdict's floor, and 1e-4 relative: the polished forces of an interface at its
+/// limit overshoot by ~1e-5), and the reported use of an interface whose friction is below
+/// that is 0, not the 1 249 % of a round-off force that stood beside "stands".
+#[test]
+fn a_standing_armadillo_reports_no_friction_use_beyond_the_pyramid() {
+    let s = scene("compas_cra/armadillo_cra.json");
+    let capacity = 1.0 / std::f64::consts::FRAC_PI_8.cos();
+    for mu in [0.84, 0.3] {
+        let mut set = AnalysisSettings::default();
+        set.statics.friction = Some(mu);
+        let r = run(&s, &set).statics;
+        assert_eq!(r.verdict, Verdict::Stands, "μ = {mu}");
+        let resolved = 1e-8 * r.free_weight;
+        for i in &r.interfaces {
+            let what = format!(
+                "μ = {mu}: {} | {} uses {:.5} (friction {:.3e} W, compression {:.3e} W)",
+                i.a,
+                i.b,
+                i.friction_utilization,
+                i.friction / r.free_weight,
+                i.compression / r.free_weight
+            );
+            assert!(i.friction <= capacity * mu * i.compression * (1.0 + 1e-4) + resolved, "{what}");
+            if i.friction <= resolved {
+                assert_eq!(i.friction_utilization, 0.0, "{what}");
+            }
+        }
+        // The headline number follows: the worst use is what resolved forces make it.
+        assert!(r.max_friction_utilization <= capacity * 1.001, "μ = {mu}: {}", r.max_friction_utilization);
+    }
+}
