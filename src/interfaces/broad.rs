@@ -53,10 +53,10 @@ mod tests {
     use crate::model::{Assembly, builtin};
 
     /// Invariant: the broad phase misses no pair that has an interface (detection over every
-    /// pair finds exactly the interfaces detection over the candidates finds), and on a long
-    /// wall — its model-wide coplanar tolerance (3e-3 of 160 m) longer than a brick — it keeps
-    /// the candidates near the touching pairs: a brick touches at most 6 others, and the
-    /// margins only add the diagonal neighbours (at most 2 per brick and course).
+    /// pair within 1 m finds exactly the touching pairs detection over the candidates finds),
+    /// and on a long wall — its model-wide coplanar tolerance (3e-3 of 160 m) longer than a
+    /// brick — the candidates stay near the touching pairs: fewer than 2 extra per brick (the
+    /// model-wide margin gave 12 362 candidates for 3 198 touching pairs of 1 201 bricks).
     #[test]
     fn long_wall_candidates_are_the_neighbours() {
         let scene = builtin("wall?courses=3&bricks=400").unwrap();
