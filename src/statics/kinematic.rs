@@ -330,9 +330,9 @@ fn round_problem(sys: &System, inertia: &[BlockInertia], caps: &[f64]) -> (Conic
 fn equilibrium_rows(sys: &System, cols: &Columns) -> Vec<(usize, usize, f64)> {
     let per = sys.layout.per_point;
     let (u, v) = (sys.layout.offset(Var::Cu), sys.layout.offset(Var::Cv));
-    sys.eq
-        .iter()
-        .filter_map(|&(row, col, value)| {
+    sys.eq_triplets()
+        .into_iter()
+        .filter_map(|(row, col, value)| {
             let (p, off) = (col / per, Some(col % per));
             let to = if off == Some(0) {
                 Some(cols.normal[p])
