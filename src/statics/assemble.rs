@@ -3,7 +3,7 @@
 //! form), in the row and variable order documented in the statics module. No solver types here.
 
 use super::components::Component;
-use super::problem::{Budget, Contact, ContactProblem, FrictionModel, Geometry, Side, Var, wrench};
+use super::problem::{Budget, Contact, ContactProblem, FrictionModel, Geometry, Side, Var, motion_at, wrench};
 use super::settings::StaticsSettings;
 use crate::geometry::{Point3, Vector3};
 use crate::interfaces::{Body, Interface};
@@ -152,11 +152,12 @@ impl System {
         [v(Var::CnPos) - v(Var::CnNeg), v(Var::Cu), v(Var::Cv)]
     }
 
-    /// `A_eq x`: the wrench of the point forces `x` on each block (non-dimensional), summed per
-    /// interface about its origin and mapped to its blocks, as the solvers do ([`Geometry`]).
-    pub fn a_mul(&self, x: &[f64]) -> Vec<f64> {
+    /// `A_eq x` into `out` (one entry per equilibrium row): the wrench of the point forces `x`
+    /// on each block (non-dimensional), summed per interface about its origin and mapped to its
+    /// blocks, as the solvers do ([`Geometry`]).
+    pub fn a_mul(&self, x: &[f64], out: &mut [f64]) {
         let g = &self.geometry;
-        let mut out = vec![0.0; self.eq_rhs.len()];
+        out.fill(0.0);
         for contact in &g.contacts {
             let mut w = [0.0; 6];
             for p in contact.points.clone() {
@@ -164,12 +165,9 @@ impl System {
                 w.iter_mut().zip(wp).for_each(|(a, b)| *a += b);
             }
             for side in contact.sides.iter().flatten() {
-                for (r, row) in out[6 * side.block..6 * side.block + 6].iter_mut().enumerate() {
-                    *row += (0..6).map(|k| side.psi[r][k] * w[k]).sum::<f64>();
-                }
+                side.add_wrench(&w, &mut out[6 * side.block..6 * side.block + 6]);
             }
         }
-        out
     }
 
     /// `A_eqᵀ y` into `out` (one entry per column of x): per interface the blocks' rows seen
@@ -180,18 +178,10 @@ impl System {
         for contact in &g.contacts {
             let mut u = [0.0; 6];
             for side in contact.sides.iter().flatten() {
-                let ys = &y[6 * side.block..6 * side.block + 6];
-                for (k, uk) in u.iter_mut().enumerate() {
-                    *uk += (0..6).map(|r| side.psi[r][k] * ys[r]).sum::<f64>();
-                }
+                side.add_seen(&y[6 * side.block..6 * side.block + 6], &mut u);
             }
             for p in contact.points.clone() {
-                let rho = &g.rho[p];
-                let t = [
-                    u[0] + u[4] * rho[2] - u[5] * rho[1],
-                    u[1] + u[5] * rho[0] - u[3] * rho[2],
-                    u[2] + u[3] * rho[1] - u[4] * rho[0],
-                ];
+                let t = motion_at(&u, &g.rho[p]);
                 for (var, v) in [(Var::CnPos, t[0]), (Var::CnNeg, -t[0]), (Var::Cu, t[1]), (Var::Cv, t[2])] {
                     if let Some(col) = self.col(p, var) {
                         out[col] = v;
@@ -215,15 +205,8 @@ impl System {
         for contact in &g.contacts {
             for p in contact.points.clone() {
                 for (var, e) in units {
-                    let Some(col) = self.col(p, var) else { continue };
-                    let w = wrench(&g.rho[p], &e);
-                    for side in contact.sides.iter().flatten() {
-                        for r in 0..6 {
-                            let v: f64 = (0..6).map(|k| side.psi[r][k] * w[k]).sum();
-                            if v != 0.0 {
-                                out.push((6 * side.block + r, col, v));
-                            }
-                        }
+                    if let Some(col) = self.col(p, var) {
+                        contact.force_rows(&g.rho[p], &e, |row, v| out.push((row, col, v)));
                     }
                 }
             }
@@ -233,7 +216,8 @@ impl System {
 
     /// `A_eq x − b_eq` (non-dimensional).
     pub fn residual_vector(&self, x: &[f64]) -> Vec<f64> {
-        let mut r = self.a_mul(x);
+        let mut r = vec![0.0; self.eq_rhs.len()];
+        self.a_mul(x, &mut r);
         r.iter_mut().zip(&self.eq_rhs).for_each(|(r, b)| *r -= b);
         r
     }
@@ -250,7 +234,7 @@ impl System {
     pub fn polish(&self, x: &mut [f64]) {
         let m = self.eq_rhs.len();
         let apply_at = |y: &[f64], out: &mut Vec<f64>| self.at_mul(y, out);
-        let apply_a = |z: &[f64], out: &mut Vec<f64>| *out = self.a_mul(z);
+        let apply_a = |z: &[f64], out: &mut Vec<f64>| self.a_mul(z, out);
         let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
         let r0 = self.residual_vector(x);
         let start = self.residual(x);

@@ -155,7 +155,8 @@ fn equilibrium_operator_from_the_contact_form_is_the_textbook_one() {
             // Deterministic test vectors.
             let x: Vec<f64> = (0..n).map(|j| ((j * 7919) % 1000) as f64 / 1000.0 - 0.3).collect();
             let y: Vec<f64> = (0..m).map(|i| ((i * 104_729) % 997) as f64 / 997.0 - 0.5).collect();
-            let ax = sys.a_mul(&x);
+            let mut ax = vec![0.0; m];
+            sys.a_mul(&x, &mut ax);
             let mut aty = vec![0.0; n];
             sys.at_mul(&y, &mut aty);
             let (mut want_ax, mut want_aty) = (vec![0.0; m], vec![0.0; n]);

@@ -174,12 +174,54 @@ pub struct Side {
     pub psi: [[f64; 6]; 6],
 }
 
+impl Side {
+    /// `out += Ψ w`: a wrench about the interface origin (in its frame) added to the block's
+    /// six rows `out`.
+    pub fn add_wrench(&self, w: &[f64; 6], out: &mut [f64]) {
+        for (o, row) in out[..6].iter_mut().zip(&self.psi) {
+            let mut s = 0.0;
+            for (p, wc) in row.iter().zip(w) {
+                s += p * wc;
+            }
+            *o += s;
+        }
+    }
+
+    /// `out += Ψᵀ y`: the block's six rows `y` seen in the interface frame.
+    pub fn add_seen(&self, y: &[f64], out: &mut [f64; 6]) {
+        for (c, o) in out.iter_mut().enumerate() {
+            let mut s = 0.0;
+            for (row, yr) in self.psi.iter().zip(y) {
+                s += row[c] * yr;
+            }
+            *o += s;
+        }
+    }
+}
+
 /// An interface of the component: its force points and the free blocks it touches.
 #[derive(Clone, Debug)]
 pub struct Contact {
     pub points: std::ops::Range<usize>,
     /// Block a (−) and block b (+), when free.
     pub sides: [Option<Side>; 2],
+}
+
+impl Contact {
+    /// The block rows a force `f` (interface frame) at `rho` enters, as `push(row, value)`:
+    /// one equilibrium column, zeros left out.
+    pub fn force_rows(&self, rho: &[f64; 3], f: &[f64; 3], mut push: impl FnMut(usize, f64)) {
+        let w = wrench(rho, f);
+        for side in self.sides.iter().flatten() {
+            let mut rows = [0.0; 6];
+            side.add_wrench(&w, &mut rows);
+            for (r, v) in rows.into_iter().enumerate() {
+                if v != 0.0 {
+                    push(6 * side.block + r, v);
+                }
+            }
+        }
+    }
 }
 
 /// The stage-independent geometry of a component's problem.
@@ -334,19 +376,10 @@ impl ContactProblem<'_> {
     /// `contact` with local offset `rho`.
     fn point_equilibrium(&self, contact: &Contact, rho: &[f64; 3], out: &mut Vec<(usize, usize, f64)>) {
         let n = self.force_map();
-        for side in contact.sides.iter().flatten() {
-            for (k, _) in self.vars.iter().enumerate() {
-                let f = [n[0][k], n[1][k], n[2][k]];
-                if f == [0.0; 3] {
-                    continue;
-                }
-                let w = wrench(rho, &f);
-                for (r, row) in side.psi.iter().enumerate() {
-                    let v: f64 = row.iter().zip(&w).map(|(a, b)| a * b).sum();
-                    if v != 0.0 {
-                        out.push((6 * side.block + r, k, v));
-                    }
-                }
+        for (k, _) in self.vars.iter().enumerate() {
+            let f = [n[0][k], n[1][k], n[2][k]];
+            if f != [0.0; 3] {
+                contact.force_rows(rho, &f, |row, v| out.push((row, k, v)));
             }
         }
     }
@@ -418,6 +451,12 @@ impl ContactProblem<'_> {
 /// `[f; ρ × f]`: a force's wrench about the interface origin.
 pub fn wrench(rho: &[f64; 3], f: &[f64; 3]) -> [f64; 6] {
     [f[0], f[1], f[2], rho[1] * f[2] - rho[2] * f[1], rho[2] * f[0] - rho[0] * f[2], rho[0] * f[1] - rho[1] * f[0]]
+}
+
+/// The transpose of [`wrench`]: what the interface-frame rows `u` (force part, moment part)
+/// see of a unit force component at `rho`, `u_f + u_m × ρ`.
+pub fn motion_at(u: &[f64; 6], rho: &[f64; 3]) -> [f64; 3] {
+    [u[0] + u[4] * rho[2] - u[5] * rho[1], u[1] + u[5] * rho[0] - u[3] * rho[2], u[2] + u[3] * rho[1] - u[4] * rho[0]]
 }
 
 #[cfg(test)]

@@ -24,7 +24,7 @@
 
 use super::cones::Scaling;
 use super::shape::Shape;
-use crate::statics::problem::{Side as ContactSide, wrench};
+use crate::statics::problem::{Side as ContactSide, motion_at, wrench};
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::cholesky::llt::factor::LltRegularization;
 use faer::sparse::linalg::SupernodalThreshold;
@@ -142,26 +142,6 @@ fn mat_vec<const C: usize>(m: &[[f64; C]; C], v: &[f64; C]) -> [f64; C] {
     out
 }
 
-fn psi_mul(psi: &Mat6, w: &[f64; 6], out: &mut [f64]) {
-    for r in 0..6 {
-        let mut s = 0.0;
-        for c in 0..6 {
-            s += psi[r][c] * w[c];
-        }
-        out[r] += s;
-    }
-}
-
-fn psi_t_mul(psi: &Mat6, z: &[f64], out: &mut [f64; 6]) {
-    for c in 0..6 {
-        let mut s = 0.0;
-        for r in 0..6 {
-            s += psi[r][c] * z[r];
-        }
-        out[c] += s;
-    }
-}
-
 /// K += T Y Tᵀ for one point at ρ (lower triangle of K), T = [I; [ρ]×]: Y, R Y and R Y Rᵀ
 /// with R = [ρ]×.
 fn add_point_wrench(k6: &mut Mat6, y: &[[f64; 3]; 3], rho: &[f64; 3]) {
@@ -191,11 +171,7 @@ fn add_point_wrench(k6: &mut Mat6, y: &[[f64; 3]; 3], rho: &[f64; 3]) {
 
 /// `Nᵀ (U_top + U_bot × ρ)`: a contact's block motions seen by one point's variables.
 fn point_motion<const C: usize>(sh: &Shape<C>, u: &[f64; 6], rho: &[f64; 3]) -> [f64; C] {
-    let g = [
-        u[0] + u[4] * rho[2] - u[5] * rho[1],
-        u[1] + u[5] * rho[0] - u[3] * rho[2],
-        u[2] + u[3] * rho[1] - u[4] * rho[0],
-    ];
+    let g = motion_at(u, rho);
     let mut t = [0.0; C];
     for k in 0..C {
         t[k] = sh.fmap[0][k] * g[0] + sh.fmap[1][k] * g[1] + sh.fmap[2][k] * g[2];
@@ -522,7 +498,7 @@ impl<const C: usize> Kkt<C> {
             self.scatter(side.block, side.block, &d, None);
             for kb in 0..nk {
                 let mut w = [0.0; 6];
-                psi_mul(&side.psi, &v[kb], &mut w);
+                side.add_wrench(&v[kb], &mut w);
                 for (c, wc) in w.iter().enumerate() {
                     let at = self.col_ptr[6 * side.block + c + 1] - nk + kb;
                     self.values[at] += wc;
@@ -653,7 +629,7 @@ impl<const C: usize> Kkt<C> {
                 }
             }
             for side in contact.sides.iter().flatten() {
-                psi_mul(&side.psi, &w6, &mut self.rhs_s[6 * side.block..6 * side.block + 6]);
+                side.add_wrench(&w6, &mut self.rhs_s[6 * side.block..6 * side.block + 6]);
             }
         }
         let nk = sh.budget_vars.len();
@@ -679,7 +655,7 @@ impl<const C: usize> Kkt<C> {
         for contact in sh.contacts {
             let mut u = [0.0f64; 6];
             for side in contact.sides.iter().flatten() {
-                psi_t_mul(&side.psi, &ze[6 * side.block..6 * side.block + 6], &mut u);
+                side.add_seen(&ze[6 * side.block..6 * side.block + 6], &mut u);
             }
             for p in contact.points.clone() {
                 let mut t = point_motion(sh, &u, &sh.rho[p]);

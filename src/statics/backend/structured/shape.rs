@@ -7,7 +7,7 @@
 //! `−λ ≤ 0`]. λ's column is the live load in the block rows.
 
 use super::cones::Scaling;
-use crate::statics::problem::{Contact, ContactProblem, wrench};
+use crate::statics::problem::{Contact, ContactProblem, motion_at, wrench};
 
 pub struct Shape<'a, const C: usize> {
     pub blocks: usize,
@@ -151,14 +151,7 @@ impl<'a, const C: usize> Shape<'a, C> {
                 }
             }
             for side in contact.sides.iter().flatten() {
-                let out = &mut out_e[6 * side.block..6 * side.block + 6];
-                for r in 0..6 {
-                    let mut s = 0.0;
-                    for c in 0..6 {
-                        s += side.psi[r][c] * w6[c];
-                    }
-                    out[r] += s;
-                }
+                side.add_wrench(&w6, &mut out_e[6 * side.block..6 * side.block + 6]);
             }
         }
         for kb in 0..self.budgets() {
@@ -180,22 +173,10 @@ impl<'a, const C: usize> Shape<'a, C> {
         for contact in self.contacts {
             let mut u = [0.0f64; 6];
             for side in contact.sides.iter().flatten() {
-                let z = &ze[6 * side.block..6 * side.block + 6];
-                for c in 0..6 {
-                    let mut s = 0.0;
-                    for r in 0..6 {
-                        s += side.psi[r][c] * z[r];
-                    }
-                    u[c] += s;
-                }
+                side.add_seen(&ze[6 * side.block..6 * side.block + 6], &mut u);
             }
             for p in contact.points.clone() {
-                let rho = &self.rho[p];
-                let g3 = [
-                    u[0] + u[4] * rho[2] - u[5] * rho[1],
-                    u[1] + u[5] * rho[0] - u[3] * rho[2],
-                    u[2] + u[3] * rho[1] - u[4] * rho[0],
-                ];
+                let g3 = motion_at(&u, &self.rho[p]);
                 let mut t = [0.0f64; C];
                 for k in 0..C {
                     t[k] = self.fmap[0][k] * g3[0] + self.fmap[1][k] * g3[1] + self.fmap[2][k] * g3[2];
