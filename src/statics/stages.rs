@@ -299,7 +299,7 @@ impl<'a> ComponentSolve<'a> {
         let mut penalty = EXCESS_PENALTY.0;
         let mut tension: Option<f64> = None;
         let best = loop {
-            let out = self.stage(sys, Stage::FrictionExcess { tension: tension.unwrap_or(0.0), penalty });
+            let mut out = self.stage(sys, Stage::FrictionExcess { tension: tension.unwrap_or(0.0), penalty });
             if !solved(out.status) {
                 let msg = match out.status {
                     SolverStatus::Infeasible => "no equilibrium exists even with tension and unlimited friction \
@@ -309,7 +309,7 @@ impl<'a> ComponentSolve<'a> {
                 };
                 return Err(Box::new(self.failed(out.status, msg, sys.residual(&out.x) * sys.force_scale)));
             }
-            let used = sum(&out.x, Var::CnNeg);
+            let (used, slack) = sys.make_feasible(&mut out.x);
             if tension.is_none() && used <= tension_budget(0.0) {
                 tension = Some(0.0);
                 break out;
@@ -325,7 +325,7 @@ impl<'a> ComponentSolve<'a> {
                 // Its Σ s is resolved to ~1e-9 of the whole objective M T* + Σ s: when that
                 // cannot tell a small excess from none, the budget form decides (it is well
                 // behaved when the excess is small; its trouble was large ones).
-                if sum(&out.x, Var::Slack) >= 1e-6 * (penalty * t).max(1.0) {
+                if slack >= 1e-6 * (penalty * t).max(1.0) {
                     break out;
                 }
                 penalty = 0.0;
@@ -334,18 +334,19 @@ impl<'a> ComponentSolve<'a> {
             // M was too small: the optimum traded friction for tension.
             penalty = if penalty < EXCESS_PENALTY.1 { penalty * 100.0 } else { 0.0 };
         };
-        let excess = sum(&best.x, Var::Slack).max(0.0);
+        let excess = sum(&best.x, Var::Slack);
         Ok((best, tension.unwrap_or(0.0), excess))
     }
 
-    /// T*: the minimum-tension LP's optimum (non-dimensional).
+    /// T*: the minimum-tension LP's optimum (non-dimensional), at its solution made feasible
+    /// ([`System::make_feasible`]).
     fn minimum_tension(&mut self, sys: &System) -> Result<f64, Box<ComponentOutcome>> {
-        let out = self.stage(sys, Stage::Tension);
+        let mut out = self.stage(sys, Stage::Tension);
         if !solved(out.status) {
             let msg = format!("the minimum-tension LP ended with status {:?}", out.status);
             return Err(Box::new(self.failed(out.status, msg, sys.residual(&out.x) * sys.force_scale)));
         }
-        Ok(out.objective.max(0.0))
+        Ok(sys.make_feasible(&mut out.x).0)
     }
 
     /// Polishes the equilibrium residual and scales the solution back to N.
