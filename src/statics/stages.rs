@@ -292,15 +292,20 @@ impl<'a> ComponentSolve<'a> {
     /// The exact-penalty friction-excess LP first: when its optimum needs no tension, it is the
     /// whole answer (T* = 0 below the LPs' resolution, F* its Σ s). Otherwise the
     /// minimum-tension LP gives T*, and the penalty LP's answer stands if its tension is T*; if
-    /// not, M was too small: ×100, and past its largest the budget form. Returns the last LP's
-    /// outcome, T* and F*.
+    /// not, M was too small: ×100, and past its largest the budget form. Returns the chosen
+    /// LP's outcome (made feasible: [`System::make_feasible`]), T* and F*.
     fn minimum_excess(&mut self, sys: &System) -> Result<(QpOutcome, f64, f64), Box<ComponentOutcome>> {
-        let sum = |x: &[f64], var: Var| (0..sys.points.len()).map(|i| sys.value(x, i, var)).sum::<f64>();
         let mut penalty = EXCESS_PENALTY.0;
         let mut tension: Option<f64> = None;
-        let best = loop {
+        // A penalty LP's answer within T*'s budget whose Σ s was too small to tell from none:
+        // a feasible state, so an upper bound the budget form must beat.
+        let mut within: Option<(QpOutcome, f64)> = None;
+        let (best, excess) = loop {
             let mut out = self.stage(sys, Stage::FrictionExcess { tension: tension.unwrap_or(0.0), penalty });
             if !solved(out.status) {
+                if let Some(found) = within.take() {
+                    break found;
+                }
                 let msg = match out.status {
                     SolverStatus::Infeasible => "no equilibrium exists even with tension and unlimited friction \
                                                  (some block cannot be held in some direction)"
@@ -312,29 +317,33 @@ impl<'a> ComponentSolve<'a> {
             let (used, slack) = sys.make_feasible(&mut out.x);
             if tension.is_none() && used <= tension_budget(0.0) {
                 tension = Some(0.0);
-                break out;
+                break (out, slack);
             }
             let t = match tension {
                 Some(t) => t,
                 None => *tension.insert(self.minimum_tension(sys)?),
             };
             if penalty == 0.0 {
-                break out;
+                // Both are feasible states within the budget: the smaller excess is nearer F*.
+                break match within {
+                    Some((w, ws)) if ws <= slack => (w, ws),
+                    _ => (out, slack),
+                };
             }
             if used <= tension_budget(t) {
                 // Its Σ s is resolved to ~1e-9 of the whole objective M T* + Σ s: when that
                 // cannot tell a small excess from none, the budget form decides (it is well
                 // behaved when the excess is small; its trouble was large ones).
                 if slack >= 1e-6 * (penalty * t).max(1.0) {
-                    break out;
+                    break (out, slack);
                 }
+                within = Some((out, slack));
                 penalty = 0.0;
                 continue;
             }
             // M was too small: the optimum traded friction for tension.
             penalty = if penalty < EXCESS_PENALTY.1 { penalty * 100.0 } else { 0.0 };
         };
-        let excess = sum(&best.x, Var::Slack);
         Ok((best, tension.unwrap_or(0.0), excess))
     }
 
