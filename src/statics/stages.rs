@@ -233,10 +233,12 @@ impl<'a> ComponentSolve<'a> {
     }
 
     /// Whether a relaxed-first answer needs the strict QP to confirm it: it misses standing by
-    /// less than [`CONFIRM_BELOW`] of the weight. An interior-point LP keeps every friction
-    /// slack strictly positive, so over thousands of points Σ s sums to ~1e-8 W where the true
-    /// minimum is 0 (the Armadillo: 1.3e-8 W, over the floor); the strict QP decides such a case
-    /// exactly as the strict-first path does, so both paths give one verdict.
+    /// less than [`CONFIRM_BELOW`] of the weight. The LPs' minima are read at feasible states
+    /// ([`System::make_feasible`]), upper bounds whose rows an interior point met only to its
+    /// tolerance: over thousands of points such a bound can pass the floor where the true
+    /// minimum is 0 (the Armadillo, before the minima were read at feasible states: Σ s of
+    /// 1.3e-8 W). The strict QP decides such a case exactly as the strict-first path does, so
+    /// both paths give one verdict.
     fn to_confirm(&self, s: &Solution) -> bool {
         let (weight, lightest) = self.weights;
         let threshold = stand_threshold(self.settings, lightest, weight) / s.sys.force_scale;
