@@ -1,20 +1,27 @@
 //! The ECS edit loop: one `EditDesign` message (move a cut) → app.update() → cut, detect,
 //! solve and entities written. On 10 independent stacks of 10 blocks (100 blocks; the edit
 //! touches one stack), a 100-brick wall (one component: the whole wall is solved again) and
-//! the Armadillo vault (399 blocks, one of them cut; one component).
+//! the Armadillo vault (399 blocks, one of them cut; one component). The app's solves start
+//! from the previous edit's iterates (`warm_start`, the editor's setting); the `_cold` benches
+//! run the same edits with it off.
 
 use bevy::prelude::*;
 use criterion::{Criterion, criterion_group, criterion_main};
 use std::path::PathBuf;
 use std::time::Duration;
-use voussoir::ecs::{EditDesign, SceneStatus, VoussoirPlugins};
+use voussoir::analysis::AnalysisSettings;
+use voussoir::ecs::{EditDesign, SceneStatus, Settings, VoussoirPlugins};
 use voussoir::model::edit::Edit;
 use voussoir::model::{Cut, Scene, builtin};
 
-/// An app with `scene` loaded and a cut of block `target` through `point` with `normal`.
-fn app_with(scene: Scene, target: &str, point: [f64; 3], normal: [f64; 3]) -> App {
+/// An app with `scene` loaded and a cut of block `target` through `point` with `normal`; its
+/// solves cold with `cold`.
+fn app_with(scene: Scene, target: &str, point: [f64; 3], normal: [f64; 3], cold: bool) -> App {
     let mut app = App::new();
     app.add_plugins((MinimalPlugins, VoussoirPlugins));
+    if cold {
+        app.insert_resource(Settings(AnalysisSettings::default()));
+    }
     app.world_mut().write_message(EditDesign(Edit::Load(scene)));
     app.world_mut().write_message(EditDesign(Edit::AddCut(Cut::plane(point, normal).on(target))));
     app.update();
@@ -48,22 +55,26 @@ fn edit_loop(c: &mut Criterion) {
     let name = stacks.blocks[5].name.clone();
     let cz = stacks.blocks[5].mesh.aabb().center().z;
     let cx = stacks.blocks[5].mesh.aabb().center().x;
-    let app = app_with(stacks, &name, [cx, 0.0, cz], [0.3, 0.0, 1.0]);
+    let app = app_with(stacks, &name, [cx, 0.0, cz], [0.3, 0.0, 1.0], false);
     bench_moves(c, "edit_loop/stacks_10x10_move_cut", app, [cx, 0.0, cz], [0.3, 0.0, 1.0], 0.05);
 
     let wall = builtin("wall?courses=10&bricks=10").unwrap();
     let brick = &wall.blocks[wall.blocks.len() / 2];
     let (name, c0) = (brick.name.clone(), brick.mesh.aabb().center());
-    let app = app_with(wall, &name, [c0.x, c0.y, c0.z], [1.0, 0.0, 0.0]);
-    bench_moves(c, "edit_loop/wall_100_move_cut", app, [c0.x, c0.y, c0.z], [1.0, 0.0, 0.0], 0.01);
+    for (cold, bench) in [(false, "edit_loop/wall_100_move_cut"), (true, "edit_loop/wall_100_move_cut_cold")] {
+        let app = app_with(wall.clone(), &name, [c0.x, c0.y, c0.z], [1.0, 0.0, 0.0], cold);
+        bench_moves(c, bench, app, [c0.x, c0.y, c0.z], [1.0, 0.0, 0.0], 0.01);
+    }
 
     let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("assets/compas/compas_cra/armadillo_cra.json");
     let mut armadillo = voussoir::io::load_scene(&path).unwrap();
     armadillo.material.friction = 0.84;
     let block = armadillo.blocks.iter().find(|b| !b.support).unwrap();
     let (name, c0) = (block.name.clone(), block.mesh.aabb().center());
-    let app = app_with(armadillo, &name, [c0.x, c0.y, c0.z], [0.0, 0.0, 1.0]);
-    bench_moves(c, "edit_loop/armadillo_move_cut", app, [c0.x, c0.y, c0.z], [0.0, 0.0, 1.0], 0.005);
+    for (cold, bench) in [(false, "edit_loop/armadillo_move_cut"), (true, "edit_loop/armadillo_move_cut_cold")] {
+        let app = app_with(armadillo.clone(), &name, [c0.x, c0.y, c0.z], [0.0, 0.0, 1.0], cold);
+        bench_moves(c, bench, app, [c0.x, c0.y, c0.z], [0.0, 0.0, 1.0], 0.005);
+    }
 }
 
 criterion_group! {

@@ -91,9 +91,25 @@ pub struct EditSettings(pub SettingsEdit);
 #[derive(Resource, Default, Clone, Debug)]
 pub struct Design(pub Option<Scene>);
 
-/// Analysis settings (documented defaults).
-#[derive(Resource, Default, Clone, Debug)]
+/// Analysis settings: the documented defaults, except that each solve starts from the
+/// previous edit's iterates (`StaticsSettings::warm_start`: the app is an editor; answers
+/// equal cold solves' to the solver's tolerance).
+#[derive(Resource, Clone, Debug)]
 pub struct Settings(pub AnalysisSettings);
+
+impl Settings {
+    /// `settings` for the editor: warm starts on.
+    pub fn editing(mut settings: AnalysisSettings) -> Self {
+        settings.statics.warm_start = true;
+        Self(settings)
+    }
+}
+
+impl Default for Settings {
+    fn default() -> Self {
+        Self::editing(AnalysisSettings::default())
+    }
+}
 
 /// The pipeline with its memory, and whether the design changed since it last ran.
 #[derive(Resource, Default)]

@@ -3,7 +3,7 @@
 //! box and cone rows, standing and failing designs.
 
 use super::assemble::{Stage, System, contact_problem};
-use super::backend::structured::solve;
+use super::backend::structured::{Warm, solve};
 use super::backend::{Backend, run};
 use super::components::components;
 use super::problem::{Accuracy, FrictionModel, SolverStatus, Var};
@@ -26,7 +26,7 @@ fn system(spec: &str, mu: f64, model: FrictionModel, relaxed: bool) -> System {
 fn both(sys: &System, stage: Stage) -> (SolverStatus, f64, f64) {
     let settings = StaticsSettings::default();
     let cp = contact_problem(sys, stage, &settings);
-    let s = solve(&cp, LP, 200).expect("the structured solver takes every stage");
+    let s = solve(&cp, LP, 200, Warm::Off).expect("the structured solver takes every stage");
     let c = run(&cp, Backend::Clarabel, LP, settings.max_iterations);
     let solved = |st: SolverStatus| matches!(st, SolverStatus::Solved | SolverStatus::AlmostSolved);
     let status = match (s.status, c.status) {
@@ -80,7 +80,7 @@ fn the_cone_slope_excess_is_sin_minus_mu_cos() {
     // friction, in the problem's units (forces / W).
     let sys = system("slope?angle=35", 0.5, FrictionModel::Cone, true);
     let cp = contact_problem(&sys, Stage::FrictionExcess { tension: 0.0, penalty: 1e3 }, &StaticsSettings::default());
-    let o = solve(&cp, LP, 200).unwrap();
+    let o = solve(&cp, LP, 200, Warm::Off).unwrap();
     assert!(matches!(o.status, SolverStatus::Solved | SolverStatus::AlmostSolved), "{:?}", o.status);
     let th = 35f64.to_radians();
     // The idealised sin θ − μ cos θ; the scene's geometry (detected interface, mass
@@ -101,9 +101,9 @@ fn two_thread_factorisation_gives_the_serial_answer() {
     let sys = system("wall?courses=10&bricks=10", 0.6, FrictionModel::Pyramid8, false);
     let mut cp = contact_problem(&sys, Stage::Strict, &settings);
     cp.threads = 1;
-    let serial = solve_from(&cp, LP, 200, 0).expect("the structured solver takes the strict QP");
+    let serial = solve_from(&cp, LP, 200, 0, Warm::Off).expect("the structured solver takes the strict QP");
     cp.threads = 2;
-    let parallel = solve_from(&cp, LP, 200, 0).expect("the structured solver takes the strict QP");
+    let parallel = solve_from(&cp, LP, 200, 0, Warm::Off).expect("the structured solver takes the strict QP");
     assert_eq!(serial.status, SolverStatus::Solved);
     assert_eq!(parallel.status, serial.status);
     let scale = serial.objective.abs().max(1e-300);
@@ -187,4 +187,59 @@ fn equilibrium_operator_from_the_contact_form_is_the_textbook_one() {
             }
         }
     }
+}
+
+/// The strict problem of `scene` (its first component, pyramid8, μ 0.6).
+fn strict_system(scene: &crate::model::Scene) -> System {
+    let asm = Assembly::new(scene, &Default::default()).unwrap();
+    let ifs = detect(&asm);
+    let comps = components(&asm, &ifs);
+    System::new(&asm, &ifs, &comps[0], 0.6, FrictionModel::Pyramid8, false)
+}
+
+/// Invariant: a warm start is only a starting point. From the iterate a solve of a wall kept,
+/// the same wall with one brick 10 % heavier (same rows and columns) is solved to the cold
+/// solve's optimum (objective within 5e-8 relative: both within the gap tolerance 1e-8 of it, and
+/// feasible to 1e-8; forces, in units of the weight, within 1e-5: a gap of 1e-8 allows
+/// √(2·1e-8) ≈ 1.4e-4 for an objective of unit curvature, and the cold solve is ~1e-6 from a
+/// solve to 1e-10 — tests/statics_warm_start.rs) in fewer
+/// iterations; a warm run cut short (capped at one iteration) is replaced by the cold solve
+/// itself, bit for bit, its iteration spent counted; a start of another size is not used (the
+/// cold solve, bit for bit).
+#[test]
+fn a_warm_start_is_only_a_starting_point() {
+    let settings = StaticsSettings::default();
+    let wall = builtin("wall?courses=6&bricks=6").unwrap();
+    let mut heavier = wall.clone();
+    heavier.blocks[20].density = Some(heavier.material.density * 1.1);
+    let (base, edited) = (strict_system(&wall), strict_system(&heavier));
+    let (cp_base, cp) =
+        (contact_problem(&base, Stage::Strict, &settings), contact_problem(&edited, Stage::Strict, &settings));
+    let acc = Accuracy::uniform(settings.solver_tolerance);
+    let kept = solve(&cp_base, acc, 200, Warm::Keep).unwrap().kept.expect("a solved problem keeps an iterate");
+    let cold = solve(&cp, acc, 200, Warm::Off).unwrap();
+    assert_eq!(cold.status, SolverStatus::Solved);
+
+    let warm = solve(&cp, acc, 200, Warm::From(&kept)).unwrap();
+    assert_eq!(warm.status, SolverStatus::Solved);
+    assert!(warm.iterations < cold.iterations, "warm {} vs cold {}", warm.iterations, cold.iterations);
+    assert!(
+        (warm.objective - cold.objective).abs() <= 5e-8 * cold.objective.abs(),
+        "{} vs {}",
+        warm.objective,
+        cold.objective
+    );
+    let worst = cold.x.iter().zip(&warm.x).fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+    assert!(worst <= 1e-5, "forces differ by {worst} W");
+
+    let cut_short = solve(&cp, acc, 200, Warm::From(&kept.clone().capped(1))).unwrap();
+    assert_eq!(cut_short.status, cold.status);
+    assert_eq!(cut_short.x, cold.x);
+    assert_eq!(cut_short.iterations, cold.iterations + 1);
+
+    let other = strict_system(&builtin("wall?courses=6&bricks=5").unwrap());
+    let cp_other = contact_problem(&other, Stage::Strict, &settings);
+    let other_cold = solve(&cp_other, acc, 200, Warm::Off).unwrap();
+    let other_warm = solve(&cp_other, acc, 200, Warm::From(&kept)).unwrap();
+    assert_eq!((other_warm.x, other_warm.iterations), (other_cold.x, other_cold.iterations));
 }

@@ -1,8 +1,12 @@
 //! Statics that remembers: each component's outcome is kept by the component's content — its
 //! blocks (geometry, support flag, density, name, dead loads), its interfaces (which of its blocks, or a
 //! fixed body, on each side; the polygon), gravity, μ and the settings — so after an edit only
-//! the components whose blocks or interfaces changed are solved again.
+//! the components whose blocks or interfaces changed are solved again. With
+//! `StaticsSettings::warm_start`, the strict QP's iterate each solve kept is also kept, by the
+//! component's layout (its blocks' count, and which blocks each interface joins with how many
+//! vertices): a component an edit changed but did not re-shape starts from them.
 
+use super::backend::WarmStart;
 use super::components::{Component, components, merged};
 use super::error::StaticsError;
 use super::result::{self, StaticsResult};
@@ -17,6 +21,8 @@ use std::hash::{Hash, Hasher};
 #[derive(Debug, Default)]
 pub struct StaticsCache {
     map: HashMap<u64, ComponentOutcome>,
+    /// The last run's kept iterates by component layout ([`layout_key`]).
+    warm: HashMap<u64, WarmStart>,
 }
 
 /// Components solved and reused by a cached analysis.
@@ -55,6 +61,21 @@ pub(crate) fn component_key(
     h.finish()
 }
 
+/// A component's layout: what fixes the rows and columns of its problems (not their numbers).
+fn layout_key(interfaces: &[Interface], comp: &Component, common: u64) -> u64 {
+    let mut h = std::collections::hash_map::DefaultHasher::new();
+    (common, comp.blocks.len()).hash(&mut h);
+    let side = |body: Body| match body {
+        Body::Block(b) => comp.blocks.binary_search(&b).map_or(u64::MAX, |i| i as u64),
+        Body::Ground => u64::MAX - 1,
+    };
+    for &k in &comp.interfaces {
+        let i = &interfaces[k];
+        (side(i.a), side(i.b), i.polygon.len()).hash(&mut h);
+    }
+    h.finish()
+}
+
 /// [`super::analyze`] with a cache of component outcomes (`block_keys` from
 /// [`crate::interfaces::block_keys`]). The cache keeps only this assembly's components
 /// afterwards.
@@ -85,7 +106,31 @@ pub fn analyze_cached(
     let missing: Vec<usize> = (0..comps.len()).filter(|&i| outcomes[i].is_none()).collect();
     let to_solve: Vec<Component> = missing.iter().map(|&i| comps[i].clone()).collect();
     let stats = SolveStats { solved: missing.len(), reused: comps.len() - missing.len() };
-    let solved = solve_components(assembly, interfaces, &to_solve, mu, settings);
+    let layouts: Vec<u64> = comps.iter().map(|c| layout_key(interfaces, c, common)).collect();
+    let warm: Vec<Option<&WarmStart>> = missing.iter().map(|&i| cache.warm.get(&layouts[i])).collect();
+    let solved = solve_components(assembly, interfaces, &to_solve, mu, settings, &warm);
+    let mut next_warm = HashMap::new();
+    let solved: Vec<ComponentOutcome> = solved
+        .into_iter()
+        .zip(&missing)
+        .map(|((out, kept), &i)| {
+            if let Some(kept) = kept {
+                next_warm.insert(layouts[i], kept);
+            }
+            out
+        })
+        .collect();
+    // A reused component keeps the iterates its last solve kept.
+    let mut reused = vec![true; comps.len()];
+    missing.iter().for_each(|&i| reused[i] = false);
+    for (i, layout) in layouts.iter().enumerate() {
+        if reused[i]
+            && let Some(w) = cache.warm.remove(layout)
+        {
+            next_warm.entry(*layout).or_insert(w);
+        }
+    }
+    cache.warm = next_warm;
     let mut solved = solved.into_iter();
     let mut next = HashMap::new();
     for (i, slot) in outcomes.iter_mut().enumerate() {

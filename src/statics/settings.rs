@@ -44,6 +44,13 @@ pub struct StaticsSettings {
     /// last LP (an equilibrium with those minima): about a third of the time on failing designs
     /// where only the graded numbers matter (sequence checks, order search).
     pub distribution: bool,
+    /// Start each component's solve from the iterates its previous solve kept, when the
+    /// component has the same blocks and interface layout (a cut moved a little, a block
+    /// nudged): an interactive editor's loop, through a long-lived pipeline (`Pipeline`, the
+    /// ECS app). The answers are those of cold solves to the solver's tolerance (a warm solve
+    /// that does not end `Solved` within the cold one's iterations is run again cold), not bit
+    /// for bit: so off by default, where the same input must give the same output.
+    pub warm_start: bool,
     /// Which interior-point solver runs the problems (the enum's `#[default]`).
     pub backend: Backend,
     /// Which stage a component's solve starts with (the enum's `#[default]`).
@@ -83,6 +90,7 @@ impl Default for StaticsSettings {
             parallel: true,
             split_components: true,
             distribution: true,
+            warm_start: false,
             backend: Backend::default(),
             first_stage: FirstStage::default(),
         }

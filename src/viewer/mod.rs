@@ -102,7 +102,7 @@ impl Plugin for ViewerPlugin {
         let per_step = StepChecks { dynamic: Some(DropSettings::default()), ..Default::default() };
         app.insert_resource(SequenceSettings(per_step))
             .insert_resource(ViewerState::new(o))
-            .insert_resource(Settings(o.settings.clone()))
+            .insert_resource(Settings::editing(o.settings.clone()))
             .insert_resource(ClearColor(Color::srgb(0.11, 0.11, 0.11)))
             .add_plugins((camera::CameraPlugin, draw::DrawPlugin, hud::HudPlugin, actions::ActionsPlugin))
             .add_plugins((input::InputPlugin, capture::CapturePlugin(o.script.clone())));

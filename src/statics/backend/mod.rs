@@ -13,6 +13,7 @@ pub(crate) mod structured;
 
 pub use clarabel::solve_conic;
 pub use outcome::{Backend, QpOutcome};
+pub use structured::{Warm, WarmStart};
 
 use crate::statics::problem::{Accuracy, ContactProblem};
 use std::time::Instant;
@@ -20,10 +21,22 @@ use std::time::Instant;
 /// Solves one problem on `backend` to `acc`, at most `max_iter` interior-point iterations: the
 /// structured solver when asked for and the problem has its shape, else clarabel.
 pub fn run(cp: &ContactProblem, backend: Backend, acc: Accuracy, max_iter: u32) -> QpOutcome {
+    run_warm(cp, backend, acc, max_iter, Warm::Off).0
+}
+
+/// [`run`] with a warm start ([`Warm`]; the structured solver only: clarabel starts cold and
+/// keeps nothing), and the iterate it kept for the next nearby problem.
+pub fn run_warm(
+    cp: &ContactProblem,
+    backend: Backend,
+    acc: Accuracy,
+    max_iter: u32,
+    warm: Warm,
+) -> (QpOutcome, Option<WarmStart>) {
     if backend == Backend::Structured {
         let t = Instant::now();
-        if let Some(o) = structured::solve(cp, acc, max_iter) {
-            return QpOutcome {
+        if let Some(o) = structured::solve(cp, acc, max_iter, warm) {
+            let out = QpOutcome {
                 status: o.status,
                 x: o.x,
                 duals: o.ze,
@@ -33,7 +46,8 @@ pub fn run(cp: &ContactProblem, backend: Backend, acc: Accuracy, max_iter: u32) 
                 convert_seconds: 0.0,
                 solver_seconds: t.elapsed().as_secs_f64(),
             };
+            return (out, o.kept);
         }
     }
-    clarabel::solve(cp, acc, max_iter)
+    (clarabel::solve(cp, acc, max_iter), None)
 }

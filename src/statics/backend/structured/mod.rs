@@ -22,13 +22,13 @@ mod shape;
 mod solver;
 
 use crate::statics::problem::{Accuracy, ContactProblem};
-pub use solver::IpmOutcome;
 use solver::solve_c;
+pub use solver::{IpmOutcome, Warm, WarmStart};
 
 /// Solves `cp`; `None` when it has a shape this solver does not take (it then goes to
 /// clarabel).
-pub fn solve(cp: &ContactProblem, acc: Accuracy, max_iter: u32) -> Option<IpmOutcome> {
-    solve_from(cp, acc, max_iter, kkt::PARALLEL_FROM)
+pub fn solve(cp: &ContactProblem, acc: Accuracy, max_iter: u32, warm: Warm) -> Option<IpmOutcome> {
+    solve_from(cp, acc, max_iter, kkt::PARALLEL_FROM, warm)
 }
 
 /// [`solve`], its factorisation on `cp.threads` threads from `parallel_from` entries of the
@@ -38,13 +38,14 @@ pub(crate) fn solve_from(
     acc: Accuracy,
     max_iter: u32,
     parallel_from: usize,
+    warm: Warm,
 ) -> Option<IpmOutcome> {
     match cp.per_point() {
-        1 => solve_c::<1>(cp, acc, max_iter, parallel_from),
-        2 => solve_c::<2>(cp, acc, max_iter, parallel_from),
-        3 => solve_c::<3>(cp, acc, max_iter, parallel_from),
-        4 => solve_c::<4>(cp, acc, max_iter, parallel_from),
-        5 => solve_c::<5>(cp, acc, max_iter, parallel_from),
+        1 => solve_c::<1>(cp, acc, max_iter, parallel_from, warm),
+        2 => solve_c::<2>(cp, acc, max_iter, parallel_from, warm),
+        3 => solve_c::<3>(cp, acc, max_iter, parallel_from, warm),
+        4 => solve_c::<4>(cp, acc, max_iter, parallel_from, warm),
+        5 => solve_c::<5>(cp, acc, max_iter, parallel_from, warm),
         _ => None,
     }
 }
