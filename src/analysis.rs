@@ -1,7 +1,7 @@
 //! The analysis pipeline: scene → cut history replayed → validated assembly → interfaces →
 //! statics, with timings; blocks that interpenetrate are a warning on the assembly, or with
-//! [`AnalysisSettings::strict`] an error. [`Pipeline`] keeps its work between runs (split pieces, block-pair
-//! interfaces and component solutions, each by content), so re-running after an edit
+//! [`AnalysisSettings::strict`] an error. [`Pipeline`] keeps its work between runs (repaired meshes, split pieces,
+//! block-pair interfaces and component solutions, each by content), so re-running after an edit
 //! recomputes only what the edit touched and reports how much in [`Work`]; [`analyze`] is one
 //! run of a fresh pipeline. The CLI and the ECS layer both go through [`Pipeline::run`] (one
 //! code path for results).
@@ -83,6 +83,7 @@ pub struct Analysis {
 #[derive(Debug, Default)]
 pub struct Pipeline {
     cuts: decompose::CutCache,
+    repairs: crate::geometry::RepairCache,
     pairs: interfaces::DetectCache,
     overlaps: interfaces::OverlapCache,
     components: statics::StaticsCache,
@@ -104,7 +105,7 @@ impl Pipeline {
         let tc = Instant::now();
         let (resolved, cut_stats) = decompose::resolve(scene, &settings.tolerances, &mut self.cuts)?;
         let t0 = Instant::now();
-        let mut assembly = Assembly::new(&resolved, &settings.tolerances)?;
+        let mut assembly = Assembly::new_cached(&resolved, &settings.tolerances, &mut self.repairs)?;
         let keys = interfaces::block_keys(&assembly);
         let overlaps = interfaces::overlaps_cached(&assembly, &keys, &mut self.overlaps);
         if settings.strict

@@ -60,10 +60,12 @@ pub struct ReplayStats {
     pub cached: usize,
 }
 
-/// Split results keyed by (piece geometry, plane, tolerance) content.
+/// Split results keyed by (piece geometry, plane, tolerance) content, and the source shapes'
+/// repairs by content.
 #[derive(Debug, Default)]
 pub struct CutCache {
     map: HashMap<u64, SplitResult>,
+    repairs: crate::geometry::RepairCache,
 }
 
 impl CutCache {
@@ -289,8 +291,11 @@ pub fn resolve(
         .map_err(|(b, source)| CutError::Source { block: scene.blocks[b].name.clone(), source })?;
     let tol = tolerances.resolve(tolerances.scale(scene.scale()));
     let mut sources = scene.blocks.clone();
+    cache.repairs.begin();
     for b in &mut sources {
-        b.mesh = crate::geometry::repair(&b.mesh, &tol)
+        b.mesh = cache
+            .repairs
+            .repair(&b.mesh, &tol)
             .map_err(|source| CutError::Source { block: b.name.clone(), source })?
             .mesh;
     }

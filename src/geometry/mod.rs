@@ -10,12 +10,14 @@ pub mod cut;
 pub mod mass;
 pub mod mesh;
 pub mod polygon;
+pub mod repair_cache;
 pub mod tolerances;
 pub mod validate;
 
 pub use mass::MassProperties;
 pub use mesh::{Aabb3, Mesh};
 pub use polygon::Plane;
+pub use repair_cache::RepairCache;
 pub use tolerances::Tolerances;
 pub use validate::{MeshError, MeshWarning, Repaired, repair};
 

@@ -3,7 +3,7 @@
 use super::{BlockId, BlockLoads, Material, Scene};
 use crate::geometry::polygon::{area_vector, centroid};
 use crate::geometry::tolerances::AbsTolerances;
-use crate::geometry::{Aabb3, MassProperties, Mesh, MeshError, MeshWarning, Point3, Tolerances, Vector3, repair};
+use crate::geometry::{Aabb3, MassProperties, Mesh, MeshError, MeshWarning, Point3, RepairCache, Tolerances, Vector3};
 use std::collections::HashSet;
 use std::path::PathBuf;
 use thiserror::Error;
@@ -202,6 +202,11 @@ pub struct Assembly {
 impl Assembly {
     /// Validates and repairs every block. Fails on the first block that cannot be repaired.
     pub fn new(scene: &Scene, tolerances: &Tolerances) -> Result<Self, ModelError> {
+        Self::new_cached(scene, tolerances, &mut RepairCache::default())
+    }
+
+    /// [`Self::new`] with the repairs kept by mesh content between runs (a pipeline's).
+    pub fn new_cached(scene: &Scene, tolerances: &Tolerances, repairs: &mut RepairCache) -> Result<Self, ModelError> {
         if scene.blocks.is_empty() {
             return Err(ModelError::NoBlocks);
         }
@@ -235,12 +240,14 @@ impl Assembly {
         let tol = tolerances.resolve(scale);
         let mut blocks = Vec::with_capacity(scene.blocks.len());
         let mut warnings = scene.warnings.clone();
+        repairs.begin();
         for b in &scene.blocks {
             let density = b.density.unwrap_or(scene.material.density);
             if !(density > 0.0 && density.is_finite()) {
                 return Err(ModelError::BadDensity { block: b.name.clone(), density });
             }
-            let r = repair(&b.mesh, &tol).map_err(|source| ModelError::Mesh { block: b.name.clone(), source })?;
+            let r =
+                repairs.repair(&b.mesh, &tol).map_err(|source| ModelError::Mesh { block: b.name.clone(), source })?;
             warnings.extend(r.warnings.into_iter().map(|w| Warning::Repair { block: b.name.clone(), warning: w }));
             let faces = face_data(&r.mesh);
             let largest = faces.iter().map(|f| f.area).fold(0.0, f64::max);
