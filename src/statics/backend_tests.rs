@@ -203,9 +203,10 @@ fn strict_system(scene: &crate::model::Scene) -> System {
 /// feasible to 1e-8; forces, in units of the weight, within 1e-5: a gap of 1e-8 allows
 /// √(2·1e-8) ≈ 1.4e-4 for an objective of unit curvature, and the cold solve is ~1e-6 from a
 /// solve to 1e-10 — tests/statics_warm_start.rs) in fewer
-/// iterations; a warm run cut short (capped at one iteration) is replaced by the cold solve
-/// itself, bit for bit, its iteration spent counted; a start of another size is not used (the
-/// cold solve, bit for bit).
+/// iterations, reusing the start's symbolic factorisation (the same pattern); a warm run cut
+/// short (capped at one iteration) is replaced by the cold solve itself, bit for bit, its
+/// iteration spent counted; a start of another size is not used (the cold solve, bit for bit,
+/// with its own symbolic factorisation).
 #[test]
 fn a_warm_start_is_only_a_starting_point() {
     let settings = StaticsSettings::default();
@@ -231,6 +232,7 @@ fn a_warm_start_is_only_a_starting_point() {
     );
     let worst = cold.x.iter().zip(&warm.x).fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
     assert!(worst <= 1e-5, "forces differ by {worst} W");
+    assert!(warm.kept.as_ref().expect("a warm solve keeps an iterate").shares_pattern(&kept));
 
     let cut_short = solve(&cp, acc, 200, Warm::From(&kept.clone().capped(1))).unwrap();
     assert_eq!(cut_short.status, cold.status);
@@ -241,5 +243,6 @@ fn a_warm_start_is_only_a_starting_point() {
     let cp_other = contact_problem(&other, Stage::Strict, &settings);
     let other_cold = solve(&cp_other, acc, 200, Warm::Off).unwrap();
     let other_warm = solve(&cp_other, acc, 200, Warm::From(&kept)).unwrap();
+    assert!(!other_warm.kept.as_ref().expect("a solved problem keeps an iterate").shares_pattern(&kept));
     assert_eq!((other_warm.x, other_warm.iterations), (other_cold.x, other_cold.iterations));
 }

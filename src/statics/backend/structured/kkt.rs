@@ -33,6 +33,7 @@ use faer::sparse::linalg::cholesky::{
 };
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, MatMut, Par, Side};
+use std::sync::Arc;
 
 /// Entries of S's Cholesky factor from which its numeric factorisation and solves run on the
 /// threads the problem allows (faer's supernodal kernels on rayon: they pay only where the
@@ -57,6 +58,16 @@ struct ContactSlots {
     off: [usize; 6],
 }
 
+/// S's pattern (lower triangle, CSC) and its symbolic factorisation — AMD ordering,
+/// elimination tree, supernodes: a function of the contact graph only, so a warm start carries
+/// it to the next problem of the same layout (on the Armadillo it is 2.5 of the 3 ms of
+/// setting up a solve).
+pub struct Pattern {
+    col_ptr: Vec<usize>,
+    row_idx: Vec<usize>,
+    symbolic: SymbolicCholesky<usize>,
+}
+
 pub struct Kkt<const C: usize> {
     /// H_p⁻¹ per point (symmetric, full).
     hinv: Vec<[[f64; C]; C]>,
@@ -66,11 +77,9 @@ pub struct Kkt<const C: usize> {
     factor: Option<(f64, Vec<f64>, f64)>,
     slots: Vec<Option<ContactSlots>>,
     m_e: usize,
-    /// S lower triangle in CSC.
-    col_ptr: Vec<usize>,
-    row_idx: Vec<usize>,
+    /// S's pattern and symbolic factorisation, and its values.
+    pattern: Arc<Pattern>,
     values: Vec<f64>,
-    symbolic: SymbolicCholesky<usize>,
     /// Serial, or the problem's threads for a factor of `parallel_from` entries or more
     /// ([`PARALLEL_FROM`] by default).
     par: Par,
@@ -196,7 +205,8 @@ fn as_point<const C: usize>(v: &[f64], p: usize) -> [f64; C] {
 }
 
 impl<const C: usize> Kkt<C> {
-    pub fn new(sh: &Shape<C>, threads: usize, parallel_from: usize) -> Option<Self> {
+    /// The system of `sh`; with `reuse`, its symbolic factorisation when the pattern is the same.
+    pub fn new(sh: &Shape<C>, threads: usize, parallel_from: usize, reuse: Option<&Arc<Pattern>>) -> Option<Self> {
         let nb = sh.blocks;
         let nk = sh.budget_vars.len();
         let m_e = 6 * nb + nk;
@@ -254,29 +264,37 @@ impl<const C: usize> Kkt<C> {
                 _ => None,
             })
             .collect();
-        let sym = SymbolicSparseColMatRef::new_checked(m_e, m_e, &col_ptr, None, &row_idx);
-        let symbolic = factorize_symbolic_cholesky(
-            sym,
-            Side::Lower,
-            SymmetricOrdering::Amd,
-            CholeskySymbolicParams {
-                // Supernodal where the fill makes dense blocks pay (vaults, walls), simplicial
-                // for chains (an arch of 1000: 2× faster than supernodal). faer's own cut
-                // (flops per entry of L above 40) left the Armadillo and the 100-brick wall
-                // simplicial; at 20 (half of it) they go supernodal, 13 % and 18 % faster
-                // (interleaved runs, best of 4), while arches of 100–1000 stay simplicial.
-                supernodal_flop_ratio_threshold: SupernodalThreshold(0.5),
-                ..Default::default()
-            },
-        )
-        .ok()?;
+        let pattern = match reuse {
+            Some(p) if p.col_ptr == col_ptr && p.row_idx == row_idx => Arc::clone(p),
+            _ => {
+                let sym = SymbolicSparseColMatRef::new_checked(m_e, m_e, &col_ptr, None, &row_idx);
+                let symbolic = factorize_symbolic_cholesky(
+                    sym,
+                    Side::Lower,
+                    SymmetricOrdering::Amd,
+                    CholeskySymbolicParams {
+                        // Supernodal where the fill makes dense blocks pay (vaults, walls),
+                        // simplicial for chains (an arch of 1000: 2× faster than supernodal).
+                        // faer's own cut (flops per entry of L above 40) left the Armadillo and
+                        // the 100-brick wall simplicial; at 20 (half of it) they go supernodal,
+                        // 13 % and 18 % faster (interleaved runs, best of 4), while arches of
+                        // 100–1000 stay simplicial.
+                        supernodal_flop_ratio_threshold: SupernodalThreshold(0.5),
+                        ..Default::default()
+                    },
+                )
+                .ok()?;
+                Arc::new(Pattern { col_ptr, row_idx, symbolic })
+            }
+        };
+        let symbolic = &pattern.symbolic;
         let par = if threads > 1 && symbolic.len_val() >= parallel_from { Par::rayon(threads) } else { Par::Seq };
         let req = symbolic
             .factorize_numeric_llt_scratch::<f64>(par, Default::default())
             .or(symbolic.solve_in_place_scratch::<f64>(1, par));
         let buffer = MemBuffer::new(req);
         let l_values = vec![0.0; symbolic.len_val()];
-        let values = vec![0.0; row_idx.len()];
+        let values = vec![0.0; pattern.row_idx.len()];
         let n = sh.n();
         let mg = sh.m_g();
         Some(Self {
@@ -285,10 +303,8 @@ impl<const C: usize> Kkt<C> {
             factor: None,
             slots,
             m_e,
-            col_ptr,
-            row_idx,
             values,
-            symbolic,
+            pattern,
             par,
             l_values,
             buffer,
@@ -298,11 +314,16 @@ impl<const C: usize> Kkt<C> {
         })
     }
 
+    /// S's pattern and symbolic factorisation, for the next problem of this layout.
+    pub fn pattern(&self) -> Arc<Pattern> {
+        Arc::clone(&self.pattern)
+    }
+
     /// Adds `m` (a 6×6 block of S at block rows `i`, block columns `j`) into the values.
     fn scatter(&mut self, i: usize, j: usize, m: &Mat6, slots: Option<ContactSlots>) {
         if i == j {
             for c in 0..6 {
-                let base = self.col_ptr[6 * j + c];
+                let base = self.pattern.col_ptr[6 * j + c];
                 for r in c..6 {
                     self.values[base + r - c] += m[r][c];
                 }
@@ -500,7 +521,7 @@ impl<const C: usize> Kkt<C> {
                 let mut w = [0.0; 6];
                 side.add_wrench(&v[kb], &mut w);
                 for (c, wc) in w.iter().enumerate() {
-                    let at = self.col_ptr[6 * side.block + c + 1] - nk + kb;
+                    let at = self.pattern.col_ptr[6 * side.block + c + 1] - nk + kb;
                     self.values[at] += wc;
                 }
             }
@@ -538,7 +559,7 @@ impl<const C: usize> Kkt<C> {
         for kb in 0..nk {
             for kb2 in 0..=kb {
                 // Column 6nb + kb2, row 6nb + kb.
-                let at = self.col_ptr[6 * nb + kb2] + (kb - kb2);
+                let at = self.pattern.col_ptr[6 * nb + kb2] + (kb - kb2);
                 self.values[at] += bb[kb][kb2];
             }
         }
@@ -548,11 +569,18 @@ impl<const C: usize> Kkt<C> {
     /// regularisation only for the zero pivots of a singular S).
     fn factor_numeric(&mut self) -> bool {
         let mat = SparseColMatRef::new(
-            SymbolicSparseColMatRef::new_checked(self.m_e, self.m_e, &self.col_ptr, None, &self.row_idx),
+            SymbolicSparseColMatRef::new_checked(
+                self.m_e,
+                self.m_e,
+                &self.pattern.col_ptr,
+                None,
+                &self.pattern.row_idx,
+            ),
             &self.values,
         );
         let reg = LltRegularization { dynamic_regularization_delta: 2e-7, dynamic_regularization_epsilon: 1e-13 };
-        self.symbolic
+        self.pattern
+            .symbolic
             .factorize_numeric_llt(
                 &mut self.l_values,
                 mat,
@@ -566,7 +594,7 @@ impl<const C: usize> Kkt<C> {
     }
 
     fn solve_s(&mut self, ze: &mut [f64]) {
-        let llt = LltRef::new(&self.symbolic, &self.l_values);
+        let llt = LltRef::new(&self.pattern.symbolic, &self.l_values);
         llt.solve_in_place_with_conj(
             Conj::No,
             MatMut::from_column_major_slice_mut(&mut self.rhs_s, self.m_e, 1),

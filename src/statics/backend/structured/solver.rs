@@ -6,10 +6,11 @@
 
 use super::cones::{Layout, Scaling, shift_to_interior};
 use super::iterate::{Vars, dot};
-use super::kkt::Kkt;
+use super::kkt::{Kkt, Pattern};
 use super::measures::{Info, Tolerances, convergence, info};
 use super::shape::Shape;
 use crate::statics::problem::{Accuracy, ContactProblem, SolverStatus};
+use std::sync::Arc;
 
 /// Outcome in the problem's variables (the points', then the budgets' slacks, then λ), and
 /// the duals of the equality rows (clarabel's sign: A x + s = b, Aᵀz + P x + q = 0).
@@ -52,6 +53,8 @@ pub struct WarmStart {
     /// Iterations of the cold solve this start descends from: a warm solve that needs more
     /// is abandoned for a cold one.
     cold_iterations: u32,
+    /// S's pattern and symbolic factorisation, reused when the next problem's is the same.
+    pattern: Arc<Pattern>,
 }
 
 impl std::fmt::Debug for WarmStart {
@@ -81,7 +84,12 @@ pub(super) fn solve_c<const C: usize>(
     warm: Warm,
 ) -> Option<IpmOutcome> {
     let sh = Shape::<C>::new(cp)?;
-    let kkt = Kkt::<C>::new(&sh, cp.threads, parallel_from)?;
+    let reuse = match warm {
+        Warm::From(ws) => Some(&ws.pattern),
+        _ => None,
+    };
+    let kkt = Kkt::<C>::new(&sh, cp.threads, parallel_from, reuse)?;
+    let pattern = kkt.pattern();
     let mut ip = Solver::new(&sh, kkt, acc);
     let keep = !matches!(warm, Warm::Off);
     let mut spent = 0;
@@ -92,7 +100,8 @@ pub(super) fn solve_c<const C: usize>(
         let run = ip.iterate(max_iter.min(ws.cold_iterations), Some(ws.mu_keep));
         if run.status == SolverStatus::Solved {
             ip.settle();
-            let kept = run.kept.map(|v| WarmStart { v, mu_keep: ws.mu_keep, cold_iterations: ws.cold_iterations });
+            let (mu_keep, cold_iterations) = (ws.mu_keep, ws.cold_iterations);
+            let kept = run.kept.map(|v| WarmStart { v, mu_keep, cold_iterations, pattern });
             return Some(ip.finish(run.status, run.iterations, kept));
         }
         spent = run.iterations;
@@ -105,7 +114,7 @@ pub(super) fn solve_c<const C: usize>(
     };
     let cold_iterations = run.iterations;
     let kept = run.kept.filter(|_| keep && run.status == SolverStatus::Solved);
-    let kept = kept.map(|v| WarmStart { v, mu_keep: run.mu_keep, cold_iterations });
+    let kept = kept.map(|v| WarmStart { v, mu_keep: run.mu_keep, cold_iterations, pattern });
     let mut out = ip.finish(run.status, run.iterations, kept);
     out.iterations += spent;
     Some(out)
@@ -118,6 +127,12 @@ impl WarmStart {
     pub(crate) fn capped(mut self, cap: u32) -> Self {
         self.cold_iterations = cap;
         self
+    }
+
+    /// Whether both carry the same symbolic factorisation (tests).
+    #[cfg(test)]
+    pub(crate) fn shares_pattern(&self, other: &WarmStart) -> bool {
+        Arc::ptr_eq(&self.pattern, &other.pattern)
     }
 
     fn fits(&self, v: &Vars) -> bool {
