@@ -53,29 +53,13 @@ mod tests {
     use super::*;
     use crate::geometry::Tolerances;
 
+    /// A unit cube at x = `offset` with its bottom face turned inward (repair turns it back and
+    /// warns).
     fn cube(offset: f64) -> Mesh {
-        let v = |x: f64, y: f64, z: f64| crate::geometry::Point3::new(x + offset, y, z);
-        Mesh {
-            vertices: vec![
-                v(0.0, 0.0, 0.0),
-                v(1.0, 0.0, 0.0),
-                v(1.0, 1.0, 0.0),
-                v(0.0, 1.0, 0.0),
-                v(0.0, 0.0, 1.0),
-                v(1.0, 0.0, 1.0),
-                v(1.0, 1.0, 1.0),
-                v(0.0, 1.0, 1.0),
-            ],
-            // Inward-facing bottom (0 1 2 3) on purpose: repair turns it around and warns.
-            faces: vec![
-                vec![0, 1, 2, 3],
-                vec![4, 5, 6, 7],
-                vec![0, 1, 5, 4],
-                vec![1, 2, 6, 5],
-                vec![2, 3, 7, 6],
-                vec![3, 0, 4, 7],
-            ],
-        }
+        let p = crate::geometry::Point3::new;
+        let mut mesh = Mesh::cuboid(p(offset, 0.0, 0.0), p(offset + 1.0, 1.0, 1.0));
+        mesh.faces[0].reverse();
+        mesh
     }
 
     /// Invariant: a kept repair is the one `repair` computes (mesh, mass, warnings); a run keeps
