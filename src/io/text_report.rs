@@ -244,6 +244,13 @@ pub fn robustness(
         r.iterations,
         1e3 * r.solver_seconds
     );
+    if r.status == crate::statics::SolverStatus::AlmostSolved {
+        let _ = writeln!(
+            o,
+            "  note: solved only to the reduced tolerances (λ* to ~1e-5 of itself; residual {:.2e} N)",
+            r.residual
+        );
+    }
     if let Some(sw) = sweep {
         let _ = writeln!(
             o,

@@ -71,6 +71,9 @@ pub struct Robustness {
     pub load_factor: f64,
     /// The collapse mechanism (of the component that fails first, or of every failing one).
     pub mechanism: Option<Mechanism>,
+    /// How the critical solve ended: `Solved`, or `AlmostSolved` when even clarabel reached
+    /// only its reduced tolerances (λ* then to ~1e-5 of itself; the text report says so).
+    pub status: SolverStatus,
     /// ‖equilibrium residual‖_∞ of the critical solve, N.
     pub residual: f64,
     pub iterations: u32,
@@ -177,6 +180,7 @@ pub fn assess_cached(
             safety: Safety::SolverFailed { status: bad.status, residual: bad.residual },
             load_factor: f64::NAN,
             mechanism: None,
+            status: bad.status,
             residual: bad.residual,
             iterations,
             solver_seconds,
@@ -188,7 +192,15 @@ pub fn assess_cached(
     let safety = if lambda.is_infinite() { Safety::Unlimited } else { Safety::Collapses { load_factor: lambda } };
     let mechanism =
         (!critical.motions.is_empty()).then(|| Mechanism::new(assembly, interfaces, &[(*comp, &critical.motions)]));
-    Ok(Robustness { safety, load_factor: lambda, mechanism, residual: critical.residual, iterations, solver_seconds })
+    Ok(Robustness {
+        safety,
+        load_factor: lambda,
+        mechanism,
+        status: critical.status,
+        residual: critical.residual,
+        iterations,
+        solver_seconds,
+    })
 }
 
 /// A status the load factor can be read from: solved, or unbounded (λ* = ∞).
@@ -235,6 +247,7 @@ fn failure(
         safety: Safety::DoesNotStand { load_factor },
         load_factor: load_factor.unwrap_or(f64::NAN),
         mechanism,
+        status: outcomes.iter().map(|o| o.1.status).max().unwrap_or(SolverStatus::Solved),
         residual: outcomes.iter().map(|o| o.1.residual).fold(0.0, f64::max),
         iterations: outcomes.iter().map(|o| o.1.iterations).sum(),
         solver_seconds: outcomes.iter().map(|o| o.1.solver_seconds).sum(),
