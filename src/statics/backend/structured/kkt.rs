@@ -11,7 +11,8 @@
 //! budget, sparse like the contact graph, positive definite. The points of an interface share
 //! the rows of its two blocks, so their contributions are summed in the interface's own frame
 //! first — `K = Σ_p T_p N H_p⁻¹ Nᵀ T_pᵀ`, a 6×6 wrench matrix — and mapped to the blocks once
-//! (`Ψ_a K Ψ_bᵀ`). S is factorised by faer's sparse Cholesky (AMD ordering and
+//! (`Ψ_a K Ψ_bᵀ`). Each H_p is kept as its Cholesky factor, never inverted explicitly
+//! ([`cholesky`]). S is factorised by faer's sparse Cholesky (AMD ordering and
 //! symbolic analysis once per problem). Iterative refinement against the unregularised
 //! system removes what ε and round-off leave.
 //!
@@ -69,8 +70,8 @@ pub struct Pattern {
 }
 
 pub struct Kkt<const C: usize> {
-    /// H_p⁻¹ per point (symmetric, full).
-    hinv: Vec<[[f64; C]; C]>,
+    /// H_p's Cholesky factor per point ([`cholesky`]).
+    chol: Vec<[[f64; C]; C]>,
     /// H_σ⁻¹ per budget slack.
     hinv_sigma: Vec<f64>,
     /// With a load factor: H_λ, w = S⁻¹ L and Lᵀw (module docs).
@@ -92,8 +93,16 @@ pub struct Kkt<const C: usize> {
     work: [Vec<f64>; 6],
 }
 
-/// Solves `h y = r` for a symmetric positive definite `h` by Cholesky; returns H⁻¹ in `inv`.
-fn invert<const C: usize>(h: &[[f64; C]; C], inv: &mut [[f64; C]; C]) -> bool {
+/// The Cholesky factor of a symmetric positive definite C×C `h`: lower L with H = L Lᵀ, its
+/// diagonal stored inverted (the solves multiply). `None` when `h` is not numerically positive
+/// definite.
+///
+/// Why a factor and not H⁻¹: near the optimum H_p's eigenvalues spread over ~17 decades (an
+/// active facet's z/s reached 1.2e9 on a sliding wall, inactive ones 1e-8), and x = H⁻¹ r by
+/// the explicit inverse then misses H x = r by up to 7e3 on a right-hand side of 14 — an
+/// error iterative refinement could not remove (a load factor ended `InsufficientProgress`).
+/// Substitution with the factor is backward stable: the miss stays at round-off of ‖H‖‖x‖.
+fn cholesky<const C: usize>(h: &[[f64; C]; C]) -> Option<[[f64; C]; C]> {
     let mut l = [[0.0f64; C]; C];
     for j in 0..C {
         let mut d = h[j][j];
@@ -101,11 +110,10 @@ fn invert<const C: usize>(h: &[[f64; C]; C], inv: &mut [[f64; C]; C]) -> bool {
             d -= l[j][k] * l[j][k];
         }
         if d <= 0.0 || !d.is_finite() {
-            return false;
+            return None;
         }
-        let d = d.sqrt();
-        l[j][j] = d;
-        let dinv = 1.0 / d;
+        let dinv = 1.0 / d.sqrt();
+        l[j][j] = dinv;
         for i in j + 1..C {
             let mut v = h[i][j];
             for k in 0..j {
@@ -114,41 +122,38 @@ fn invert<const C: usize>(h: &[[f64; C]; C], inv: &mut [[f64; C]; C]) -> bool {
             l[i][j] = v * dinv;
         }
     }
-    // L⁻¹ (lower), then H⁻¹ = L⁻ᵀ L⁻¹.
-    let mut li = [[0.0f64; C]; C];
-    for j in 0..C {
-        li[j][j] = 1.0 / l[j][j];
-        for i in j + 1..C {
-            let mut v = 0.0;
-            for k in j..i {
-                v -= l[i][k] * li[k][j];
-            }
-            li[i][j] = v / l[i][i];
-        }
-    }
-    for i in 0..C {
-        for j in 0..=i {
-            let mut v = 0.0;
-            for k in i..C {
-                v += li[k][i] * li[k][j];
-            }
-            inv[i][j] = v;
-            inv[j][i] = v;
-        }
-    }
-    true
+    Some(l)
 }
 
-fn mat_vec<const C: usize>(m: &[[f64; C]; C], v: &[f64; C]) -> [f64; C] {
-    let mut out = [0.0; C];
+/// L⁻¹ r, `l` from [`cholesky`].
+fn forward<const C: usize>(l: &[[f64; C]; C], r: &[f64; C]) -> [f64; C] {
+    let mut y = [0.0; C];
     for i in 0..C {
-        let mut s = 0.0;
-        for j in 0..C {
-            s += m[i][j] * v[j];
+        let mut v = r[i];
+        for k in 0..i {
+            v -= l[i][k] * y[k];
         }
-        out[i] = s;
+        y[i] = v * l[i][i];
     }
-    out
+    y
+}
+
+/// L⁻ᵀ y, `l` from [`cholesky`].
+fn backward<const C: usize>(l: &[[f64; C]; C], y: &[f64; C]) -> [f64; C] {
+    let mut x = [0.0; C];
+    for i in (0..C).rev() {
+        let mut v = y[i];
+        for k in i + 1..C {
+            v -= l[k][i] * x[k];
+        }
+        x[i] = v * l[i][i];
+    }
+    x
+}
+
+/// H⁻¹ r by the factor of H.
+fn chol_solve<const C: usize>(l: &[[f64; C]; C], r: &[f64; C]) -> [f64; C] {
+    backward(l, &forward(l, r))
 }
 
 /// K += T Y Tᵀ for one point at ρ (lower triangle of K), T = [I; [ρ]×]: Y, R Y and R Y Rᵀ
@@ -298,7 +303,7 @@ impl<const C: usize> Kkt<C> {
         let n = sh.n();
         let mg = sh.m_g();
         Some(Self {
-            hinv: vec![[[0.0; C]; C]; sh.points()],
+            chol: vec![[[0.0; C]; C]; sh.points()],
             hinv_sigma: vec![0.0; nk],
             factor: None,
             slots,
@@ -419,7 +424,7 @@ impl<const C: usize> Kkt<C> {
         h
     }
 
-    /// One contact's points: H_p⁻¹ kept per point, and summed in the interface frame the wrench
+    /// One contact's points: H_p's factor kept per point, and summed in the interface frame the wrench
     /// matrix K = Σ_p T_p N H_p⁻¹ Nᵀ T_pᵀ (6×6, symmetric), the budget columns' wrenches `v`
     /// and their block `bb`. `None` when an H_p cannot be inverted.
     fn contact_matrix(
@@ -433,44 +438,39 @@ impl<const C: usize> Kkt<C> {
         let mut v = [[0.0f64; 6]; 2];
         for p in points {
             let h = Self::point_hessian(sh, sc, p);
-            let hinv = &mut self.hinv[p];
-            if !invert(&h, hinv) {
-                return None;
-            }
-            // Y = N H⁻¹ Nᵀ (local force covariance), then K += T Y Tᵀ.
-            let mut nh = [[0.0f64; C]; 3];
-            for i in 0..3 {
-                for k in 0..C {
-                    let mut s = 0.0;
-                    for l in 0..C {
-                        s += sh.fmap[i][l] * hinv[l][k];
-                    }
-                    nh[i][k] = s;
-                }
-            }
+            let l = cholesky(&h)?;
+            self.chol[p] = l;
+            // Y = N H⁻¹ Nᵀ = MᵀM with M = L⁻¹Nᵀ (local force covariance; a Gram matrix,
+            // positive semidefinite whatever the rounding), then K += T Y Tᵀ.
+            let m = [forward(&l, &sh.fmap[0]), forward(&l, &sh.fmap[1]), forward(&l, &sh.fmap[2])];
             let mut y = [[0.0f64; 3]; 3];
             for i in 0..3 {
                 for j in 0..=i {
                     let mut s = 0.0;
                     for k in 0..C {
-                        s += nh[i][k] * sh.fmap[j][k];
+                        s += m[i][k] * m[j][k];
                     }
                     y[i][j] = s;
                     y[j][i] = s;
                 }
             }
             add_point_wrench(&mut k6, &y, &sh.rho[p]);
+            if sh.budget_vars.is_empty() {
+                continue;
+            }
+            // The budget columns: (N H⁻¹)[i][col] = (L⁻ᵀ M)[col][i], and H⁻¹'s own entries.
+            let hn = [backward(&l, &m[0]), backward(&l, &m[1]), backward(&l, &m[2])];
             for (kb, &col) in sh.budget_vars.iter().enumerate() {
-                let mut u = [0.0; 3];
-                for i in 0..3 {
-                    u[i] = nh[i][col];
-                }
+                let u = [hn[0][col], hn[1][col], hn[2][col]];
                 let w = wrench(&sh.rho[p], &u);
                 for i in 0..6 {
                     v[kb][i] += w[i];
                 }
+                let mut unit = [0.0; C];
+                unit[col] = 1.0;
+                let column = chol_solve(&l, &unit);
                 for (kb2, &col2) in sh.budget_vars.iter().enumerate().take(kb + 1) {
-                    bb[kb][kb2] += hinv[col][col2];
+                    bb[kb][kb2] += column[col2];
                 }
             }
         }
@@ -646,7 +646,7 @@ impl<const C: usize> Kkt<C> {
                     }
                 }
                 self.rt[p] = rt;
-                let w = mat_vec(&self.hinv[p], &rt);
+                let w = chol_solve(&self.chol[p], &rt);
                 let f = point_force(sh, &w);
                 let wr = wrench(&sh.rho[p], &f);
                 for i in 0..6 {
@@ -694,7 +694,7 @@ impl<const C: usize> Kkt<C> {
                 for k in 0..C {
                     r[k] -= t[k];
                 }
-                let xp = mat_vec(&self.hinv[p], &r);
+                let xp = chol_solve(&self.chol[p], &r);
                 x[p * C..(p + 1) * C].copy_from_slice(&xp);
                 let rgp = &rg[p * mp..(p + 1) * mp];
                 let dinv = &sc.dinv[p * mp..p * mp + nn];
