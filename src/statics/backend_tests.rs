@@ -81,13 +81,15 @@ fn the_cone_slope_excess_is_sin_minus_mu_cos() {
     let sys = system("slope?angle=35", 0.5, FrictionModel::Cone, true);
     let cp = contact_problem(&sys, Stage::FrictionExcess { tension: 0.0, penalty: 1e3 }, &StaticsSettings::default());
     let o = solve(&cp, LP, 200, Warm::Off).unwrap();
-    assert!(matches!(o.status, SolverStatus::Solved | SolverStatus::AlmostSolved), "{:?}", o.status);
+    assert_eq!(o.status, SolverStatus::Solved);
     let th = 35f64.to_radians();
-    // The idealised sin θ − μ cos θ; the scene's geometry (detected interface, mass
-    // properties) puts the optimum 2.3e-6 off it, on clarabel too.
-    assert!((o.objective - (th.sin() - 0.5 * th.cos())).abs() < 1e-6, "{}", o.objective);
+    // The closed form to 1e-9 (measured: 3.1e-10). clarabel, at the same tolerances, ends
+    // 3.1e-8 below it — as did this solver while it inverted each point's H_p explicitly (it
+    // then stalled one step short and returned that iterate as AlmostSolved) — so the
+    // cross-check allows clarabel's own accuracy.
+    assert!((o.objective - (th.sin() - 0.5 * th.cos())).abs() < 1e-9, "{}", o.objective);
     let c = run(&cp, Backend::Clarabel, LP, 200);
-    assert!((o.objective - c.objective).abs() < 1e-9, "{} vs clarabel {}", o.objective, c.objective);
+    assert!((o.objective - c.objective).abs() < 5e-8, "{} vs clarabel {}", o.objective, c.objective);
 }
 
 /// Invariant: the factorisation on two threads (faer's supernodal kernels on rayon, forced here
