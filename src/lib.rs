@@ -31,6 +31,7 @@ pub mod cli;
 pub mod decompose;
 pub mod design;
 pub mod dynamics;
+#[cfg(feature = "ecs")]
 pub mod ecs;
 pub mod geometry;
 pub mod interfaces;

@@ -196,3 +196,70 @@ fn a_reference_length_sets_the_model_size_and_a_bad_one_is_named() {
         assert!(matches!(e, ModelError::BadReferenceLength(_)) && e.to_string().contains("reference length"), "{e}");
     }
 }
+
+/// Issue #44's reproducers (the fuzz targets `mesh` and `stl`): a model whose vertices all
+/// coincide, far from the origin, once overflowed the weld grid's cell arithmetic (its size was
+/// taken as 1 m, the weld tolerance 1e-7 m, the cell index past i64). Now it is one clear error
+/// naming the block and the point, before any tolerance is derived.
+#[test]
+fn a_model_at_one_point_is_named_not_welded() {
+    let p = Point3::new(-41255400907263.99, 5.96e-212, 5.96e-212);
+    let point = Mesh::new(vec![p], vec![vec![0, 0, 0, 0, 0]]);
+    let msg = model_error(point);
+    assert!(msg.contains("vertices (1) all lie at one point"), "{msg}");
+
+    let stl =
+        std::fs::read(concat!(env!("CARGO_MANIFEST_DIR"), "/fuzz/regressions/stl/weld-overflow-one-point-triangle"))
+            .expect("the kept reproducer");
+    let path = write("one-point.stl", &stl);
+    let scene = load_scene(&path).expect("a readable STL");
+    let e = Assembly::new(&scene, &Default::default()).expect_err("a point is no block").to_string();
+    assert!(e.contains("all lie at one point"), "{e}");
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_voussoir"))
+        .args(["analyze", path.to_str().expect("utf-8 path")])
+        .output()
+        .expect("the binary runs");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "bad input: {stderr}");
+    assert!(
+        stderr.contains("one-point.stl") && stderr.contains("one point") && stderr.lines().count() == 1,
+        "{stderr}"
+    );
+}
+
+/// Invariant: the weld grid cannot overflow whatever the coordinates (within the accepted
+/// ±1e15) and the tolerance: a block far from the origin, and a valid block beside a
+/// degenerate one at the limit, are welded or refused with a message, never a panic.
+#[test]
+fn the_weld_grid_holds_at_the_coordinate_limit() {
+    let far = voussoir::geometry::Vector3::new(9.9e14, -9.9e14, 9.9e14);
+    let mut cube = unit();
+    cube.vertices.iter_mut().for_each(|p| *p += far);
+    let s = Scene::new("far", vec![Block::new("far", cube)]);
+    let a = Assembly::new(&s, &Default::default()).expect("a unit cube at 1e15 is still a cube");
+    assert_eq!(a.blocks[0].mesh.vertices.len(), 8);
+    let tol = voussoir::geometry::Tolerances::default().resolve(1e-15);
+    let r = voussoir::geometry::repair(&unit(), &tol).expect("a cube welded with a tiny tolerance");
+    assert_eq!(r.mesh.vertices.len(), 8, "no vertex merged");
+}
+
+/// Invariant: a tolerance that is not a finite number in its range is named, not used.
+#[test]
+fn bad_tolerances_are_named() {
+    let s = Scene::new("one", vec![Block::new("b", unit())]);
+    type Set = fn(&mut voussoir::geometry::Tolerances);
+    let cases: [(&str, Set); 6] = [
+        ("weld", |t| t.weld = 0.0),
+        ("planarity", |t| t.planarity = f64::NAN),
+        ("coplanar", |t| t.coplanar = -1e-3),
+        ("min_area", |t| t.min_area = f64::INFINITY),
+        ("angle_deg", |t| t.angle_deg = 0.0),
+        ("angle_deg", |t| t.angle_deg = 120.0),
+    ];
+    for (name, set) in cases {
+        let mut t = voussoir::geometry::Tolerances::default();
+        set(&mut t);
+        let e = Assembly::new(&s, &t).expect_err(name).to_string();
+        assert!(e.contains(&format!("tolerance '{name}'")), "{name}: {e}");
+    }
+}

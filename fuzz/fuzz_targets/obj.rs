@@ -1,15 +1,10 @@
-//! Fuzz target: arbitrary bytes as a .obj scene through reading, validation, detection and
-//! statics must never panic. Seeds: fuzz/seeds/obj/.
+//! Fuzz target `obj`: its body is `bodies::run("obj", …)` (fuzz/bodies.rs, shared with the
+//! corpus replay test); seeds in fuzz/seeds/obj/, the kept corpus in fuzz/corpus/obj/.
 #![no_main]
 
-use libfuzzer_sys::fuzz_target;
-use std::path::Path;
+#[path = "../bodies.rs"]
+mod bodies;
 
-fuzz_target!(|data: &[u8]| {
-    if let Ok(mut scene) = voussoir::io::scene_from_bytes(Path::new("fuzz.obj"), data) {
-        if !scene.blocks.iter().any(|b| b.support) {
-            scene.ground = true;
-        }
-        let _ = voussoir::analysis::analyze(&scene, &Default::default());
-    }
+libfuzzer_sys::fuzz_target!(|data: &[u8]| {
+    bodies::run("obj", data);
 });

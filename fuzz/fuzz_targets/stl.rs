@@ -1,15 +1,10 @@
-//! Fuzz target: arbitrary bytes as a .stl scene through reading, validation, detection and
-//! statics must never panic. Seeds: fuzz/seeds/stl/.
+//! Fuzz target `stl`: its body is `bodies::run("stl", …)` (fuzz/bodies.rs, shared with the
+//! corpus replay test); seeds in fuzz/seeds/stl/, the kept corpus in fuzz/corpus/stl/.
 #![no_main]
 
-use libfuzzer_sys::fuzz_target;
-use std::path::Path;
+#[path = "../bodies.rs"]
+mod bodies;
 
-fuzz_target!(|data: &[u8]| {
-    if let Ok(mut scene) = voussoir::io::scene_from_bytes(Path::new("fuzz.stl"), data) {
-        if !scene.blocks.iter().any(|b| b.support) {
-            scene.ground = true;
-        }
-        let _ = voussoir::analysis::analyze(&scene, &Default::default());
-    }
+libfuzzer_sys::fuzz_target!(|data: &[u8]| {
+    bodies::run("stl", data);
 });

@@ -44,6 +44,9 @@ pub enum CutError {
         #[source]
         source: crate::geometry::MeshError,
     },
+    /// The sources' coordinates, extent or tolerances cannot be used (checked before any cut).
+    #[error("the source shapes: {0}")]
+    Model(#[from] crate::model::ModelError),
     #[error(
         "cut {index} cuts a sliver of {fraction:e} of the volume of '{piece}': move the plane \
          (slivers make unstable blocks and ill-conditioned statics)"
@@ -287,9 +290,7 @@ pub fn resolve(
     if scene.cuts.is_empty() && scene.removed.is_empty() && scene.supports.is_empty() {
         return Ok((scene.clone(), ReplayStats::default()));
     }
-    crate::model::coordinates::check(&scene.blocks, tolerances.coplanar)
-        .map_err(|(b, source)| CutError::Source { block: scene.blocks[b].name.clone(), source })?;
-    let tol = tolerances.resolve(tolerances.scale(scene.scale()));
+    let tol = tolerances.resolve(crate::model::coordinates::model_size(&scene.blocks, tolerances)?);
     let mut sources = scene.blocks.clone();
     cache.repairs.begin();
     for b in &mut sources {

@@ -18,7 +18,7 @@ pub use mass::MassProperties;
 pub use mesh::{Aabb3, Mesh};
 pub use polygon::Plane;
 pub use repair_cache::RepairCache;
-pub use tolerances::Tolerances;
+pub use tolerances::{ToleranceError, Tolerances};
 pub use validate::{MeshError, MeshWarning, Repaired, repair};
 
 /// 3D point and vector type of the core (f64, z up).

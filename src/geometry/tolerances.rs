@@ -5,6 +5,18 @@
 //! metres give the same welds, interfaces and verdicts.
 
 use serde::{Deserialize, Serialize};
+use thiserror::Error;
+
+/// A relative tolerance that cannot be used: every tolerance is a finite fraction of the model
+/// size, and a zero, negative or NaN one would make the weld grid, the planes and the area
+/// tests meaningless.
+#[derive(Debug, Error, Clone, Copy, PartialEq)]
+#[error("tolerance '{name}' is {value}; it must be a finite number {range}")]
+pub struct ToleranceError {
+    pub name: &'static str,
+    pub value: f64,
+    pub range: &'static str,
+}
 
 /// Relative tolerances (dimensionless). The defaults, and the data that chose them, are in
 /// `Default` (`voussoir analyze --help` prints the coplanar and angle ones).
@@ -76,6 +88,30 @@ pub struct AbsTolerances {
 }
 
 impl Tolerances {
+    /// Checks that every tolerance is a finite number in its range (lengths and the thickness
+    /// factor > 0, areas and volumes ≥ 0, the angle in (0°, 90°]); the reference length is
+    /// checked with the model ([`crate::model::ModelError::BadReferenceLength`]).
+    pub fn validate(&self) -> Result<(), ToleranceError> {
+        let positive = [
+            ("weld", self.weld),
+            ("planarity", self.planarity),
+            ("coplanar", self.coplanar),
+            ("coplanar_thickness", self.coplanar_thickness),
+        ];
+        let non_negative = [("min_area", self.min_area), ("min_volume", self.min_volume)];
+        let bad = |name, value, range| Err(ToleranceError { name, value, range });
+        if let Some(&(name, value)) = positive.iter().find(|(_, v)| !(v.is_finite() && *v > 0.0)) {
+            return bad(name, value, "> 0");
+        }
+        if let Some(&(name, value)) = non_negative.iter().find(|(_, v)| !(v.is_finite() && *v >= 0.0)) {
+            return bad(name, value, ">= 0");
+        }
+        if !(self.angle_deg > 0.0 && self.angle_deg <= 90.0) {
+            return bad("angle_deg", self.angle_deg, "in (0, 90] degrees");
+        }
+        Ok(())
+    }
+
     /// The model size of a scene whose bounding-box diagonal is `diagonal`: the reference
     /// length when one is set.
     pub fn scale(&self, diagonal: f64) -> f64 {

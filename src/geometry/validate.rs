@@ -26,6 +26,10 @@ pub enum MeshError {
         crate::model::significant(*.gap), crate::model::significant(*.limit), crate::model::significant(*.size)
     )]
     FarOutside { vertex: usize, coords: [f64; 3], axis: char, gap: f64, size: f64, limit: f64 },
+    #[error(
+        "its vertices ({vertices}) all lie at one point {coords:?}: a block needs a volume (a degenerate or corrupt mesh)"
+    )]
+    Point { vertices: usize, coords: [f64; 3] },
     #[error("face {face} refers to vertex {index}, but there are only {count} vertices")]
     BadIndex { face: usize, index: usize, count: usize },
     #[error("face {face} has {count} vertices; a face needs at least 3")]
@@ -142,20 +146,18 @@ pub fn repair(mesh: &Mesh, tol: &AbsTolerances) -> Result<Repaired, MeshError> {
 /// Merges vertices closer than `tol` (grid hashing with cell size `tol`, neighbours checked).
 /// Returns the kept vertices, the map old index → new index and the number merged.
 fn weld(points: &[Point3], tol: f64) -> (Vec<Point3>, Vec<usize>, usize) {
-    let cell = |p: &Point3| -> [i64; 3] {
-        let c = |x: f64| (x / tol).floor() as i64;
-        [c(p.x), c(p.y), c(p.z)]
-    };
     let mut grid: HashMap<[i64; 3], Vec<usize>> = HashMap::with_capacity(points.len());
     let mut kept: Vec<Point3> = Vec::with_capacity(points.len());
     let mut remap = Vec::with_capacity(points.len());
+    let origin = points.first().map_or_else(Point3::origin, |&first| points.iter().fold(first, |m, p| m.inf(p)));
     for p in points {
-        let k = cell(p);
+        let k = grid_cell(p, &origin, tol);
         let mut found = None;
         'search: for dx in -1..=1 {
             for dy in -1..=1 {
                 for dz in -1..=1 {
-                    if let Some(list) = grid.get(&[k[0] + dx, k[1] + dy, k[2] + dz])
+                    let neighbour = [k[0].saturating_add(dx), k[1].saturating_add(dy), k[2].saturating_add(dz)];
+                    if let Some(list) = grid.get(&neighbour)
                         && let Some(&j) = list.iter().find(|&&j| (kept[j] - p).norm() <= tol)
                     {
                         found = Some(j);
@@ -173,6 +175,15 @@ fn weld(points: &[Point3], tol: f64) -> (Vec<Point3>, Vec<usize>, usize) {
     }
     let merged = points.len() - kept.len();
     (kept, remap, merged)
+}
+
+/// The weld grid's cell of `p`: counted from the points' lowest corner (small integers for any
+/// model in any unit) and saturating, so no coordinate or tolerance can overflow the neighbour
+/// arithmetic; saturation is monotone, so two points within `tol` still fall in the same or
+/// adjacent cells and the distance test stays exact.
+fn grid_cell(p: &Point3, origin: &Point3, tol: f64) -> [i64; 3] {
+    let c = |k: usize| ((p[k] - origin[k]) / tol).floor() as i64;
+    [c(0), c(1), c(2)]
 }
 
 /// Checks that every edge has exactly two faces and flips faces (breadth first from face 0 of

@@ -29,6 +29,8 @@ pub enum ModelError {
     BadFriction(f64),
     #[error("gravity {0:?} is not a finite vector")]
     BadGravity([f64; 3]),
+    #[error(transparent)]
+    BadTolerance(#[from] crate::geometry::ToleranceError),
     #[error("reference length {0} is not a positive finite number (m)")]
     BadReferenceLength(f64),
     #[error(
@@ -226,17 +228,9 @@ impl Assembly {
                 return Err(ModelError::DuplicateName(b.name.clone()));
             }
         }
-        if let Some(l) = tolerances.reference_length.filter(|l| !(*l > 0.0 && l.is_finite())) {
-            return Err(ModelError::BadReferenceLength(l));
-        }
-        // Before the model size is taken from the bounding box: a stray vertex is named, not
+        // Before any tolerance is derived from the model size: a stray vertex is named, not
         // the block its tolerances would break.
-        super::coordinates::check(&scene.blocks, tolerances.coplanar)
-            .map_err(|(b, source)| ModelError::Mesh { block: scene.blocks[b].name.clone(), source })?;
-        if scene.scale() < super::coordinates::MIN_MODEL_SIZE {
-            return Err(ModelError::TooSmall(scene.scale()));
-        }
-        let scale = tolerances.scale(scene.scale());
+        let scale = super::coordinates::model_size(&scene.blocks, tolerances)?;
         let tol = tolerances.resolve(scale);
         let mut blocks = Vec::with_capacity(scene.blocks.len());
         let mut warnings = scene.warnings.clone();

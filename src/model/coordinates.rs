@@ -28,14 +28,44 @@
 //! across ([`super::ModelError::TooSmall`]): a vault scaled to 1e-100 m lost every interface,
 //! its face areas (norms of products of lengths) underflowing to zero.
 
-use super::Block;
-use crate::geometry::{Aabb3, MeshError, Point3};
+use super::{Block, ModelError};
+use crate::geometry::{Aabb3, MeshError, Point3, Tolerances};
 
 /// Largest coordinate magnitude accepted (see the module docs).
 pub const MAX_COORDINATE: f64 = 1e15;
 
 /// Smallest model size (bounding-box diagonal) accepted (see the module docs).
 pub const MIN_MODEL_SIZE: f64 = 1e-15;
+
+/// The model size every tolerance of `blocks` is resolved against, after the checks that must
+/// come before any tolerance is derived from it (every path into an assembly or a cut replay
+/// runs them first): the tolerances are valid, every coordinate is sane, and the model has an
+/// extent of at least [`MIN_MODEL_SIZE`] — a model whose vertices all coincide has none, and a
+/// size taken from nothing would make the weld grid's cells arbitrary.
+pub(crate) fn model_size(blocks: &[Block], tolerances: &Tolerances) -> Result<f64, ModelError> {
+    tolerances.validate()?;
+    if let Some(l) = tolerances.reference_length.filter(|l| !(*l > 0.0 && l.is_finite())) {
+        return Err(ModelError::BadReferenceLength(l));
+    }
+    check(blocks, tolerances.coplanar)
+        .map_err(|(b, source)| ModelError::Mesh { block: blocks[b].name.clone(), source })?;
+    let mut all = Aabb3::empty();
+    blocks.iter().flat_map(|b| &b.mesh.vertices).for_each(|p| all.extend(p));
+    let extent = all.diagonal();
+    if extent == 0.0 {
+        let first = blocks.first().ok_or(ModelError::NoBlocks)?;
+        let vertices = blocks.iter().map(|b| b.mesh.vertices.len()).sum();
+        let (block, source) = match blocks.iter().find_map(|b| b.mesh.vertices.first().map(|p| (b, p))) {
+            Some((b, p)) => (b, MeshError::Point { vertices, coords: [p.x, p.y, p.z] }),
+            None => (first, MeshError::Empty { vertices: 0, faces: first.mesh.faces.len() }),
+        };
+        return Err(ModelError::Mesh { block: block.name.clone(), source });
+    }
+    if extent < MIN_MODEL_SIZE {
+        return Err(ModelError::TooSmall(extent));
+    }
+    Ok(tolerances.scale(extent))
+}
 
 /// The first vertex (in block order) whose coordinates are not sane, as the index of its block
 /// and the error; `coplanar` is the relative coplanarity tolerance.
