@@ -189,7 +189,8 @@ fn perturb(scene: &mut Scene, settings: &mut AnalysisSettings, bytes: &mut Bytes
         7 => {
             settings.statics.friction_model =
                 [FrictionModel::Pyramid8, FrictionModel::Cone, FrictionModel::Box4][usize::from(bytes.byte() % 3)];
-            settings.statics.backend = if bytes.byte().is_multiple_of(2) { Backend::Structured } else { Backend::Clarabel };
+            settings.statics.backend =
+                if bytes.byte().is_multiple_of(2) { Backend::Structured } else { Backend::Clarabel };
         }
         _ => {
             let t = &mut settings.tolerances;
