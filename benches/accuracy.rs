@@ -17,9 +17,9 @@
 
 use plotters::prelude::*;
 use std::time::Instant;
-use voussoir::analysis::{AnalysisSettings, analyze};
 use voussoir::geometry::{Mesh, Point3, Vector3};
 use voussoir::model::{Block, Scene, builtin};
+use voussoir::pipeline::{AnalysisSettings, analyze};
 use voussoir::statics::FrictionModel;
 
 struct Row {
@@ -198,7 +198,7 @@ fn write(rows: &[Row]) -> std::io::Result<()> {
     md.push_str("\n![error against time](accuracy.svg)\n");
     voussoir::io::write_atomic(&docs.join("accuracy.md"), md.as_bytes()).map_err(std::io::Error::other)?;
 
-    voussoir::plot::register_font();
+    voussoir::viz::plot::register_font();
     let svg = docs.join("accuracy.svg");
     let root = SVGBackend::new(&svg, (900, 560)).into_drawing_area();
     root.fill(&WHITE).map_err(std::io::Error::other)?;

@@ -3,9 +3,9 @@
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use std::hint::black_box;
-use voussoir::decompose::{CutCache, replay};
 use voussoir::geometry::cut::split;
 use voussoir::geometry::{Mesh, Plane, Point3, Vector3};
+use voussoir::history::{CutCache, replay};
 use voussoir::model::{Block, Cut};
 
 /// UV sphere of radius 1 with `n` × `n` faces (quads, triangles at the poles).

@@ -12,10 +12,10 @@
 use criterion::{Criterion, criterion_group, criterion_main};
 use std::hint::black_box;
 use std::time::Duration;
-use voussoir::analysis::AnalysisSettings;
-use voussoir::design::{BlockSize, Field, RepairSettings, ThrustSettings, courses, repair, thrust};
 use voussoir::geometry::{Mesh, Point3, Vector3};
 use voussoir::model::{Block, Scene};
+use voussoir::pipeline::AnalysisSettings;
+use voussoir::synthesis::{BlockSize, Field, RepairSettings, ThrustSettings, courses, repair, thrust};
 
 /// A semicircular arch (radius 1 m, t/R = 0.15, 0.15 m deep) as one solid on the ground.
 fn solid_arch() -> Scene {

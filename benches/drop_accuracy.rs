@@ -8,10 +8,10 @@
 
 use plotters::prelude::*;
 use std::time::Instant;
-use voussoir::analysis::{AnalysisSettings, analyze};
 use voussoir::dynamics::{DropSettings, drop_test};
 use voussoir::model::Assembly;
-use voussoir::sweep::Family;
+use voussoir::pipeline::{AnalysisSettings, analyze};
+use voussoir::studies::threshold::Family;
 
 struct Row {
     family: &'static str,
@@ -113,7 +113,7 @@ fn write(rows: &[Row]) -> Result<(), Box<dyn std::error::Error>> {
     }
     md.push_str("\n![error against time](drop_accuracy.svg)\n");
     voussoir::io::write_atomic(&docs.join("drop_accuracy.md"), md.as_bytes())?;
-    voussoir::plot::register_font();
+    voussoir::viz::plot::register_font();
     let svg = docs.join("drop_accuracy.svg");
     let root = SVGBackend::new(&svg, (900, 560)).into_drawing_area();
     root.fill(&WHITE)?;

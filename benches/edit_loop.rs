@@ -9,10 +9,10 @@ use bevy::prelude::*;
 use criterion::{Criterion, criterion_group, criterion_main};
 use std::path::PathBuf;
 use std::time::Duration;
-use voussoir::analysis::AnalysisSettings;
 use voussoir::ecs::{EditDesign, SceneStatus, Settings, VoussoirPlugins};
 use voussoir::model::edit::Edit;
 use voussoir::model::{Cut, Scene, builtin};
+use voussoir::pipeline::AnalysisSettings;
 
 /// An app with `scene` loaded and a cut of block `target` through `point` with `normal`; its
 /// solves cold with `cold`.

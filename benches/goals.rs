@@ -7,9 +7,9 @@
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use std::time::Duration;
-use voussoir::analysis::{AnalysisSettings, analyze};
 use voussoir::model::builtin;
-use voussoir::sequence::{OrderSpec, check};
+use voussoir::pipeline::{AnalysisSettings, analyze};
+use voussoir::studies::sequence::{OrderSpec, check};
 
 fn goals(c: &mut Criterion) {
     let mut g = c.benchmark_group("goals");

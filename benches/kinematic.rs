@@ -7,9 +7,9 @@
 use criterion::{Criterion, criterion_group, criterion_main};
 use std::hint::black_box;
 use std::time::Duration;
-use voussoir::analysis::{Analysis, AnalysisSettings, analyze};
-use voussoir::kinematics;
 use voussoir::model::{Scene, builtin};
+use voussoir::pipeline::{Analysis, AnalysisSettings, analyze};
+use voussoir::stability::kinematic;
 
 fn compas(rel: &str) -> Scene {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/compas").join(rel);
@@ -44,10 +44,10 @@ fn kinematic(c: &mut Criterion) {
             g.measurement_time(Duration::from_secs(30));
         }
         g.bench_function("statics", |b| {
-            b.iter(|| black_box(voussoir::statics::analyze(&a.assembly, &a.interfaces, &settings.statics).unwrap()))
+            b.iter(|| black_box(voussoir::statics::solve(&a.assembly, &a.interfaces, &settings.statics).unwrap()))
         });
         g.bench_function("kinematic", |b| {
-            b.iter(|| black_box(kinematics::check(&a, &settings.statics, &Default::default()).unwrap()))
+            b.iter(|| black_box(kinematic::check(&a, &settings.statics, &Default::default()).unwrap()))
         });
         g.finish();
     }

@@ -6,8 +6,8 @@
 use criterion::{Criterion, criterion_group, criterion_main};
 use std::hint::black_box;
 use std::time::Duration;
-use voussoir::analysis::{AnalysisSettings, analyze};
-use voussoir::robustness::{self, SweepSettings, sweep};
+use voussoir::pipeline::{AnalysisSettings, analyze};
+use voussoir::stability::{self, DirectionSettings, directions};
 
 fn load_factor(c: &mut Criterion) {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/compas/compas_cra/armadillo_cra.json");
@@ -15,14 +15,14 @@ fn load_factor(c: &mut Criterion) {
     scene.material.friction = 0.84;
     let settings = AnalysisSettings::default();
     let a = analyze(&scene, &settings).unwrap();
-    let field = sweep::with_horizontal_field(&a.assembly, 0.0);
+    let field = directions::with_horizontal_field(&a.assembly, 0.0);
     let mut g = c.benchmark_group("robustness/armadillo");
     g.sample_size(10).measurement_time(Duration::from_secs(20));
     g.bench_function("statics", |b| {
-        b.iter(|| black_box(voussoir::statics::analyze(&a.assembly, &a.interfaces, &settings.statics).unwrap()))
+        b.iter(|| black_box(voussoir::statics::solve(&a.assembly, &a.interfaces, &settings.statics).unwrap()))
     });
     g.bench_function("load_factor_x", |b| {
-        b.iter(|| black_box(robustness::assess_parts(&field, &a.interfaces, true, &settings.statics).unwrap()))
+        b.iter(|| black_box(stability::assess_parts(&field, &a.interfaces, true, &settings.statics).unwrap()))
     });
     g.finish();
     let mut g = c.benchmark_group("robustness/armadillo_sweep");
@@ -30,11 +30,11 @@ fn load_factor(c: &mut Criterion) {
     g.bench_function("36_directions", |b| {
         b.iter(|| {
             black_box(
-                robustness::worst_direction(
+                stability::worst_direction(
                     &a.assembly,
                     &a.interfaces,
                     &settings.statics,
-                    &SweepSettings::default(),
+                    &DirectionSettings::default(),
                     &|_, _| {},
                 )
                 .unwrap(),

@@ -5,9 +5,9 @@
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use std::time::Duration;
-use voussoir::analysis::AnalysisSettings;
 use voussoir::model::builtin;
-use voussoir::sequence::{OrderSpec, SearchSettings, check, search};
+use voussoir::pipeline::AnalysisSettings;
+use voussoir::studies::sequence::{OrderSpec, SearchSettings, check, search};
 
 fn sequences(c: &mut Criterion) {
     let s = AnalysisSettings::default();

@@ -8,10 +8,10 @@ use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use std::hint::black_box;
 use std::path::PathBuf;
 use std::time::Duration;
-use voussoir::analysis::{AnalysisSettings, analyze};
 use voussoir::interfaces::detect;
 use voussoir::io::load_scene;
 use voussoir::model::{Assembly, builtin};
+use voussoir::pipeline::{AnalysisSettings, analyze};
 use voussoir::statics::{self, Backend, FrictionModel, StaticsSettings};
 
 const MODELS: [FrictionModel; 3] = [FrictionModel::Pyramid8, FrictionModel::Cone, FrictionModel::Box4];
@@ -52,7 +52,7 @@ fn real_data(c: &mut Criterion) {
         let asm = Assembly::new(&scene, &Default::default()).unwrap();
         let ifs = detect(&asm);
         g.bench_function(BenchmarkId::new("dome_solve", model), |b| {
-            b.iter(|| black_box(statics::analyze(&asm, &ifs, &settings(model)).unwrap()))
+            b.iter(|| black_box(statics::solve(&asm, &ifs, &settings(model)).unwrap()))
         });
     }
     g.finish();
@@ -67,12 +67,12 @@ fn parametric(c: &mut Criterion, group: &str, specs: &[(usize, String)]) {
             let ifs = detect(&asm);
             let inputs = (asm, ifs);
             g.bench_with_input(BenchmarkId::new(model.to_string(), size), &inputs, |b, (asm, ifs)| {
-                b.iter(|| black_box(statics::analyze(asm, ifs, &settings(model)).unwrap()))
+                b.iter(|| black_box(statics::solve(asm, ifs, &settings(model)).unwrap()))
             });
             if model == FrictionModel::Pyramid8 {
                 let clarabel = StaticsSettings { backend: Backend::Clarabel, ..settings(model) };
                 g.bench_with_input(BenchmarkId::new("pyramid8-clarabel", size), &inputs, |b, (asm, ifs)| {
-                    b.iter(|| black_box(statics::analyze(asm, ifs, &clarabel).unwrap()))
+                    b.iter(|| black_box(statics::solve(asm, ifs, &clarabel).unwrap()))
                 });
             }
         }
@@ -111,7 +111,7 @@ fn skip(c: &mut Criterion) {
             let s = StaticsSettings { split_components: split, ..Default::default() };
             let id = if split { "split" } else { "merged" };
             g.bench_function(BenchmarkId::new(name, id), |b| {
-                b.iter(|| black_box(statics::analyze(&asm, &ifs, &s).unwrap()))
+                b.iter(|| black_box(statics::solve(&asm, &ifs, &s).unwrap()))
             });
         }
     }

@@ -1,10 +1,10 @@
 //! Quick wall-clock timing of the statics on a few scenes (medians of 5 runs); the criterion
 //! benches are the reference, this is for fast experiments: `cargo run --release --example timing`.
 use std::time::Instant;
-use voussoir::analysis::AnalysisSettings;
 use voussoir::interfaces::detect;
 use voussoir::io::load_scene;
 use voussoir::model::{Assembly, Scene, builtin};
+use voussoir::pipeline::AnalysisSettings;
 use voussoir::statics::{self, FrictionModel, StaticsSettings};
 
 fn main() {
@@ -27,7 +27,7 @@ fn main() {
             let mut last = None;
             for _ in 0..5 {
                 let t = Instant::now();
-                last = Some(statics::analyze(&asm, &ifs, &settings).unwrap());
+                last = Some(statics::solve(&asm, &ifs, &settings).unwrap());
                 times.push(t.elapsed().as_secs_f64());
             }
             times.sort_by(f64::total_cmp);

@@ -1,11 +1,11 @@
 //! The fuzz targets' bodies, shared by the libFuzzer binaries (`fuzz/fuzz_targets/`) and the
-//! corpus replay test (`tests/fuzz_corpora.rs`): bytes in, how deep the input reached out.
+//! corpus replay test (`tests/it/fuzz_corpora.rs`): bytes in, how deep the input reached out.
 //! Whatever the bytes, a body returns; a panic is the bug the fuzzer looks for.
 
 use std::path::Path;
-use voussoir::analysis::{AnalysisSettings, analyze};
 use voussoir::geometry::{Mesh, Point3, Vector3};
 use voussoir::model::{Assembly, Block, Scene};
+use voussoir::pipeline::{AnalysisSettings, analyze};
 use voussoir::statics::{Backend, FrictionModel, StaticsSettings};
 
 /// How far an input got: each stage is reached only by inputs that passed the one before.
@@ -205,8 +205,8 @@ fn perturb(scene: &mut Scene, settings: &mut AnalysisSettings, bytes: &mut Bytes
 
 /// The load factor of a horizontal 1 g field along x and the kinematic check, each ending in a
 /// value or an error.
-fn assess(analysis: &voussoir::analysis::Analysis, statics: &StaticsSettings) {
-    let field = voussoir::robustness::sweep::with_horizontal_field(&analysis.assembly, 0.0);
-    let _ = voussoir::robustness::assess_parts(&field, &analysis.interfaces, analysis.statics.stands, statics);
-    let _ = voussoir::kinematics::check(analysis, statics, &Default::default());
+fn assess(analysis: &voussoir::pipeline::Analysis, statics: &StaticsSettings) {
+    let field = voussoir::stability::directions::with_horizontal_field(&analysis.assembly, 0.0);
+    let _ = voussoir::stability::assess_parts(&field, &analysis.interfaces, analysis.statics.stands, statics);
+    let _ = voussoir::stability::kinematic::check(analysis, statics, &Default::default());
 }

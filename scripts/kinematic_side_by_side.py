@@ -44,7 +44,7 @@ SAMPLES = os.path.join(ROOT, "assets", "compas", "compas_cra")
 WORK = os.path.join(tempfile.gettempdir(), "voussoir-kinematic-side-by-side")
 
 # One μ for both tools and every scene: the μ of compas_cra's examples (05_wedge.py, 16_ha.py, the
-# cra_solve default) and of voussoir's tests/kinematics.rs. 07_shelf.py uses 0.9; the tests keep
+# cra_solve default) and of voussoir's tests/it/kinematic_check.rs. 07_shelf.py uses 0.9; the tests keep
 # 0.84 on the shelves too, so does this. Density: compas_cra's examples' 1 (its loads are volumes),
 # voussoir its default 600 kg/m³ under g: the same problem up to a scale both verdicts ignore.
 MU = 0.84

@@ -11,7 +11,7 @@
 //! and reports, [`cli`] is the command line.
 //!
 //! ```
-//! use voussoir::analysis::{AnalysisSettings, analyze};
+//! use voussoir::pipeline::{AnalysisSettings, analyze};
 //! use voussoir::model::builtin;
 //!
 //! // A 40-voussoir semicircular arch, t/R = 0.12, on two springers: it stands
@@ -26,24 +26,22 @@
 //! Conventions: SI units, z up, gravity (0, 0, −9.81); moments about each block's volume
 //! centroid; an interface a→b has its normal pointing from a into b and b receives +f.
 
-pub mod analysis;
 pub mod cli;
-pub mod decompose;
-pub mod design;
 pub mod dynamics;
 #[cfg(feature = "ecs")]
 pub mod ecs;
 pub mod geometry;
+pub mod history;
 pub mod interfaces;
 pub mod io;
-pub mod kinematics;
 pub mod model;
 pub mod optimise;
-pub mod plot;
-pub mod robustness;
-pub mod sequence;
+pub mod pipeline;
+pub mod report;
+pub mod stability;
 pub mod statics;
-pub mod sweep;
+pub mod studies;
+pub mod synthesis;
 #[cfg(feature = "viewer")]
 pub mod viewer;
 pub mod viz;

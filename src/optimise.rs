@@ -1,6 +1,6 @@
 //! Derivative-free optimisers, argmin's: the crate's one touchpoint (and rand_xoshiro's, which
 //! seeds it). A function of numbers in, the best point out; the callers own their problems
-//! (the worst load direction in [`crate::robustness`], cut placements in [`crate::design`]).
+//! (the worst load direction in [`crate::stability`], cut placements in [`crate::synthesis`]).
 //!
 //! No units of its own: the callers' parameters and costs.
 

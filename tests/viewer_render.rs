@@ -195,7 +195,7 @@ fn fig4a() -> voussoir::model::Scene {
     voussoir::io::load_scene(&Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/cases/fig4a_m_cut.json")).unwrap()
 }
 
-/// compas_cra's letter H on its two posts (as tests/kinematics.rs sets it up).
+/// compas_cra's letter H on its two posts (as tests/it/kinematic_check.rs sets it up).
 fn letter_h() -> voussoir::model::Scene {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/compas/compas_cra/H.json");
     let mut scene = voussoir::io::load_scene(&path).unwrap();
@@ -243,7 +243,7 @@ fn check(report: &Value, saved: &Path) {
     let design: Value = serde_json::from_str(&std::fs::read_to_string(saved).expect("the design was saved")).unwrap();
     let cut = &design["cuts"][0];
     let point: Vec<f64> = cut["point"].as_array().expect("a plane cut").iter().map(|x| x.as_f64().unwrap()).collect();
-    let centroid = voussoir::analysis::analyze(&builtin("stack?n=2").unwrap(), &Default::default())
+    let centroid = voussoir::pipeline::analyze(&builtin("stack?n=2").unwrap(), &Default::default())
         .unwrap()
         .assembly
         .blocks
@@ -287,8 +287,8 @@ fn check(report: &Value, saved: &Path) {
     // The mechanism view: the arch's worst direction and λ* (the core's), the blocks moved
     // along the mechanism in the second view.
     let s = shot(report, "mechanism");
-    let arch = voussoir::analysis::analyze(&voussoir::cli::load(None).unwrap(), &Default::default()).unwrap();
-    let sweep = voussoir::robustness::worst_direction(
+    let arch = voussoir::pipeline::analyze(&voussoir::cli::load(None).unwrap(), &Default::default()).unwrap();
+    let sweep = voussoir::stability::worst_direction(
         &arch.assembly,
         &arch.interfaces,
         &Default::default(),
@@ -307,8 +307,8 @@ fn check(report: &Value, saved: &Path) {
     // The kinematic view: the core's verdicts on H (statics stands, the bar falls), one block
     // moving, drawn in the second view.
     let s = shot(report, "kinematic");
-    let core = voussoir::kinematics::check(
-        &voussoir::analysis::analyze(&letter_h(), &Default::default()).unwrap(),
+    let core = voussoir::stability::kinematic::check(
+        &voussoir::pipeline::analyze(&letter_h(), &Default::default()).unwrap(),
         &Default::default(),
         &Default::default(),
     )
@@ -330,7 +330,7 @@ fn check(report: &Value, saved: &Path) {
         "{s}"
     );
     assert!(s["message"].as_str().is_some_and(|m| m.starts_with("repaired: it stands now")), "{s}");
-    let core = voussoir::design::repair(&fig4a(), &Default::default(), &Default::default(), &|_, _, _| {}).unwrap();
+    let core = voussoir::synthesis::repair(&fig4a(), &Default::default(), &Default::default(), &|_, _, _| {}).unwrap();
     assert_eq!(s["blocks"].as_u64(), Some(core.after.pieces as u64), "{s}");
     let c = picture(&s, "main_viewport");
     println!("repaired M: {c:?}");

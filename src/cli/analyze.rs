@@ -3,9 +3,10 @@
 
 use super::options::{DropOptions, LoadOptions, SolverOptions};
 use super::{BadInput, load, refuse_overwrite, scene_name, write_output};
-use crate::analysis::{AnalysisSettings, analyze};
-use crate::io::{self, text_report};
+use crate::io;
 use crate::model::{LoadKind, Scene, SupportChoice};
+use crate::pipeline::{AnalysisSettings, analyze};
+use crate::report::{self, text as text_report};
 use clap::{Args, FromArgMatches};
 use std::path::PathBuf;
 
@@ -110,7 +111,7 @@ pub fn run(args: &AnalyzeArgs) -> Result<i32, BadInput> {
         None
     };
     let kinematic = if args.kinematic {
-        let k = crate::kinematics::check(&analysis, &settings.statics, &Default::default())
+        let k = crate::stability::kinematic::check(&analysis, &settings.statics, &Default::default())
             .map_err(|e| BadInput(e.to_string()))?;
         print!("{}", text_report::kinematic(&analysis, &k));
         Some(k)
@@ -120,19 +121,19 @@ pub fn run(args: &AnalyzeArgs) -> Result<i32, BadInput> {
     if let Some(out) = &args.compas_out {
         let format = args.compas_format.unwrap_or_else(|| CompasFormat::of_input(args.scene.as_deref()));
         let text = match format {
-            CompasFormat::Assembly => io::compas_out::assembly_json(&analysis),
-            CompasFormat::BlockModel => io::compas_out::block_model_json(&analysis),
+            CompasFormat::Assembly => report::compas::assembly_json(&analysis),
+            CompasFormat::BlockModel => report::compas::block_model_json(&analysis),
         };
         write_output(out, text.as_bytes())?;
     }
     if let Some(out) = &args.json {
-        write_output(out, io::report::to_json_with(&analysis, dynamic.as_ref(), kinematic.as_ref()).as_bytes())?;
+        write_output(out, report::json::to_json_with(&analysis, dynamic.as_ref(), kinematic.as_ref()).as_bytes())?;
         println!("report written to {}", out.display());
     }
     // Exit 0 only when it stands by every test that ran.
     let stands = analysis.statics.stands
         && dynamic.as_ref().is_none_or(|d| d.stands)
-        && kinematic.as_ref().is_none_or(|k| k.verdict == crate::kinematics::KinematicVerdict::Stands);
+        && kinematic.as_ref().is_none_or(|k| k.verdict == crate::stability::kinematic::KinematicVerdict::Stands);
     Ok(if stands { 0 } else { 1 })
 }
 

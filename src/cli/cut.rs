@@ -36,7 +36,7 @@ pub fn run(args: &CutArgs) -> Result<i32, BadInput> {
     let mut scene = load(Some(&args.scene))?;
     let cut = the_cut(args)?;
     let resolve = |scene: &Scene| {
-        crate::decompose::resolve(scene, &Default::default(), &mut Default::default())
+        crate::history::resolve(scene, &Default::default(), &mut Default::default())
             .map(|(resolved, _)| resolved)
             .map_err(|e| BadInput(format!("{}: {e}", args.scene)))
     };

@@ -1,18 +1,18 @@
 //! `voussoir decompose SHAPE (--blocks N | --max-size L) [--strategy courses|thrust] -o OUT.json`:
-//! a cut history for a source shape by courses ([`crate::design::generate`]) — horizontal
+//! a cut history for a source shape by courses ([`crate::synthesis::generate`]) — horizontal
 //! beds, or beds through an axis with `--center`/`--axis` (arches, vaults) — with staggered
 //! head joints, the beds turned normal to the thrust with `--strategy thrust`
-//! ([`crate::design::thrust`]); prints the design's verdict and with `--optimize` repairs it
-//! ([`crate::design::repair`]). Writes the
+//! ([`crate::synthesis::thrust`]); prints the design's verdict and with `--optimize` repairs it
+//! ([`crate::synthesis::repair`]). Writes the
 //! design atomically, never over the input. Exit codes: 0 it stands, 1 it does not, 2 bad input.
 
 use super::choice::Choice;
 use super::options::SolverOptions;
 use super::{BadInput, load, numbers, refuse_overwrite, scene_name, write_output};
-use crate::analysis::analyze;
-use crate::design::{self, BlockSize, Field, RepairSettings, ThrustSettings};
 use crate::io::scene_json;
+use crate::pipeline::analyze;
 use crate::statics::Verdict;
+use crate::synthesis::{self, BlockSize, Field, RepairSettings, ThrustSettings};
 use clap::Args;
 use clap::ValueEnum;
 use std::path::PathBuf;
@@ -53,7 +53,7 @@ pub struct DecomposeArgs {
     pub output: PathBuf,
 }
 
-/// A generation strategy ([`crate::design::generate`], [`crate::design::thrust`]).
+/// A generation strategy ([`crate::synthesis::generate`], [`crate::synthesis::thrust`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum Strategy {
     Courses,
@@ -76,12 +76,12 @@ pub fn run(args: &DecomposeArgs) -> Result<i32, BadInput> {
         (None, Some(l)) => BlockSize::Max(l),
         (None, None) => return Err(BadInput("give --blocks N or --max-size L".into())),
     };
-    let bad = |e: design::DesignError| BadInput(format!("{name}: {e}"));
+    let bad = |e: synthesis::DesignError| BadInput(format!("{name}: {e}"));
     let settings = args.solver.settings();
     let generated = match args.strategy {
-        Strategy::Courses => design::courses(&shape, &field, &size, !args.no_stagger),
+        Strategy::Courses => synthesis::courses(&shape, &field, &size, !args.no_stagger),
         Strategy::Thrust => {
-            design::thrust(&shape, &field, &size, !args.no_stagger, &ThrustSettings::default(), &settings)
+            synthesis::thrust(&shape, &field, &size, !args.no_stagger, &ThrustSettings::default(), &settings)
         }
     }
     .map_err(bad)?;
@@ -104,7 +104,7 @@ pub fn run(args: &DecomposeArgs) -> Result<i32, BadInput> {
     }
     let (design, verdict, tension, excess) = if args.optimize {
         let repair = RepairSettings { seed: args.seed, ..Default::default() };
-        let report = design::repair(&generated.design, &settings, &repair, &|_, _, _| {}).map_err(bad)?;
+        let report = synthesis::repair(&generated.design, &settings, &repair, &|_, _, _| {}).map_err(bad)?;
         print!("{}", super::repair::text(&report));
         let after = &report.after;
         (report.design.clone(), after.verdict, after.tension_ratio, after.friction_excess_ratio)
@@ -116,7 +116,7 @@ pub fn run(args: &DecomposeArgs) -> Result<i32, BadInput> {
     let stands = verdict == Some(Verdict::Stands);
     println!(
         "{} (minimum tension {tension:.3e} W, friction excess {excess:.3e} W)",
-        verdict.map_or("DOES NOT STAND: the design cannot be cut as asked", crate::io::text_report::headline)
+        verdict.map_or("DOES NOT STAND: the design cannot be cut as asked", crate::report::text::headline)
     );
     write_output(&args.output, scene_json::scene_to_string(&design).as_bytes())?;
     println!("design written to {}", args.output.display());

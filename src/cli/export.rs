@@ -30,7 +30,7 @@ pub fn run(args: &ExportArgs) -> Result<i32, BadInput> {
             refuse_overwrite(Some(&args.scene), out, option)?;
         }
     }
-    let a = crate::analysis::analyze(&scene, &args.solver.settings())
+    let a = crate::pipeline::analyze(&scene, &args.solver.settings())
         .map_err(|e| BadInput(format!("{}: {e}", args.scene)))?;
     let verdict = if a.statics.stands { "stands" } else { "does not stand" };
     if let Some(out) = &args.gltf {
@@ -46,8 +46,8 @@ pub fn run(args: &ExportArgs) -> Result<i32, BadInput> {
         );
     }
     if let Some(out) = &args.png {
-        let picture = crate::plot::DiagramPicture::new(&a, mode);
-        crate::plot::write_diagram(&picture, out).map_err(|e| BadInput(e.to_string()))?;
+        let picture = crate::viz::plot::DiagramPicture::new(&a, mode);
+        crate::viz::plot::write_diagram(&picture, out).map_err(|e| BadInput(e.to_string()))?;
         println!("{}: {} diagram rendered to {} (the design {verdict})", args.scene, args.diagram.mode, out.display());
     }
     Ok(0)

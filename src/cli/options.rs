@@ -4,10 +4,10 @@
 
 use super::BadInput;
 use super::choice::Choice;
-use crate::analysis::AnalysisSettings;
 use crate::dynamics::DropSettings;
 use crate::geometry::{Point3, Tolerances, Vector3};
 use crate::model::{Load, LoadKind};
+use crate::pipeline::AnalysisSettings;
 use crate::statics::{Backend, FrictionModel, StaticsSettings};
 use crate::viz::DiagramMode;
 use clap::{Args, ValueEnum};

@@ -1,15 +1,15 @@
 //! `voussoir repair DESIGN -o OUT.json`: moves and turns the design's cuts (all, or `--cuts`)
-//! until it stands and then stands most safely ([`crate::design::repair`]); prints before and
+//! until it stands and then stands most safely ([`crate::synthesis::repair`]); prints before and
 //! after, writes the repaired design (atomically, never over the input) and on request a JSON
 //! report. When no placement helps, it says so and names the failing interfaces and a support
 //! that holds the design. Exit codes: 0 the result stands, 1 it does not, 2 bad input.
 
 use super::options::SolverOptions;
 use super::{BadInput, load, refuse_overwrite, scene_name, write_output};
-use crate::design::{self, RepairOutcome, RepairReport, RepairSettings, Score};
 use crate::io::scene_json;
 use crate::model::CutShape;
 use crate::statics::Verdict;
+use crate::synthesis::{self, RepairOutcome, RepairReport, RepairSettings, Score};
 use clap::Args;
 use std::path::PathBuf;
 
@@ -59,7 +59,7 @@ pub fn run(args: &RepairArgs) -> Result<i32, BadInput> {
         iterations: args.iterations,
         ..Default::default()
     };
-    let report = with_bar(|progress| design::repair(&scene, &args.solver.settings(), &settings, progress))
+    let report = with_bar(|progress| synthesis::repair(&scene, &args.solver.settings(), &settings, progress))
         .map_err(|e| BadInput(format!("{name}: {e}")))?;
     print!("{}", text(&report));
     write_output(&args.output, scene_json::scene_to_string(&report.design).as_bytes())?;

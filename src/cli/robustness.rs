@@ -7,10 +7,10 @@
 
 use super::options::{LoadOptions, SolverOptions};
 use super::{BadInput, load, refuse_overwrite, scene_name, write_output};
-use crate::analysis::analyze;
-use crate::io::{robustness_report, text_report};
-use crate::plot::{MechanismPicture, PolarPlot, write_mechanism, write_polar};
-use crate::robustness::{self, Answer, Question, Safety};
+use crate::pipeline::analyze;
+use crate::report::{stability as robustness_report, text as text_report};
+use crate::stability::{self, Answer, Question, Safety};
+use crate::viz::plot::{MechanismPicture, PolarPlot, write_mechanism, write_polar};
 use clap::Args;
 use std::path::PathBuf;
 
@@ -60,7 +60,7 @@ pub fn run(args: &RobustnessArgs) -> Result<i32, BadInput> {
         _ => 0,
     };
     let Answer { result, sweep: swept, load } =
-        with_progress(directions, |progress| robustness::answer(&analysis, &settings.statics, &question, progress))
+        with_progress(directions, |progress| stability::answer(&analysis, &settings.statics, &question, progress))
             .map_err(|e| BadInput(format!("{name}: {e}")))?;
     print!("{}", text_report::robustness(&analysis, &result, swept.as_ref(), &load));
     if let Some(out) = &args.json {

@@ -4,8 +4,8 @@
 
 use super::options::{DropOptions, SolverOptions};
 use super::{BadInput, load, refuse_overwrite, write_output};
-use crate::kinematics::KinematicVerdict;
-use crate::sequence::{OrderSpec, SearchSettings, StepChecks, check, check_with_props, search};
+use crate::stability::kinematic::KinematicVerdict;
+use crate::studies::sequence::{OrderSpec, SearchSettings, StepChecks, check, check_with_props, search};
 use clap::Args;
 use std::path::PathBuf;
 
@@ -100,7 +100,7 @@ pub fn run(args: &SequenceArgs) -> Result<i32, BadInput> {
 }
 
 /// The search's outcome, one line per step, the props and the first failure.
-fn print_report(r: &crate::sequence::SequenceReport, dynamic: bool, kinematic: bool) {
+fn print_report(r: &crate::studies::sequence::SequenceReport, dynamic: bool, kinematic: bool) {
     if let Some(info) = &r.search {
         let what = match (info.found, info.exhaustive) {
             (true, _) => "found an order in which every step stands".to_string(),
@@ -143,8 +143,9 @@ fn print_report(r: &crate::sequence::SequenceReport, dynamic: bool, kinematic: b
             println!("first failure at step {k} ({}): {:?} {}", s.placed, s.verdict, s.offending.join(", "))
         }
     }
-    let not_kinematic =
-        |s: &crate::sequence::Step| s.kinematic.as_ref().is_some_and(|k| k.verdict != KinematicVerdict::Stands);
+    let not_kinematic = |s: &crate::studies::sequence::Step| {
+        s.kinematic.as_ref().is_some_and(|k| k.verdict != KinematicVerdict::Stands)
+    };
     if let Some(k) = r.steps.iter().position(not_kinematic) {
         let s = &r.steps[k];
         let why = if s.stands { "the statics' equilibrium does not arise from rest" } else { "the statics fails too" };

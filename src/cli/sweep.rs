@@ -5,7 +5,7 @@ use super::choice::Choice;
 use super::options::DropOptions;
 use super::{BadInput, load, refuse_overwrite, write_output};
 use crate::model::Material;
-use crate::sweep::{Family, scan, sweep};
+use crate::studies::threshold::{Family, bisect_thresholds, scan};
 use clap::{Args, ValueEnum};
 use std::path::PathBuf;
 
@@ -120,7 +120,7 @@ pub fn run(args: &SweepArgs) -> Result<i32, BadInput> {
     let drop = args.drop.settings(None);
     let bar = indicatif::ProgressBar::new(2 * (args.iterations as u64 + 2));
     bar.set_message(format!("sweeping {name}"));
-    let result = sweep(&family, range, args.iterations, &drop, &mut || bar.inc(1));
+    let result = bisect_thresholds(&family, range, args.iterations, &drop, &mut || bar.inc(1));
     bar.finish_and_clear();
     let r = result.map_err(|e| BadInput(e.to_string()))?;
     for (what, t) in [("statics", &r.statics), ("drop-test", &r.dynamic)] {
@@ -136,13 +136,13 @@ pub fn run(args: &SweepArgs) -> Result<i32, BadInput> {
         let scan = scan(&family, range, args.points, &drop, &mut || bar.inc(1));
         bar.finish_and_clear();
         let scan = scan.map_err(|e| BadInput(e.to_string()))?;
-        let plot = crate::plot::SweepPlot {
+        let plot = crate::viz::plot::ThresholdPlot {
             title: format!("{name} sweep: statics vs drop test"),
             parameter: name.parameter().into(),
             scan: &scan,
             result: Some(&r),
         };
-        crate::plot::write_sweep(&plot, out).map_err(|e| BadInput(e.to_string()))?;
+        crate::viz::plot::write_thresholds(&plot, out).map_err(|e| BadInput(e.to_string()))?;
         println!("plot written to {}", out.display());
     }
     Ok(0)

@@ -57,7 +57,7 @@ pub fn run(args: &ViewArgs) -> Result<i32, BadInput> {
     }
     let settings = args.solver.settings();
     // A design that cannot be analysed is reported here, not as an empty window.
-    crate::analysis::analyze(&scene, &settings)
+    crate::pipeline::analyze(&scene, &settings)
         .map_err(|e| BadInput(format!("{}: {e}", scene_name(args.scene.as_deref()))))?;
     let mut options = ViewerOptions::new(scene);
     options.input = args.scene.as_ref().filter(|s| !s.starts_with("builtin:")).map(PathBuf::from);

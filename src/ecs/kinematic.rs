@@ -2,10 +2,10 @@
 //! the kinematic check (does the equilibrium the statics found arise when the blocks are
 //! released from rest?). [`KinematicStatus`] holds both verdicts and, when the design fails,
 //! the mechanism (the moving blocks' initial accelerations, the load factor's representation:
-//! the viewer draws it the same way). All the work is [`crate::kinematics`].
+//! the viewer draws it the same way). All the work is [`crate::stability::kinematic`].
 
 use super::{PipelineState, Settings, VoussoirSet};
-use crate::kinematics::{self, Kinematic};
+use crate::stability::kinematic::{self, Kinematic};
 use crate::statics::KinematicSettings;
 use bevy::app::{App, Plugin, Update};
 use bevy::ecs::prelude::*;
@@ -54,7 +54,7 @@ fn update_kinematic(
         *status = KinematicStatus::default();
         return;
     };
-    *status = match kinematics::check(a, &settings.0.statics, k) {
+    *status = match kinematic::check(a, &settings.0.statics, k) {
         Ok(r) => KinematicStatus { result: Some(r), error: None },
         Err(e) => KinematicStatus { result: None, error: Some(e.to_string()) },
     };

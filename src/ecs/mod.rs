@@ -2,7 +2,7 @@
 //! components, interfaces are entities linking two blocks (or a block and the ground), the
 //! scene's verdict, timings and work counters are resources. Requests are [`EditDesign`]
 //! messages. Every system is thin: it reads messages or resources, calls one core function
-//! ([`crate::model::edit::apply`], [`crate::analysis::Pipeline::run`]) and writes components.
+//! ([`crate::model::edit::apply`], [`crate::pipeline::Pipeline::run`]) and writes components.
 //!
 //! Order per update, one chained set: [`VoussoirSet::Edit`] (apply requests to the design) →
 //! [`VoussoirSet::Analyze`] (cut, detect, solve: the pipeline, only when something changed,
@@ -26,10 +26,10 @@ pub use repair::{ANIMATION_FRAMES, RepairPlugin, RepairStatus, RunRepair};
 pub use robustness::{JointMotion, MechanismMotion, RobustnessPlugin, RobustnessRequest, RobustnessStatus};
 pub use sequence::{Placed, SequencePlugin, SequenceSettings, SequenceStatus, StartSequence, StepSequence};
 
-use crate::analysis::{AnalysisSettings, Pipeline, Timings, Work};
 use crate::geometry::{Mesh, Point3};
 use crate::model::Scene;
 use crate::model::edit::{Edit, SettingsEdit};
+use crate::pipeline::{AnalysisSettings, Pipeline, Timings, Work};
 use crate::statics::{InterfaceResult, Verdict};
 use bevy::app::{App, Plugin, PluginGroup, PluginGroupBuilder, Update};
 use bevy::ecs::prelude::*;
@@ -117,7 +117,7 @@ pub struct PipelineState {
     pub pipeline: Pipeline,
     pub dirty: bool,
     /// The last run's results (`None` before the first or after an error).
-    pub analysis: Option<crate::analysis::Analysis>,
+    pub analysis: Option<crate::pipeline::Analysis>,
     /// Bumped on every run, so the writer knows when to write.
     pub generation: u64,
 }

@@ -1,4 +1,4 @@
-//! The repair plugin: a [`RunRepair`] request runs [`crate::design::repair`] on the current
+//! The repair plugin: a [`RunRepair`] request runs [`crate::synthesis::repair`] on the current
 //! design off the main thread (bevy's async compute pool, so the app keeps drawing); when it
 //! ends, [`RepairStatus`] holds the report and the cuts the repair changed move from where
 //! they were to where it put them over [`ANIMATION_FRAMES`] updates — one `MoveCut` edit per
@@ -6,8 +6,8 @@
 //! is the core's.
 
 use super::{Design, EditDesign, Settings, VoussoirSet};
-use crate::design::{self, CutChange, DesignError, RepairReport, RepairSettings};
 use crate::model::edit::Edit;
+use crate::synthesis::{self, CutChange, DesignError, RepairReport, RepairSettings};
 use bevy::app::{App, Plugin, Update};
 use bevy::ecs::prelude::*;
 use bevy::tasks::{AsyncComputeTaskPool, Task, futures::check_ready};
@@ -76,7 +76,7 @@ fn start_repair(
     let analysis = settings.0.clone();
     let from = scene.clone();
     let task =
-        AsyncComputeTaskPool::get().spawn(async move { design::repair(&scene, &analysis, &repair, &|_, _, _| {}) });
+        AsyncComputeTaskPool::get().spawn(async move { synthesis::repair(&scene, &analysis, &repair, &|_, _, _| {}) });
     *status =
         RepairStatus { running: Some(task), started_from: Some(from), finished: status.finished, ..Default::default() };
 }

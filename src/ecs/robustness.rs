@@ -3,11 +3,11 @@
 //! worst direction); [`RobustnessStatus`] holds λ* and the worst direction, each moving block
 //! entity gets its [`MechanismMotion`] and each interface entity of the moving components its
 //! [`JointMotion`]. For live loads and one direction the component load factors are kept by
-//! content ([`crate::robustness::FactorCache`]): after an edit only the components it touched
-//! are solved again. All the work is [`crate::robustness`].
+//! content ([`crate::stability::FactorCache`]): after an edit only the components it touched
+//! are solved again. All the work is [`crate::stability`].
 
 use super::{BlockIndex, InterfaceIndex, PipelineState, Settings, VoussoirSet};
-use crate::robustness::{self, FactorCache, JointState, Robustness, Safety, SweepSettings, sweep};
+use crate::stability::{self, DirectionSettings, FactorCache, JointState, Robustness, Safety, directions};
 use bevy::app::{App, Plugin, Update};
 use bevy::ecs::prelude::*;
 
@@ -101,20 +101,20 @@ fn update_robustness(
     let state = &mut *state;
     let result = match (&*request, a.statics.stands) {
         (RobustnessRequest::LiveLoads, stands) => {
-            robustness::assess_cached(&a.assembly, &a.interfaces, stands, statics, Some((&keys, &mut state.cache)))
+            stability::assess_cached(&a.assembly, &a.interfaces, stands, statics, Some((&keys, &mut state.cache)))
         }
         (RobustnessRequest::Direction(d), true) => {
-            let field = sweep::with_horizontal_field(&a.assembly, *d);
-            robustness::assess_cached(&field, &a.interfaces, true, statics, Some((&keys, &mut state.cache)))
+            let field = directions::with_horizontal_field(&a.assembly, *d);
+            stability::assess_cached(&field, &a.interfaces, true, statics, Some((&keys, &mut state.cache)))
         }
         (RobustnessRequest::Worst(n), true) => {
-            let s = SweepSettings { directions: *n, ..Default::default() };
-            robustness::worst_direction(&a.assembly, &a.interfaces, statics, &s, &|_, _| {}).map(|s| {
+            let s = DirectionSettings { directions: *n, ..Default::default() };
+            stability::worst_direction(&a.assembly, &a.interfaces, statics, &s, &|_, _| {}).map(|s| {
                 worst_azimuth = Some(s.worst_azimuth);
                 s.worst
             })
         }
-        (_, false) => robustness::assess(a, statics),
+        (_, false) => stability::assess(a, statics),
         (RobustnessRequest::Off, _) => unreachable!("handled above"),
     };
     *status = match result {

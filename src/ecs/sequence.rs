@@ -1,12 +1,12 @@
 //! The sequence plugin: [`StartSequence`] checks every step of an order on the current design
-//! ([`crate::sequence::check`]); [`StepSequence`] moves through the steps, marking the blocks
+//! ([`crate::studies::sequence::check`]); [`StepSequence`] moves through the steps, marking the blocks
 //! placed so far with [`Placed`] (what a viewer shows) and exposing the step's result — and its
 //! full analysis, forces included — in [`SequenceStatus`]. [`SequenceSettings`] asks for the
 //! drop test and the kinematic check of every step beside the statics.
 
 use super::{BlockIndex, Design, Settings, VoussoirSet};
-use crate::analysis::Analysis;
-use crate::sequence::{OrderSpec, SequenceReport, Step, StepChecks, check, step_analysis};
+use crate::pipeline::Analysis;
+use crate::studies::sequence::{OrderSpec, SequenceReport, Step, StepChecks, check, step_analysis};
 use bevy::app::{App, Plugin, Update};
 use bevy::ecs::prelude::*;
 

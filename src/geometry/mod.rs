@@ -7,8 +7,10 @@
 
 pub mod convex;
 pub mod cut;
+pub(crate) mod format;
 pub mod mass;
 pub mod mesh;
+pub(crate) mod overlap;
 pub mod polygon;
 pub mod repair_cache;
 pub mod tolerances;

@@ -23,7 +23,7 @@ pub enum MeshError {
         "vertex {vertex} at {coords:?} lies {} m beyond the rest of the model along {axis}, more than \
          {} times the rest's size ({} m): every tolerance is relative to the model size, so it would \
          set them for every block (a corrupt or misplaced coordinate?)",
-        crate::model::significant(*.gap), crate::model::significant(*.limit), crate::model::significant(*.size)
+        super::format::significant(*.gap), super::format::significant(*.limit), super::format::significant(*.size)
     )]
     FarOutside { vertex: usize, coords: [f64; 3], axis: char, gap: f64, size: f64, limit: f64 },
     #[error(

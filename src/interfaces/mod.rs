@@ -13,7 +13,6 @@
 
 pub(crate) mod broad;
 mod cache;
-pub(crate) mod overlap;
 pub mod penetration;
 
 use crate::geometry::polygon::{Frame, Plane, centroid, signed_area_2d};
@@ -137,7 +136,7 @@ pub fn detect_pair(assembly: &Assembly, ia: BlockId, ib: BlockId, out: &mut Vec<
             // b's face is CCW about −n: reverse it to CCW about n.
             let ring_b: Vec<[f64; 2]> = pb.iter().rev().map(|p| frame.to_2d(p)).collect();
             let min_area = (tol.min_area_rel * face_a.area.min(face_b.area)).max(tol.min_area_abs);
-            for piece in overlap::intersect(&ring_a, &ring_b) {
+            for piece in crate::geometry::overlap::intersect(&ring_a, &ring_b) {
                 push_piece(&frame, piece, min_area, Body::Block(ia), Body::Block(ib), (Some(fa), Some(fb)), out);
             }
         }
@@ -164,7 +163,7 @@ pub fn detect_ground(assembly: &Assembly, ib: BlockId, out: &mut Vec<Interface>)
             block.mesh.face_points(f).collect::<Vec<_>>().iter().rev().map(|p| frame.to_2d(p)).collect();
         let min_area = (tol.min_area_rel * face.area).max(tol.min_area_abs);
         // Intersecting with itself normalises the ring (orientation, collinear points).
-        for piece in overlap::intersect(&ring, &ring) {
+        for piece in crate::geometry::overlap::intersect(&ring, &ring) {
             push_piece(&frame, piece, min_area, Body::Ground, Body::Block(ib), (None, Some(f)), out);
         }
     }

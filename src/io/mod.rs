@@ -7,14 +7,10 @@
 
 pub mod compas;
 pub mod compas_dem;
-pub mod compas_out;
 pub mod compas_rbe;
 mod obj;
-pub mod report;
-pub mod robustness_report;
 pub mod scene_json;
 mod stl;
-pub mod text_report;
 
 use crate::model::Scene;
 use std::path::{Path, PathBuf};

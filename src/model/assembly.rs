@@ -1,6 +1,7 @@
 //! Validated scene: repaired meshes, mass properties, model size, face planes.
 
 use super::{BlockId, BlockLoads, Material, Scene};
+use crate::geometry::format::significant;
 use crate::geometry::polygon::{area_vector, centroid};
 use crate::geometry::tolerances::AbsTolerances;
 use crate::geometry::{Aabb3, MassProperties, Mesh, MeshError, MeshWarning, Point3, RepairCache, Tolerances, Vector3};
@@ -138,18 +139,6 @@ fn others_note(others: &usize) -> String {
     }
 }
 
-/// `x` with three significant digits, without an exponent for ordinary magnitudes.
-pub(crate) fn significant(x: f64) -> String {
-    if x == 0.0 || !x.is_finite() {
-        return format!("{x}");
-    }
-    let magnitude = x.abs().log10().floor();
-    if !(-6.0..=9.0).contains(&magnitude) {
-        return format!("{x:.2e}");
-    }
-    format!("{x:.*}", (2.0 - magnitude).max(0.0) as usize)
-}
-
 /// One face of a validated block, with its plane data precomputed for interface detection.
 #[derive(Clone, Debug)]
 pub struct Face {
@@ -196,7 +185,7 @@ pub struct Assembly {
     pub tolerances: AbsTolerances,
     /// Loads besides self-weight, per block (zero on supports): [`super::loads`].
     pub loads: Vec<BlockLoads>,
-    /// The scene's load warnings, then the repairs made here; a [`crate::analysis::Pipeline`]
+    /// The scene's load warnings, then the repairs made here; a [`crate::pipeline::Pipeline`]
     /// run puts the interpenetrating pairs ahead of them.
     pub warnings: Vec<Warning>,
 }

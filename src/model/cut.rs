@@ -1,4 +1,4 @@
-//! A cut of a design's history (see [`crate::decompose`] for how it is replayed).
+//! A cut of a design's history (see [`crate::history`] for how it is replayed).
 //!
 //! In a scene file a cut is either a plane, `{"point": [x,y,z], "normal": [x,y,z]}`, or a
 //! pattern cut, `{"apex": [x,y,z], "segments": [[[x,y,z],[x,y,z]], …]}`; both take an optional

@@ -1,8 +1,8 @@
 //! Edits of a design, as data: what the ECS layer's requests and the CLI carry. Applying one is
 //! a pure function of the scene; names are checked when the design is next resolved.
 
+use super::FrictionModel;
 use super::{Block, Cut, Load, Material, Scene};
-use crate::statics::FrictionModel;
 use thiserror::Error;
 
 /// One edit of a design.

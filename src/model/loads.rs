@@ -1,6 +1,6 @@
 //! Loads beyond self-weight: point loads on blocks and a uniform acceleration field, each
 //! *dead* (always applied, as self-weight is) or *live* (scaled by the load factor λ of
-//! [`crate::robustness`]).
+//! [`crate::stability`]).
 //!
 //! Units SI: a point load is a force in N applied at a point in m (the scene's coordinates); an
 //! acceleration field is a vector in units of g (the scene's |gravity|) acting on every free

@@ -6,16 +6,17 @@
 
 mod assembly;
 pub mod builtin;
-pub mod cases;
 pub mod coordinates;
 pub mod cut;
 pub mod edit;
+mod friction;
 pub mod loads;
 
-pub(crate) use assembly::significant;
+pub(crate) use crate::geometry::format::significant;
 pub use assembly::{Assembly, AssemblyBlock, ModelError, Overlap, Warning};
 pub use builtin::{BuiltinError, builtin};
 pub use cut::{Cut, CutShape};
+pub use friction::FrictionModel;
 pub use loads::{BlockLoads, Load, LoadKind};
 
 /// Which blocks are supports ([`Scene::choose_supports`]).
@@ -100,14 +101,14 @@ pub struct Scene {
     /// The plane z = 0 supports faces lying on it.
     pub ground: bool,
     /// Cut history: when not empty, `blocks` are the source shapes and the blocks to analyse
-    /// are the pieces of replaying these cuts ([`crate::decompose::resolve`]).
+    /// are the pieces of replaying these cuts ([`crate::history::resolve`]).
     pub cuts: Vec<Cut>,
     /// Pieces left out after the cut history (by name): parts removed from a design.
     pub removed: Vec<String>,
     /// Pieces made supports after the cut history (by name), besides blocks marked `support`.
     pub supports: Vec<String>,
     /// An assembly order (piece names, or source-shape names standing for all their pieces
-    /// bottom-up) for [`crate::sequence`]; empty when none is given.
+    /// bottom-up) for [`crate::studies::sequence`]; empty when none is given.
     pub order: Vec<String>,
     /// Point loads and acceleration fields besides self-weight ([`loads`]); dead ones are part
     /// of every analysis, live ones are what a load factor scales.

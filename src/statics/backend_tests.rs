@@ -204,7 +204,7 @@ fn strict_system(scene: &crate::model::Scene) -> System {
 /// solve's optimum (objective within 5e-8 relative: both within the gap tolerance 1e-8 of it, and
 /// feasible to 1e-8; forces, in units of the weight, within 1e-5: a gap of 1e-8 allows
 /// √(2·1e-8) ≈ 1.4e-4 for an objective of unit curvature, and the cold solve is ~1e-6 from a
-/// solve to 1e-10 — tests/statics_warm_start.rs) in fewer
+/// solve to 1e-10 — tests/it/statics_warm_start.rs) in fewer
 /// iterations, reusing the start's symbolic factorisation (the same pattern); a warm run cut
 /// short (capped at one iteration) is replaced by the cold solve itself, bit for bit, its
 /// iteration spent counted; a start of another size is not used (the cold solve, bit for bit,

@@ -76,10 +76,10 @@ fn layout_key(interfaces: &[Interface], comp: &Component, common: u64) -> u64 {
     h.finish()
 }
 
-/// [`super::analyze`] with a cache of component outcomes (`block_keys` from
+/// [`super::solve`] with a cache of component outcomes (`block_keys` from
 /// [`crate::interfaces::block_keys`]). The cache keeps only this assembly's components
 /// afterwards.
-pub fn analyze_cached(
+pub fn solve_cached(
     assembly: &Assembly,
     interfaces: &[Interface],
     settings: &StaticsSettings,

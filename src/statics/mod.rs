@@ -51,7 +51,7 @@
 //!    `kinematic`: a component's rate problem from rest (the same rows with the blocks'
 //!    accelerations, a fixed point of QPs on clarabel).
 //! 5. `result`: per-interface results and the global answer from the stages' outcomes;
-//!    `cache`: outcomes kept by component content ([`analyze_cached`]).
+//!    `cache`: outcomes kept by component content ([`solve_cached`]).
 
 mod assemble;
 mod backend;
@@ -60,21 +60,23 @@ mod backend_tests;
 mod cache;
 mod components;
 mod error;
-mod kinematic;
 mod load_factor;
+pub mod mechanism;
 mod problem;
+mod rate;
 mod result;
 mod settings;
 mod stages;
 
 pub use backend::Backend;
 pub(crate) use cache::component_key;
-pub use cache::{SolveStats, StaticsCache, analyze_cached};
+pub use cache::{SolveStats, StaticsCache, solve_cached};
 pub use components::{Component, components};
 pub use error::StaticsError;
-pub use kinematic::{KinematicSettings, RateOutcome, RateState, rate_problem};
 pub use load_factor::{FactorOutcome, Motion, component_load_factor, failure_mechanism, standing_load_factor};
+pub use mechanism::{BlockMotion, InterfaceMotion, JointState, Mechanism};
 pub use problem::{FrictionModel, SolverStatus};
+pub use rate::{KinematicSettings, RateOutcome, RateState, rate_problem};
 pub use result::{InterfaceResult, SolverReport, StaticsResult, VertexForce};
 pub use settings::{FirstStage, StaticsSettings};
 pub use stages::Verdict;
@@ -84,11 +86,11 @@ use crate::model::Assembly;
 
 /// Solves the equilibrium of `assembly` over `interfaces` (as returned by
 /// [`crate::interfaces::detect`]). μ comes from the settings when given, else the material.
-pub fn analyze(
+pub fn solve(
     assembly: &Assembly,
     interfaces: &[Interface],
     settings: &StaticsSettings,
 ) -> Result<StaticsResult, StaticsError> {
     let keys = crate::interfaces::block_keys(assembly);
-    Ok(analyze_cached(assembly, interfaces, settings, &keys, &mut StaticsCache::default())?.0)
+    Ok(solve_cached(assembly, interfaces, settings, &keys, &mut StaticsCache::default())?.0)
 }

@@ -27,7 +27,7 @@ pub struct VertexForce {
 /// Forces at one interface.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct InterfaceResult {
-    /// Index in the interface list given to [`super::analyze`].
+    /// Index in the interface list given to [`super::solve`].
     pub index: usize,
     pub a: String,
     pub b: String,
@@ -71,7 +71,7 @@ pub struct SolverReport {
     pub backend: Backend,
 }
 
-/// The answer of [`super::analyze`].
+/// The answer of [`super::solve`].
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct StaticsResult {
     pub verdict: Verdict,

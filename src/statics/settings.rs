@@ -5,7 +5,7 @@ use super::error::StaticsError;
 use super::problem::FrictionModel;
 use serde::{Deserialize, Serialize};
 
-/// Settings of [`super::analyze`]; each default is written once, in `Default` (with why).
+/// Settings of [`super::solve`]; each default is written once, in `Default` (with why).
 /// `voussoir analyze --help` prints the ones the command line sets.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default)]

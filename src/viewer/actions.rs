@@ -12,7 +12,7 @@ use crate::ecs::{
 use crate::model::Scene;
 use crate::model::cut::{Cut, CutShape};
 use crate::model::edit::{Edit, apply};
-use crate::sequence::OrderSpec;
+use crate::studies::sequence::OrderSpec;
 use crate::viz::DiagramMode;
 use bevy::prelude::*;
 use nalgebra::{Rotation3, Unit, Vector3};
@@ -250,7 +250,9 @@ fn apply_actions(
                 *robustness = match (s.mechanism_view, live) {
                     (false, _) => RobustnessRequest::Off,
                     (true, true) => RobustnessRequest::LiveLoads,
-                    (true, false) => RobustnessRequest::Worst(crate::robustness::SweepSettings::default().directions),
+                    (true, false) => {
+                        RobustnessRequest::Worst(crate::stability::DirectionSettings::default().directions)
+                    }
                 };
             }
             ViewerAction::ToggleKinematic => {
@@ -301,7 +303,7 @@ fn apply_actions(
             }
             ViewerAction::Repair => {
                 let cuts = s.selected.as_ref().map(|name| {
-                    (0..s.design.cuts.len()).filter(|&i| crate::decompose::made_by(name, i)).collect::<Vec<_>>()
+                    (0..s.design.cuts.len()).filter(|&i| crate::history::made_by(name, i)).collect::<Vec<_>>()
                 });
                 if cuts.as_ref().is_some_and(Vec::is_empty) || s.design.cuts.is_empty() {
                     s.message =
@@ -313,7 +315,7 @@ fn apply_actions(
                     None => format!("repairing all {} cuts…", s.design.cuts.len()),
                 });
                 s.active_cut = None;
-                repairs.write(RunRepair(crate::design::RepairSettings { cuts, ..Default::default() }));
+                repairs.write(RunRepair(crate::synthesis::RepairSettings { cuts, ..Default::default() }));
             }
             ViewerAction::ToggleSupport | ViewerAction::RemoveBlock => {
                 let Some(name) = s.selected.clone() else {
@@ -414,9 +416,9 @@ fn follow_repair(
 }
 
 /// One line: the outcome, the verdicts and load factors before and after, the cuts moved.
-fn repair_summary(r: &crate::design::RepairReport) -> String {
-    use crate::design::RepairOutcome;
-    let verdict = |s: &crate::design::Score| s.verdict.map_or("cannot be cut".to_string(), |v| format!("{v:?}"));
+fn repair_summary(r: &crate::synthesis::RepairReport) -> String {
+    use crate::synthesis::RepairOutcome;
+    let verdict = |s: &crate::synthesis::Score| s.verdict.map_or("cannot be cut".to_string(), |v| format!("{v:?}"));
     let lambda = |l: Option<f64>| l.map_or("—".into(), |l| format!("{l:.3}"));
     let outcome = match &r.outcome {
         RepairOutcome::Repaired => "repaired: it stands now",

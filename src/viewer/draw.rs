@@ -8,7 +8,7 @@ use super::ViewerState;
 use super::camera::PHYSICS_LAYER;
 use crate::ecs::{BlockMesh, BlockName, BlockPose, InterfaceColors, InterfaceForces, MassCentre, PipelineState};
 use crate::ecs::{DropStatus, KinematicStatus, Placed, RobustnessStatus, SequenceStatus, Support, VoussoirSet};
-use crate::robustness::{BlockMotion, Mechanism};
+use crate::stability::{BlockMotion, Mechanism};
 use crate::statics::InterfaceResult;
 use crate::viz::{ColouredTriangle, DiagramMode};
 use bevy::asset::RenderAssetUsages;

@@ -283,7 +283,7 @@ fn write_texts(
 
 /// The load factor line: λ* (and the worst direction) while the mechanism view is on.
 fn robustness_text(state: &ViewerState, r: &RobustnessStatus) -> String {
-    use crate::robustness::Safety;
+    use crate::stability::Safety;
     if !state.mechanism_view {
         return "load factor: not computed (K)".into();
     }
@@ -305,7 +305,7 @@ fn robustness_text(state: &ViewerState, r: &RobustnessStatus) -> String {
 
 /// The kinematic line: both verdicts and whether they agree, while the check is on.
 fn kinematic_text(state: &ViewerState, k: &KinematicStatus) -> String {
-    use crate::kinematics::KinematicVerdict;
+    use crate::stability::kinematic::KinematicVerdict;
     if !state.kinematic_view {
         return "kinematic check: not run (J)".into();
     }

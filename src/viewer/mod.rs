@@ -23,12 +23,12 @@ pub mod input;
 pub use actions::{ViewerAction, ViewerState};
 pub use capture::{Script, ScriptStep};
 
-use crate::analysis::AnalysisSettings;
 use crate::dynamics::DropSettings;
 use crate::ecs::{EditDesign, SequenceSettings, Settings, VoussoirPlugins};
 use crate::model::Scene;
 use crate::model::edit::Edit;
-use crate::sequence::StepChecks;
+use crate::pipeline::AnalysisSettings;
+use crate::studies::sequence::StepChecks;
 use crate::viz::DiagramMode;
 use bevy::prelude::*;
 use bevy::window::WindowResolution;
@@ -107,7 +107,7 @@ impl Plugin for ViewerPlugin {
             .add_plugins((camera::CameraPlugin, draw::DrawPlugin, hud::HudPlugin, actions::ActionsPlugin))
             .add_plugins((input::InputPlugin, capture::CapturePlugin(o.script.clone())));
         // The bundled font replaces bevy's default (a subset without μ, ·, —).
-        let font = bevy::text::Font::from_bytes(crate::plot::FONT.to_vec());
+        let font = bevy::text::Font::from_bytes(crate::viz::plot::FONT.to_vec());
         let _ = app.world_mut().resource_mut::<Assets<bevy::text::Font>>().insert(AssetId::default(), font);
         app.world_mut().write_message(EditDesign(Edit::Load(o.scene.clone())));
         app.world_mut().write_message(crate::ecs::SetDiagram(o.mode));

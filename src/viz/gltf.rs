@@ -1,13 +1,13 @@
 //! glTF 2.0 binary export (.glb) of an analysis: every block as a translucent mesh (flat
 //! normals) and every interface polygon coloured per vertex by a diagram mode, so any glTF
 //! viewer (or Rhino) shows the forces inside the assembly. Written by hand (the format is a
-//! JSON header and one binary buffer); `tests/gltf_export.rs` reads it back with the `gltf`
+//! JSON header and one binary buffer); `tests/it/gltf_export.rs` reads it back with the `gltf`
 //! crate. Axes: glTF is y-up, voussoir z-up: (x, y, z) → (x, z, −y), here and nowhere else in
 //! the export.
 
 use super::DiagramMode;
 use super::colors::Rgb;
-use crate::analysis::Analysis;
+use crate::pipeline::Analysis;
 use serde_json::{Value, json};
 
 fn y_up(p: [f64; 3]) -> [f32; 3] {

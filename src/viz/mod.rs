@@ -1,13 +1,14 @@
 //! What the diagrams show, without a window: the seed paper's colour mappings (pure functions),
 //! the per-vertex colours of an interface, and the glTF export. The offscreen pictures
-//! ([`crate::plot::diagram`]) and the bevy viewer (feature `viewer`) use the same colours.
+//! ([`crate::viz::plot::diagram`]) and the bevy viewer (feature `viewer`) use the same colours.
 
 pub mod colors;
 pub mod gltf;
+pub mod plot;
 
 pub use gltf::glb;
 
-use crate::analysis::Analysis;
+use crate::pipeline::Analysis;
 use crate::statics::{FrictionModel, InterfaceResult};
 use colors::Rgb;
 

@@ -349,7 +349,7 @@ def test_cut_history_and_supports_edits():
 def test_pattern_cut_is_a_running_bond():
     """A line across a 2 x 2 x 0.5 slab, then a half line on either side of it, extruded to an
     apex 3 m below: 4 pieces, not 6 (each half line cuts only the piece its cone meets), the
-    slab's volume kept, every internal joint's plane through the apex (as tests/pattern_cut.rs);
+    slab's volume kept, every internal joint's plane through the apex (as tests/it/pattern_cut.rs);
     a target that is not a piece is an InputError naming the cut."""
     slab = {
         "name": "slab",

@@ -8,16 +8,16 @@ use crate::scene::Scene;
 use crate::settings::{Options, Supports};
 use numpy::{PyArray1, PyArray2};
 use pyo3::prelude::*;
-use voussoir::analysis;
 use voussoir::dynamics::{DropResult, DropSettings};
 use voussoir::interfaces::Body;
-use voussoir::io::{compas_out, report};
-use voussoir::kinematics::{self, Kinematic};
+use voussoir::pipeline;
+use voussoir::report;
+use voussoir::stability::kinematic::{self, Kinematic};
 
 /// The analysis of one scene (`voussoir.analyze`).
 #[pyclass(module = "voussoir", frozen)]
 pub struct Analysis {
-    pub(crate) analysis: analysis::Analysis,
+    pub(crate) analysis: pipeline::Analysis,
     dynamic: Option<DropResult>,
     kinematic: Option<Kinematic>,
 }
@@ -48,9 +48,9 @@ pub fn analyze(
     let design = options.amend(&scene.scene, &scene.source, &settings)?;
     let source = scene.source.as_str();
     py.detach(|| {
-        let analysis = analysis::analyze(&design, &settings).map_err(|e| e.to_string())?;
+        let analysis = pipeline::analyze(&design, &settings).map_err(|e| e.to_string())?;
         let kinematic = kinematic
-            .then(|| kinematics::check(&analysis, &settings.statics, &Default::default()))
+            .then(|| kinematic::check(&analysis, &settings.statics, &Default::default()))
             .transpose()
             .map_err(|e| e.to_string())?;
         let dynamic = dynamic
@@ -284,14 +284,14 @@ impl Analysis {
 
     /// The JSON report of `voussoir analyze --json` as a dict.
     fn to_dict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        let text = report::to_json_with(&self.analysis, self.dynamic.as_ref(), self.kinematic.as_ref());
+        let text = report::json::to_json_with(&self.analysis, self.dynamic.as_ref(), self.kinematic.as_ref());
         py.import("json")?.call_method1("loads", (text,))
     }
 
     /// The design with its interfaces and forces as compas 2 Assembly JSON (what
     /// `analyze --compas-out` writes).
     fn to_compas_json(&self) -> String {
-        compas_out::assembly_json(&self.analysis)
+        report::compas::assembly_json(&self.analysis)
     }
 
     /// Writes the forces into a compas_assembly `Assembly` (or compas_cra `CRA_Assembly`) in

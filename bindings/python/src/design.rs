@@ -9,7 +9,7 @@ use crate::settings::{Options, Supports};
 use crate::tasks::json_to_python;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use voussoir::design::{self, BlockSize, Field, RepairSettings, ThrustSettings};
+use voussoir::synthesis::{self, BlockSize, Field, RepairSettings, ThrustSettings};
 
 /// Moves and turns the cuts of `scene` (all, or the indices in `cuts`) until it stands and, with
 /// `robust`, until its worst-direction horizontal load factor is largest (`voussoir repair`).
@@ -54,7 +54,7 @@ pub fn repair<'py>(
     };
     let source = scene.source.as_str();
     let report = py
-        .detach(|| design::repair(&design, &settings, &repair, &|_, _, _| {}).map_err(|e| e.to_string()))
+        .detach(|| synthesis::repair(&design, &settings, &repair, &|_, _, _| {}).map_err(|e| e.to_string()))
         .map_err(|e| errors::input(source, e))?;
     let text = serde_json::to_string(&report).map_err(errors::setting)?;
     Ok((scene.edited(report.design), json_to_python(py, &text)?))
@@ -110,9 +110,9 @@ pub fn decompose<'py>(
     let generated = py
         .detach(|| {
             if thrust {
-                design::thrust(&shape, &field, &size, stagger, &ThrustSettings::default(), &settings)
+                synthesis::thrust(&shape, &field, &size, stagger, &ThrustSettings::default(), &settings)
             } else {
-                design::courses(&shape, &field, &size, stagger)
+                synthesis::courses(&shape, &field, &size, stagger)
             }
             .map_err(|e| e.to_string())
         })

@@ -155,7 +155,7 @@ impl Scene {
     /// The names of the blocks an analysis sees: the cut history replayed.
     fn pieces(&self) -> PyResult<Vec<String>> {
         let (resolved, _) =
-            voussoir::decompose::resolve(&self.scene, &Default::default(), &mut voussoir::decompose::CutCache::new())
+            voussoir::history::resolve(&self.scene, &Default::default(), &mut voussoir::history::CutCache::new())
                 .map_err(|e| errors::input(&self.source, e))?;
         Ok(resolved.blocks.into_iter().map(|b| b.name).collect())
     }
@@ -167,7 +167,7 @@ impl Scene {
         let mut scene = self.scene.clone();
         scene.cuts.push(Cut { target, ..Cut::plane(point, normal) });
         // Replayed now, so a bad cut is an error here rather than at the next analysis.
-        voussoir::decompose::resolve(&scene, &Default::default(), &mut voussoir::decompose::CutCache::new())
+        voussoir::history::resolve(&scene, &Default::default(), &mut voussoir::history::CutCache::new())
             .map_err(|e| errors::input(&self.source, e))?;
         Ok(self.edited(scene))
     }
@@ -180,7 +180,7 @@ impl Scene {
     fn with_pattern_cut(&self, apex: [f64; 3], segments: Vec<[[f64; 3]; 2]>, target: Option<String>) -> PyResult<Self> {
         let mut scene = self.scene.clone();
         scene.cuts.push(Cut { target, ..Cut::pattern(apex, segments) });
-        voussoir::decompose::resolve(&scene, &Default::default(), &mut voussoir::decompose::CutCache::new())
+        voussoir::history::resolve(&scene, &Default::default(), &mut voussoir::history::CutCache::new())
             .map_err(|e| errors::input(&self.source, e))?;
         Ok(self.edited(scene))
     }

@@ -5,8 +5,8 @@
 use crate::errors;
 use clap::ValueEnum;
 use pyo3::prelude::*;
-use voussoir::analysis::AnalysisSettings;
 use voussoir::model::{Scene, SupportChoice};
+use voussoir::pipeline::AnalysisSettings;
 use voussoir::statics::{Backend, FrictionModel};
 
 /// `supports=`: `"lowest"`, or the names of the blocks that are supports.

@@ -8,18 +8,18 @@ use crate::scene::Scene;
 use crate::settings::{Options, Supports};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
-use voussoir::analysis::{AnalysisSettings, analyze};
 use voussoir::dynamics::DropSettings;
 use voussoir::interfaces::Body;
-use voussoir::io::robustness_report;
 use voussoir::model::Assembly;
-use voussoir::robustness::{self, Question};
-use voussoir::sequence::{self as assembly_sequence, OrderSpec, SearchSettings, StepChecks};
+use voussoir::pipeline::{AnalysisSettings, analyze};
+use voussoir::report::stability as stability_report;
+use voussoir::stability::{self, Question};
+use voussoir::studies::sequence::{self as assembly_sequence, OrderSpec, SearchSettings, StepChecks};
 
 /// The validated blocks of `design` (its cut history replayed), or the error's message.
 fn assembly_of(design: &voussoir::model::Scene, settings: &AnalysisSettings) -> Result<Assembly, String> {
-    let (resolved, _) = voussoir::decompose::resolve(design, &settings.tolerances, &mut Default::default())
-        .map_err(|e| e.to_string())?;
+    let (resolved, _) =
+        voussoir::history::resolve(design, &settings.tolerances, &mut Default::default()).map_err(|e| e.to_string())?;
     Assembly::new(&resolved, &settings.tolerances).map_err(|e| e.to_string())
 }
 
@@ -99,8 +99,8 @@ pub fn load_factor<'py>(
             let analysis = analyze(&design, &settings).map_err(|e| e.to_string())?;
             let question = Question::choose(&analysis, direction, directions);
             let answer =
-                robustness::answer(&analysis, &settings.statics, &question, &|_, _| {}).map_err(|e| e.to_string())?;
-            Ok(robustness_report::to_json(&analysis, &answer.result, answer.sweep.as_ref(), &answer.load))
+                stability::answer(&analysis, &settings.statics, &question, &|_, _| {}).map_err(|e| e.to_string())?;
+            Ok(stability_report::to_json(&analysis, &answer.result, answer.sweep.as_ref(), &answer.load))
         })
         .map_err(|e: String| errors::input(source, e))?;
     json_to_python(py, &text)

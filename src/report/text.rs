@@ -1,0 +1,287 @@
+//! The text report of an analysis, as `voussoir analyze` prints it (the JSON report is
+//! [`super::report`]): the verdict first, then the graded numbers, the solver and timings, the
+//! worst interfaces; with a drop test, its verdict beside the statics' and whether they agree.
+
+use crate::dynamics::DropResult;
+use crate::pipeline::Analysis;
+use crate::statics::{FrictionModel, Verdict};
+
+/// Warnings printed in full; the JSON report lists them all.
+const SHOWN_WARNINGS: usize = 5;
+
+/// The verdict as the first line of a report says it.
+pub fn headline(verdict: Verdict) -> &'static str {
+    match verdict {
+        Verdict::Stands => "STANDS: compression and friction suffice",
+        Verdict::NeedsTension => "DOES NOT STAND: needs tension",
+        Verdict::NeedsFriction => "DOES NOT STAND: needs more friction",
+        Verdict::NeedsTensionAndFriction => "DOES NOT STAND: needs tension and more friction",
+        Verdict::Unsupported => "DOES NOT STAND: something touches no support",
+        Verdict::Unresolved => "UNRESOLVED: the solver did not converge",
+    }
+}
+
+/// Human-readable summary: verdict first, then the graded numbers, then the worst interfaces.
+pub fn summary(analysis: &Analysis, worst: usize) -> String {
+    use std::fmt::Write;
+    let a = &analysis.assembly;
+    let s = &analysis.statics;
+    let mut o = String::new();
+    let verdict = headline(s.verdict);
+    let supports = a.blocks.iter().filter(|b| b.support).count();
+    let _ = writeln!(o, "{verdict}");
+    let _ = writeln!(
+        o,
+        "  scene '{}': {} blocks ({} supports{}), {} interfaces, {} component(s)",
+        a.name,
+        a.blocks.len(),
+        supports,
+        if a.ground { ", ground plane" } else { "" },
+        analysis.interfaces.len(),
+        s.components
+    );
+    let _ = writeln!(
+        o,
+        "  free weight W = {:.6e} N, μ = {:.4} ({})",
+        s.free_weight, s.friction_coefficient, s.friction_model
+    );
+    let _ = writeln!(o, "  minimum tension         {:.3e} W", s.tension_ratio);
+    let _ = writeln!(o, "  minimum friction excess {:.3e} W", s.friction_excess_ratio);
+    let _ = write!(o, "  max friction use        {:.1} % of μ·compression", 100.0 * s.max_friction_utilization);
+    let _ = match s.friction_model {
+        FrictionModel::Cone => writeln!(o),
+        m => writeln!(o, " (|f_t| as a circle; {m} allows up to {:.1} %)", 100.0 * m.max_utilization()),
+    };
+    let _ = writeln!(
+        o,
+        "  solver: {} — {:?}, {} iterations, residual {:.2e} W",
+        s.solver.backend,
+        s.solver.status,
+        s.solver.iterations,
+        s.solver.residual / s.free_weight
+    );
+    for m in &s.solver.messages {
+        let _ = writeln!(o, "  ! {m}");
+    }
+    let t = &analysis.timings;
+    let _ = writeln!(
+        o,
+        "  time: validate {:.1} ms, detect {:.1} ms, assemble {:.1} ms, solve {:.1} ms (total {:.1} ms)",
+        1e3 * t.validate,
+        1e3 * t.detect,
+        1e3 * t.assemble,
+        1e3 * t.solve,
+        1e3 * t.total
+    );
+    // Overlaps first (they can make the statics wrong), then unknown keys and repairs.
+    for w in a.warnings.iter().take(SHOWN_WARNINGS) {
+        let _ = writeln!(o, "  warning: {w}");
+    }
+    if a.warnings.len() > SHOWN_WARNINGS {
+        let _ = writeln!(o, "  … {} more warning(s) in the JSON report", a.warnings.len() - SHOWN_WARNINGS);
+    }
+    let mut ranked: Vec<_> = s.interfaces.iter().collect();
+    ranked.sort_by(|x, y| {
+        (y.tension, y.friction_excess, y.friction_utilization)
+            .partial_cmp(&(x.tension, x.friction_excess, x.friction_utilization))
+            .unwrap_or(std::cmp::Ordering::Equal)
+    });
+    if worst > 0 && !ranked.is_empty() {
+        let _ = writeln!(o, "  worst interfaces (a → b: net normal, tension, friction use):");
+        for r in ranked.iter().take(worst) {
+            let _ = writeln!(
+                o,
+                "    {} → {}: {:.4e} N, tension {:.3e} N, friction {:.1} %",
+                r.a,
+                r.b,
+                r.normal_force,
+                r.tension,
+                100.0 * r.friction_utilization
+            );
+        }
+    }
+    o
+}
+
+/// The drop test beside the statics, with the disagreement flagged.
+pub fn side_by_side(analysis: &Analysis, d: &DropResult) -> String {
+    let s = &analysis.statics;
+    let word = |b: bool| if b { "stands" } else { "falls" };
+    let mut o = format!(
+        "drop test (rapier, {:.2} s simulated in {:.2} s, {} steps): {}\n  largest drift {:.3e} of the block size, \
+         largest rotation {:.3e} rad{}\n",
+        d.simulated_s,
+        d.wall_s,
+        d.steps,
+        word(d.stands),
+        d.max_drift,
+        d.max_rotation,
+        d.worst_block.as_ref().map(|b| format!(" (worst: {b})")).unwrap_or_default()
+    );
+    if d.max_volume_error > 0.0 {
+        o += &format!(
+            "  colliders differ from the blocks by up to {:.2} % of a block's volume (hulls of curved or notched blocks, decompositions)\n",
+            100.0 * d.max_volume_error
+        );
+    }
+    if let Some([a, b]) = &d.initial_overlap_blocks {
+        o += &format!(
+            "  blocks {a} and {b} start overlapping by {:.2} % of a block's size (the input blocks overlap; rapier pushes them apart first, which counts as drift)\n",
+            100.0 * d.max_initial_overlap
+        );
+    }
+    o += &format!(
+        "statics {} (tension {:.3e} W, friction excess {:.3e} W, utilisation {:.3}) | drop test {}: {}\n",
+        word(s.stands),
+        s.tension_ratio,
+        s.friction_excess_ratio,
+        s.max_friction_utilization,
+        word(d.stands),
+        disagreement(s.stands, d)
+    );
+    o
+}
+
+/// The kinematic check beside the statics: both verdicts, whether they agree, and when it
+/// fails, how (the mechanism's moving blocks and what its joints do).
+pub fn kinematic(analysis: &Analysis, k: &crate::stability::kinematic::Kinematic) -> String {
+    use crate::stability::JointState;
+    use crate::stability::kinematic::KinematicVerdict;
+    use std::fmt::Write;
+    let mut o = String::new();
+    let word = match k.verdict {
+        KinematicVerdict::Stands => "stands",
+        KinematicVerdict::Fails => "falls",
+        KinematicVerdict::Undecided => "undecided",
+    };
+    let _ = writeln!(
+        o,
+        "kinematic check (released from rest, no squeeze): {word}; {} round(s), {} iterations, {:.1} ms in the solver",
+        k.rounds,
+        k.iterations,
+        1e3 * k.solver_seconds
+    );
+    if let Some(m) = &k.mechanism {
+        let count = |state| m.interfaces.iter().filter(|i| i.state == state).count();
+        let _ = writeln!(
+            o,
+            "  {} block(s) start to move (largest acceleration {:.3} g); interfaces {} hinging, {} opening, {} sliding",
+            m.blocks.len(),
+            k.peak_acceleration,
+            count(JointState::Hinging),
+            count(JointState::Opening),
+            count(JointState::Sliding),
+        );
+        for i in m.interfaces.iter().filter(|i| i.state != JointState::Closed).take(5) {
+            let _ = writeln!(o, "    {} → {}: {:?}", i.a, i.b, i.state);
+        }
+    }
+    let statics = if analysis.statics.stands { "stands" } else { "falls" };
+    let verdict = match (k.verdict, k.agrees) {
+        (_, true) => "AGREE",
+        (KinematicVerdict::Undecided, _) => "UNDECIDED (the friction capacities did not settle: trust neither blindly)",
+        _ => {
+            "DISAGREE (the statics' equilibrium needs a squeeze nothing applies: the kinematic verdict is the physical one)"
+        }
+    };
+    let _ = writeln!(o, "statics (RBE) {statics} | kinematic {word}: {verdict}");
+    o
+}
+
+/// AGREE, or DISAGREE with what the drop test's motion suggests.
+fn disagreement(statics_stand: bool, d: &DropResult) -> &'static str {
+    match (statics_stand == d.stands, statics_stand, d.at_rest) {
+        (true, _, _) => "AGREE",
+        (false, false, _) => {
+            "DISAGREE (the drop test held what the statics cannot: a margin within rapier's tolerances, or too short a run)"
+        }
+        (false, true, true) => {
+            "DISAGREE (the blocks moved past the tolerance, then came to rest: rapier's soft contacts settling, or overlapping input — compare the margins)"
+        }
+        (false, true, false) => {
+            "DISAGREE (still moving at the end: a failure the statics miss, or rapier near a limit — compare the margins)"
+        }
+    }
+}
+
+/// The text report of `voussoir robustness`: the load factor first, then the mechanism and,
+/// for a direction sweep, the worst direction. `load` says what the live load was.
+pub fn robustness(
+    analysis: &Analysis,
+    r: &crate::stability::Robustness,
+    sweep: Option<&crate::stability::DirectionSweep>,
+    load: &str,
+) -> String {
+    use crate::stability::{JointState, Safety};
+    use std::fmt::Write;
+    let mut o = String::new();
+    let s = &analysis.statics;
+    let _ = match r.safety {
+        Safety::Collapses { load_factor } => {
+            writeln!(o, "LOAD FACTOR λ* = {load_factor:.4}: collapses at {load_factor:.4} × {load}")
+        }
+        Safety::Unlimited => writeln!(o, "LOAD FACTOR λ* = ∞: no multiple of {load} makes it collapse"),
+        Safety::DoesNotStand { load_factor } => writeln!(
+            o,
+            "DOES NOT STAND under its dead load: tension {:.3e} W, friction excess {:.3e} W; {}",
+            s.tension_ratio,
+            s.friction_excess_ratio,
+            match load_factor {
+                Some(l) => format!("it would stand with up to λ = {l:.4} × {load}"),
+                None => format!("no multiple of {load} holds it"),
+            }
+        ),
+        Safety::SolverFailed { status, residual } => {
+            writeln!(o, "UNDECIDED: the load-factor solve ended with {status:?} (residual {residual:.2e} N)")
+        }
+    };
+    let _ = writeln!(
+        o,
+        "  {} blocks, friction {} μ = {:.4}; {} iterations, {:.1} ms in the solver",
+        analysis.assembly.blocks.len(),
+        s.friction_model,
+        s.friction_coefficient,
+        r.iterations,
+        1e3 * r.solver_seconds
+    );
+    if r.status == crate::statics::SolverStatus::AlmostSolved {
+        let _ = writeln!(
+            o,
+            "  note: solved only to the reduced tolerances (λ* to ~1e-5 of itself; residual {:.2e} N)",
+            r.residual
+        );
+    }
+    if let Some(sw) = sweep {
+        let _ = writeln!(
+            o,
+            "  worst direction {:.2}° (λ* = {:.4}); over {} directions λ* from {:.4} to {:.4} ({} solves)",
+            sw.worst_azimuth,
+            sw.worst_load_factor,
+            sw.azimuths.len(),
+            sw.load_factors.iter().copied().fold(f64::INFINITY, f64::min),
+            sw.load_factors.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+            sw.solves
+        );
+    }
+    match &r.mechanism {
+        None => {
+            let _ = writeln!(o, "  no collapse mechanism");
+        }
+        Some(m) => {
+            let count = |state| m.interfaces.iter().filter(|i| i.state == state).count();
+            let _ = writeln!(
+                o,
+                "  mechanism: {} moving block(s); interfaces {} hinging, {} opening, {} sliding, {} closed",
+                m.blocks.len(),
+                count(JointState::Hinging),
+                count(JointState::Opening),
+                count(JointState::Sliding),
+                count(JointState::Closed)
+            );
+            for i in m.interfaces.iter().filter(|i| i.state != JointState::Closed).take(5) {
+                let _ = writeln!(o, "    {} → {}: {:?}", i.a, i.b, i.state);
+            }
+        }
+    }
+    o
+}

@@ -1,0 +1,189 @@
+//! A collapse mechanism: each moving block's virtual translation and rotation, and what every
+//! interface of the moving components does — closed, hinging (opening about a line: some of
+//! its vertices keep contact, the others lift off), opening (all lift off) or sliding.
+//!
+//! Motions are virtual velocities (linear in the block's motion): a point p of block j moves by
+//! t_j + ω_j × (p − c_j), c_j its centroid; supports and the ground do not move. The relative
+//! motion of an interface vertex is b's minus a's (the normal n points from a into b), so
+//! opening is a positive normal component. Where friction acts the flow is associated (the
+//! dual of the friction rows): a sliding joint also opens by up to μ × its slip, which is why
+//! sliding is decided before opening.
+
+use super::components::Component;
+use super::load_factor::Motion;
+use crate::geometry::{Point3, Vector3};
+use crate::interfaces::{Body, Interface};
+use crate::model::{Assembly, BlockId};
+use serde::Serialize;
+
+/// A relative motion below this fraction of the mechanism's largest one is none. (An
+/// interior-point dual is the centre of the optimal face: where the mechanism is not unique —
+/// the Armadillo's is not — small motions of the other mechanisms blend in.)
+pub const STILL: f64 = 1e-3;
+
+/// What an interface does in the mechanism.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum JointState {
+    /// Both sides move as one (or not at all).
+    Closed,
+    /// Rotation about an edge or line of the joint: some vertices stay in contact, the others
+    /// open.
+    Hinging,
+    /// Every vertex lifts off.
+    Opening,
+    /// The sides slip along the joint.
+    Sliding,
+}
+
+/// A moving block's motion: translation (m) and rotation about its centroid (rad), world axes.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct BlockMotion {
+    pub block: String,
+    pub translation: [f64; 3],
+    pub rotation: [f64; 3],
+}
+
+/// One interface in the mechanism: its largest opening (normal relative motion, m) and slip
+/// (tangential, m) over its vertices, and its state.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct InterfaceMotion {
+    /// Index in the analysis's interface list.
+    pub index: usize,
+    pub a: String,
+    pub b: String,
+    pub state: JointState,
+    pub opening: f64,
+    pub sliding: f64,
+}
+
+/// A mechanism over an assembly (see the module docs).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Mechanism {
+    /// The blocks of the moving components, in block order.
+    pub blocks: Vec<BlockMotion>,
+    /// The interfaces of the moving components, in interface order.
+    pub interfaces: Vec<InterfaceMotion>,
+    /// Every block's motion by [`BlockId`] (zero for the others).
+    #[serde(skip)]
+    pub motion: Vec<Motion>,
+}
+
+impl Mechanism {
+    /// The mechanism of `parts` (components and their blocks' motions, in component order).
+    pub fn new(assembly: &Assembly, interfaces: &[Interface], parts: &[(&Component, &[Motion])]) -> Self {
+        let mut motion = vec![[0.0; 6]; assembly.blocks.len()];
+        let mut moving: Vec<BlockId> = Vec::new();
+        let mut joints: Vec<usize> = Vec::new();
+        for (comp, motions) in parts {
+            for (&b, m) in comp.blocks.iter().zip(motions.iter()) {
+                motion[b.0] = *m;
+                moving.push(b);
+            }
+            joints.extend(&comp.interfaces);
+        }
+        moving.sort_unstable();
+        joints.sort_unstable();
+        let blocks = moving
+            .iter()
+            .map(|&b| {
+                let m = motion[b.0];
+                BlockMotion {
+                    block: assembly.block(b).name.clone(),
+                    translation: [m[0], m[1], m[2]],
+                    rotation: [m[3], m[4], m[5]],
+                }
+            })
+            .collect();
+        let mut mech = Self { blocks, interfaces: Vec::new(), motion };
+        let relative: Vec<Vec<(f64, f64)>> =
+            joints.iter().map(|&k| mech.vertex_motions(assembly, &interfaces[k])).collect();
+        let largest = relative.iter().flatten().map(|m| m.0.abs().max(m.1)).fold(0.0, f64::max);
+        mech.interfaces = joints
+            .iter()
+            .zip(&relative)
+            .map(|(&k, v)| {
+                let itf = &interfaces[k];
+                InterfaceMotion {
+                    index: k,
+                    a: itf.a.name(assembly).to_string(),
+                    b: itf.b.name(assembly).to_string(),
+                    state: joint_state(v, STILL * largest),
+                    opening: v.iter().map(|m| m.0).fold(f64::NEG_INFINITY, f64::max),
+                    sliding: v.iter().map(|m| m.1).fold(0.0, f64::max),
+                }
+            })
+            .collect();
+        mech
+    }
+
+    /// How far point `p` of `body` moves (zero for supports and the ground).
+    pub fn point_motion(&self, assembly: &Assembly, body: Body, p: &Point3) -> Vector3 {
+        match body {
+            Body::Block(b) => {
+                let m = &self.motion[b.0];
+                let r = p - assembly.block(b).mass.centroid;
+                Vector3::new(m[0], m[1], m[2]) + Vector3::new(m[3], m[4], m[5]).cross(&r)
+            }
+            Body::Ground => Vector3::zeros(),
+        }
+    }
+
+    /// Per vertex of `itf`: (normal, tangential) relative motion of b against a.
+    pub fn vertex_motions(&self, assembly: &Assembly, itf: &Interface) -> Vec<(f64, f64)> {
+        let n = itf.frame.n;
+        itf.polygon
+            .iter()
+            .map(|p| {
+                let d = self.point_motion(assembly, itf.b, p) - self.point_motion(assembly, itf.a, p);
+                let dn = d.dot(&n);
+                (dn, (d - n * dn).norm())
+            })
+            .collect()
+    }
+
+    /// The largest motion of any vertex of a moving block, m.
+    pub fn largest_motion(&self, assembly: &Assembly) -> f64 {
+        let mut largest: f64 = 0.0;
+        for (i, b) in assembly.blocks.iter().enumerate() {
+            if self.motion[i] == [0.0; 6] {
+                continue;
+            }
+            for p in &b.mesh.vertices {
+                largest = largest.max(self.point_motion(assembly, Body::Block(BlockId(i)), p).norm());
+            }
+        }
+        largest
+    }
+
+    /// Block `b`'s vertices moved by `scale` × the mechanism (linearised: small rotations).
+    pub fn displaced(&self, assembly: &Assembly, b: BlockId, scale: f64) -> Vec<Point3> {
+        assembly
+            .block(b)
+            .mesh
+            .vertices
+            .iter()
+            .map(|p| p + self.point_motion(assembly, Body::Block(b), p) * scale)
+            .collect()
+    }
+
+    /// The work of a load given as wrenches per block (force N, moment N·m about the centroid)
+    /// along this mechanism, N·m.
+    pub fn work(&self, wrenches: impl Iterator<Item = (BlockId, [f64; 6])>) -> f64 {
+        wrenches.map(|(b, w)| w.iter().zip(&self.motion[b.0]).map(|(a, m)| a * m).sum::<f64>()).sum()
+    }
+}
+
+/// The state of a joint from its vertices' (normal, tangential) relative motions, motions
+/// below `still` counting as none.
+fn joint_state(v: &[(f64, f64)], still: f64) -> JointState {
+    if v.iter().any(|m| m.1 > still) {
+        JointState::Sliding
+    } else if v.iter().all(|m| m.0 <= still) {
+        JointState::Closed
+    } else if v.iter().all(|m| m.0 > still) {
+        JointState::Opening
+    } else {
+        JointState::Hinging
+    }
+}

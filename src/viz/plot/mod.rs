@@ -1,0 +1,72 @@
+//! Plots and offscreen pictures (plotters is touched only here), written as PNG or SVG by the
+//! file's extension: a threshold sweep's verdicts and margins ([`sweep`]), and the interface
+//! diagrams of an analysis drawn without a window ([`diagram`]). Text uses the bundled DejaVu
+//! Sans Mono (assets/fonts, so no system fonts are needed). Writes are atomic.
+
+pub mod diagram;
+pub mod mechanism;
+pub mod threshold;
+
+pub use diagram::{DiagramPicture, write_diagram};
+pub use mechanism::{MechanismPicture, PolarPlot, write_mechanism, write_polar};
+pub use threshold::{ThresholdPlot, write_thresholds};
+
+use plotters::coord::Shift;
+use plotters::prelude::*;
+use std::path::Path;
+use thiserror::Error;
+
+/// Why a plot could not be written.
+#[derive(Debug, Error)]
+pub enum PlotError {
+    #[error("{path}: plots are written as .png or .svg")]
+    Format { path: String },
+    #[error("{path}: cannot draw the plot: {message}")]
+    Draw { path: String, message: String },
+    #[error("{path}: cannot write: {message}")]
+    Write { path: String, message: String },
+}
+
+/// DejaVu Sans Mono (bundled with its licence): the pictures' and the viewer's text (it has μ, ·, —).
+pub static FONT: &[u8] = include_bytes!("../../../assets/fonts/DejaVuSansMono.ttf");
+
+/// Registers the bundled font as "sans-serif" for every plotters backend (idempotent).
+pub fn register_font() {
+    static ONCE: std::sync::Once = std::sync::Once::new();
+    ONCE.call_once(|| {
+        // The bundled font is valid: registering it cannot fail.
+        let _ = plotters::style::register_font("sans-serif", FontStyle::Normal, FONT);
+    });
+}
+
+/// Something drawable on any plotters backend.
+pub trait Drawing {
+    fn draw<DB: DrawingBackend>(&self, root: DrawingArea<DB, Shift>) -> Result<(), String>;
+}
+
+/// Draws `d` into `path` (.png or .svg) at `size` pixels: into a temporary file beside it (same
+/// extension: the bitmap backend picks its encoder by extension), renamed over it when complete.
+pub fn write<D: Drawing>(d: &D, path: &Path, size: (u32, u32)) -> Result<(), PlotError> {
+    register_font();
+    let shown = path.display().to_string();
+    let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+    let tmp = path.with_file_name(format!(
+        ".{}.{}.tmp.{}",
+        path.file_stem().and_then(|s| s.to_str()).unwrap_or("plot"),
+        std::process::id(),
+        ext.as_deref().unwrap_or("")
+    ));
+    let drawn = match ext.as_deref() {
+        Some("png") => d.draw(BitMapBackend::new(&tmp, size).into_drawing_area()),
+        Some("svg") => d.draw(SVGBackend::new(&tmp, size).into_drawing_area()),
+        _ => return Err(PlotError::Format { path: shown }),
+    };
+    if let Err(message) = drawn {
+        let _ = std::fs::remove_file(&tmp);
+        return Err(PlotError::Draw { path: shown, message });
+    }
+    std::fs::rename(&tmp, path).map_err(|e| {
+        let _ = std::fs::remove_file(&tmp);
+        PlotError::Write { path: shown, message: e.to_string() }
+    })
+}

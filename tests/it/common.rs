@@ -1,0 +1,45 @@
+//! Helpers shared by the integration tests.
+#![allow(dead_code)]
+
+use std::path::PathBuf;
+use voussoir::geometry::{Mesh, Point3};
+use voussoir::model::{Assembly, Block, Scene};
+use voussoir::pipeline::{Analysis, AnalysisSettings, analyze};
+
+/// `assets/compas/<rel>` in the checkout (the BRG reference assemblies).
+pub fn compas_data(rel: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("assets/compas").join(rel)
+}
+
+/// Every compas Assembly file of the reference data (compas_assembly and compas_cra), sorted,
+/// as paths relative to `assets/compas`.
+pub fn assembly_files() -> Vec<String> {
+    let mut files = Vec::new();
+    for dir in ["compas_assembly", "compas_cra"] {
+        for e in std::fs::read_dir(compas_data(dir)).expect("assets/compas in the checkout") {
+            files.push(format!("{dir}/{}", e.expect("a directory entry").file_name().to_string_lossy()));
+        }
+    }
+    files.sort();
+    files
+}
+
+pub fn cube(name: &str, min: [f64; 3], size: f64) -> Block {
+    Block::new(name, Mesh::cuboid(Point3::from(min), Point3::new(min[0] + size, min[1] + size, min[2] + size)))
+}
+
+pub fn cuboid(name: &str, min: [f64; 3], max: [f64; 3]) -> Block {
+    Block::new(name, Mesh::cuboid(Point3::from(min), Point3::from(max)))
+}
+
+pub fn assembly(scene: &Scene) -> Assembly {
+    Assembly::new(scene, &Default::default()).expect("valid scene")
+}
+
+pub fn run(scene: &Scene, settings: &AnalysisSettings) -> Analysis {
+    analyze(scene, settings).expect("analysis runs")
+}
+
+pub fn assert_close(actual: f64, expected: f64, tol: f64, what: &str) {
+    assert!((actual - expected).abs() <= tol, "{what}: {actual} vs {expected} (tolerance {tol})");
+}

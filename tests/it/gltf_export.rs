@@ -1,0 +1,98 @@
+//! Invariant: the glTF export round-trips through an independent reader (the `gltf` crate):
+//! one mesh per block and per loaded interface, positions in glTF's y-up axes, interface vertex
+//! colours that follow the statics (blue compression for a standing stack, red where tension is
+//! needed, yellow/orange/red friction by utilisation).
+
+use voussoir::model::builtin;
+use voussoir::pipeline::{AnalysisSettings, analyze};
+use voussoir::viz::{DiagramMode, glb};
+
+struct Read {
+    names: Vec<String>,
+    colors: Vec<(String, Vec<[f32; 3]>)>,
+    max_y: f32,
+}
+
+fn read(bytes: &[u8]) -> Read {
+    let (doc, buffers, _) = gltf::import_slice(bytes).expect("a valid glb");
+    let mut out = Read { names: vec![], colors: vec![], max_y: f32::NEG_INFINITY };
+    for mesh in doc.meshes() {
+        let name = mesh.name().unwrap_or_default().to_string();
+        for prim in mesh.primitives() {
+            let reader = prim.reader(|b| Some(&buffers[b.index()]));
+            let pos: Vec<[f32; 3]> = reader.read_positions().expect("positions").collect();
+            assert_eq!(pos.len() % 3, 0, "{name}: whole triangles");
+            out.max_y = pos.iter().fold(out.max_y, |m, p| m.max(p[1]));
+            assert_eq!(reader.read_normals().expect("normals").count(), pos.len());
+            if let Some(c) = reader.read_colors(0) {
+                out.colors.push((name.clone(), c.into_rgb_f32().collect()));
+            }
+        }
+        out.names.push(name);
+    }
+    out
+}
+
+#[test]
+fn standing_stack_is_blue_and_in_y_up_axes() {
+    let scene = builtin("stack?n=3").unwrap();
+    let a = analyze(&scene, &AnalysisSettings::default()).unwrap();
+    assert!(a.statics.stands);
+    let r = read(&glb(&a, DiagramMode::Compression));
+    assert_eq!(r.names.len(), a.assembly.blocks.len() + a.statics.interfaces.len());
+    for b in &a.assembly.blocks {
+        assert!(r.names.contains(&b.name), "{}", b.name);
+    }
+    // z up → y up: the highest glTF y is the stack's top.
+    let top = a.assembly.blocks.iter().map(|b| b.mesh.aabb().max.z).fold(f64::MIN, f64::max);
+    assert!((r.max_y as f64 - top).abs() < 1e-6, "{} vs {top}", r.max_y);
+    assert_eq!(r.colors.len(), a.statics.interfaces.len());
+    for (name, cs) in &r.colors {
+        assert!(cs.iter().all(|c| c[2] > c[0] + 0.2), "{name}: compression is blue: {cs:?}");
+    }
+}
+
+#[test]
+fn tension_is_red_and_friction_follows_utilisation() {
+    // An offset cube needs tension at its support: some interface vertex is red.
+    let scene = builtin("harmonic?n=3&s=1.3").unwrap();
+    let a = analyze(&scene, &AnalysisSettings::default()).unwrap();
+    assert!(!a.statics.stands && a.statics.tension_ratio > 0.0);
+    let r = read(&glb(&a, DiagramMode::Compression));
+    let red = |c: &[f32; 3]| c[0] > c[1] + 0.2 && c[0] > c[2] + 0.2;
+    assert!(r.colors.iter().any(|(_, cs)| cs.iter().any(red)), "a red vertex where tension is needed");
+
+    // A block on a slope with μ = tan 40° (b = 2h: no tipping). Per vertex the colour follows
+    // that vertex's utilisation |f_t| / (μ f_n): at 10° (interface utilisation 0.21) every vertex
+    // is yellow under a 0.8 threshold; at 30° (0.69) none is red and some are orange under 0.5;
+    // at 45° (1.19, exceeded) some are red.
+    let category = |c: &[f32; 3]| -> &str {
+        if c[0] > 0.9 && c[1] > 0.85 && c[2] < 0.2 {
+            "yellow"
+        } else if c[0] > 0.85 && c[1] > 0.3 && c[1] < 0.75 && c[2] < 0.3 {
+            "orange"
+        } else if c[0] > 0.8 && c[1] < 0.1 && c[2] < 0.1 {
+            "red"
+        } else {
+            "other"
+        }
+    };
+    let colors_at = |angle: f64, threshold: f64| -> Vec<&'static str> {
+        let scene = builtin(&format!("slope?angle={angle}&b=2&h=0.5")).unwrap();
+        let a = analyze(&scene, &AnalysisSettings::default()).unwrap();
+        let r = read(&glb(&a, DiagramMode::Friction { threshold }));
+        let (_, cs) = r.colors.iter().find(|(n, _)| n.contains("block")).expect("the slope interface");
+        cs.iter()
+            .map(|c| match category(c) {
+                "yellow" => "yellow",
+                "orange" => "orange",
+                "red" => "red",
+                _ => panic!("{angle}°: unexpected friction colour {c:?}"),
+            })
+            .collect()
+    };
+    assert!(colors_at(10.0, 0.8).iter().all(|c| *c == "yellow"));
+    let at30 = colors_at(30.0, 0.5);
+    assert!(!at30.contains(&"red") && at30.contains(&"orange"), "{at30:?}");
+    assert!(colors_at(45.0, 0.5).contains(&"red"));
+}
