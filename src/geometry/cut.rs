@@ -37,102 +37,130 @@ struct Tri {
 /// Splits `mesh` (closed, outward-oriented, planar faces) by `plane`; `eps` is the absolute
 /// distance under which a vertex counts as on the plane.
 pub fn split(mesh: &Mesh, plane: &Plane, eps: f64) -> SplitResult {
-    let side: Vec<i8> = mesh
-        .vertices
-        .iter()
-        .map(|p| {
-            let d = plane.distance(p);
-            if d > eps {
-                1
-            } else if d < -eps {
-                -1
-            } else {
-                0
-            }
-        })
-        .collect();
+    let side = sides(mesh, plane, eps);
     if side.iter().all(|&s| s >= 0) {
         return SplitResult::Positive;
     }
     if side.iter().all(|&s| s <= 0) {
         return SplitResult::Negative;
     }
-    // Working vertex list: the input's (those on the plane projected onto it) + intersections.
-    let mut verts: Vec<Point3> = mesh
-        .vertices
-        .iter()
-        .zip(&side)
-        .map(|(p, &s)| if s == 0 { p - plane.normal * plane.distance(p) } else { *p })
-        .collect();
-    let mut vside: Vec<i8> = side.clone();
-    let mut cut_point: HashMap<(usize, usize), usize> = HashMap::new();
-    // Edges of the input faces: a cut point on any other edge lies on a triangulation diagonal,
-    // inside a straight cut segment, and is dropped from the output loops.
-    let mut original_edges = std::collections::HashSet::new();
-    for face in &mesh.faces {
-        for k in 0..face.len() {
-            let (a, b) = (face[k], face[(k + 1) % face.len()]);
-            original_edges.insert((a.min(b), a.max(b)));
-        }
-    }
-    let mut on_diagonal: Vec<bool> = vec![false; verts.len()];
-    let mut intersect = |a: usize, b: usize, verts: &mut Vec<Point3>, vside: &mut Vec<i8>| -> usize {
-        let key = (a.min(b), a.max(b));
-        *cut_point.entry(key).or_insert_with(|| {
-            on_diagonal.push(!original_edges.contains(&key));
-            let (p, q) = (verts[key.0], verts[key.1]);
-            let (dp, dq) = (plane.distance(&p), plane.distance(&q));
-            let t = dp / (dp - dq);
-            let x = p + (q - p) * t;
-            verts.push(x - plane.normal * plane.distance(&x));
-            vside.push(0);
-            verts.len() - 1
-        })
-    };
-    let tris = triangulate(mesh);
-    // Sub-triangles per side.
-    let mut out: [Vec<Tri>; 2] = [Vec::new(), Vec::new()];
-    for t in &tris {
-        let s = t.v.map(|i| vside[i]);
-        let (neg, pos) = (s.iter().any(|&x| x < 0), s.iter().any(|&x| x > 0));
-        match (neg, pos) {
-            (false, false) => {
-                // On the plane: a boundary face of the side the solid lies on.
-                let n = area_vector(&t.v.map(|i| verts[i]));
-                out[if n.dot(&plane.normal) > 0.0 { 0 } else { 1 }].push(*t);
-            }
-            (true, false) => out[0].push(*t),
-            (false, true) => out[1].push(*t),
-            (true, true) => {
-                // Walk the triangle; emit the polygon on each side, then fan it.
-                let mut polys: [Vec<usize>; 2] = [Vec::new(), Vec::new()];
-                for k in 0..3 {
-                    let (a, b) = (t.v[k], t.v[(k + 1) % 3]);
-                    let (sa, sb) = (vside[a], vside[b]);
-                    if sa <= 0 {
-                        polys[0].push(a);
-                    }
-                    if sa >= 0 {
-                        polys[1].push(a);
-                    }
-                    if sa * sb < 0 {
-                        let x = intersect(a, b, &mut verts, &mut vside);
-                        polys[0].push(x);
-                        polys[1].push(x);
-                    }
-                }
-                for (k, poly) in polys.iter().enumerate() {
-                    for i in 1..poly.len().saturating_sub(1) {
-                        out[k].push(Tri { v: [poly[0], poly[i], poly[i + 1]], face: t.face });
-                    }
-                }
-            }
-        }
-    }
+    let mut work = Working::new(mesh, plane, side);
+    let out = work.split_triangles(&triangulate(mesh));
     let build = |tris: &[Tri], cap_normal: nalgebra::Vector3<f64>| -> Vec<Mesh> {
-        pieces(mesh, &verts, &on_diagonal, tris, plane, cap_normal)
+        pieces(mesh, &work.verts, &work.on_diagonal, tris, plane, cap_normal)
     };
     SplitResult::Pair { negative: build(&out[0], plane.normal), positive: build(&out[1], -plane.normal) }
+}
+
+/// Each vertex's side of `plane`: 1 above `eps`, −1 below −`eps`, 0 on it.
+fn sides(mesh: &Mesh, plane: &Plane, eps: f64) -> Vec<i8> {
+    let side_of = |p: &Point3| {
+        let d = plane.distance(p);
+        if d > eps {
+            1
+        } else if d < -eps {
+            -1
+        } else {
+            0
+        }
+    };
+    mesh.vertices.iter().map(side_of).collect()
+}
+
+/// The split's working vertex list: the input's (those on the plane projected onto it), then
+/// the intersection points, each made once per edge.
+struct Working<'a> {
+    plane: &'a Plane,
+    verts: Vec<Point3>,
+    vside: Vec<i8>,
+    cut_point: HashMap<(usize, usize), usize>,
+    /// Edges of the input faces: a cut point on any other edge lies on a triangulation
+    /// diagonal, inside a straight cut segment, and is dropped from the output loops.
+    original_edges: std::collections::HashSet<(usize, usize)>,
+    on_diagonal: Vec<bool>,
+}
+
+impl<'a> Working<'a> {
+    fn new(mesh: &Mesh, plane: &'a Plane, side: Vec<i8>) -> Self {
+        let verts: Vec<Point3> = mesh
+            .vertices
+            .iter()
+            .zip(&side)
+            .map(|(p, &s)| if s == 0 { p - plane.normal * plane.distance(p) } else { *p })
+            .collect();
+        let mut original_edges = std::collections::HashSet::new();
+        for face in &mesh.faces {
+            for k in 0..face.len() {
+                let (a, b) = (face[k], face[(k + 1) % face.len()]);
+                original_edges.insert((a.min(b), a.max(b)));
+            }
+        }
+        let on_diagonal = vec![false; verts.len()];
+        Self { plane, verts, vside: side, cut_point: HashMap::new(), original_edges, on_diagonal }
+    }
+
+    /// The point where edge (a, b) crosses the plane, projected onto it.
+    fn intersect(&mut self, a: usize, b: usize) -> usize {
+        let key = (a.min(b), a.max(b));
+        if let Some(&x) = self.cut_point.get(&key) {
+            return x;
+        }
+        self.on_diagonal.push(!self.original_edges.contains(&key));
+        let (p, q) = (self.verts[key.0], self.verts[key.1]);
+        let (dp, dq) = (self.plane.distance(&p), self.plane.distance(&q));
+        let t = dp / (dp - dq);
+        let x = p + (q - p) * t;
+        self.verts.push(x - self.plane.normal * self.plane.distance(&x));
+        self.vside.push(0);
+        let index = self.verts.len() - 1;
+        self.cut_point.insert(key, index);
+        index
+    }
+
+    /// The sub-triangles on the negative side, then on the positive side.
+    fn split_triangles(&mut self, tris: &[Tri]) -> [Vec<Tri>; 2] {
+        let mut out: [Vec<Tri>; 2] = [Vec::new(), Vec::new()];
+        for t in tris {
+            let s = t.v.map(|i| self.vside[i]);
+            let (neg, pos) = (s.iter().any(|&x| x < 0), s.iter().any(|&x| x > 0));
+            match (neg, pos) {
+                (false, false) => {
+                    // On the plane: a boundary face of the side the solid lies on.
+                    let n = area_vector(&t.v.map(|i| self.verts[i]));
+                    out[if n.dot(&self.plane.normal) > 0.0 { 0 } else { 1 }].push(*t);
+                }
+                (true, false) => out[0].push(*t),
+                (false, true) => out[1].push(*t),
+                (true, true) => self.split_triangle(t, &mut out),
+            }
+        }
+        out
+    }
+
+    /// Walks a triangle that crosses the plane, emits the polygon on each side, fans it.
+    fn split_triangle(&mut self, t: &Tri, out: &mut [Vec<Tri>; 2]) {
+        let mut polys: [Vec<usize>; 2] = [Vec::new(), Vec::new()];
+        for k in 0..3 {
+            let (a, b) = (t.v[k], t.v[(k + 1) % 3]);
+            let (sa, sb) = (self.vside[a], self.vside[b]);
+            if sa <= 0 {
+                polys[0].push(a);
+            }
+            if sa >= 0 {
+                polys[1].push(a);
+            }
+            if sa * sb < 0 {
+                let x = self.intersect(a, b);
+                polys[0].push(x);
+                polys[1].push(x);
+            }
+        }
+        for (k, poly) in polys.iter().enumerate() {
+            for i in 1..poly.len().saturating_sub(1) {
+                out[k].push(Tri { v: [poly[0], poly[i], poly[i + 1]], face: t.face });
+            }
+        }
+    }
 }
 
 /// Ear-clipped triangles of every face (faces are planar and simple).
