@@ -37,20 +37,76 @@ use faer::{Conj, MatMut, Par, Side};
 use std::sync::Arc;
 
 /// Entries of S's Cholesky factor from which its numeric factorisation and solves run on the
-/// threads the problem allows (faer's supernodal kernels on rayon: they pay only where the
-/// supernodes are large). Measured on this 2-core VM, running-bond walls, one process each,
-/// the solve serial against two threads: 10 051 bricks (12 million entries) 5.6 → 5.8 s,
-/// 50 051 (66 million) 29.9 → 30.5 s, 100 101 (172 million) 100.1 → 86.9 s.
+/// threads the problem allows: faer's supernodal kernels on rayon pay only on large supernodes.
 pub(super) const PARALLEL_FROM: usize = 100_000_000;
 
-/// Regularisation of H. The elimination is exact (H is positive definite: every variable sits
-/// in an inequality row), so this only guards round-off. S gets none: a static εI there is a
-/// −εI in the equality block that iterative refinement must undo every time (the duals run to
-/// 1e2, so ε|z_E| was the largest error); faer's dynamic regularisation still catches the zero
-/// pivots of a singular S. Without it the Armadillo's partial shells solve ~30 % faster.
+/// Regularisation of H only, against round-off (its elimination is exact: every variable sits
+/// in an inequality row). S gets none: refinement would have to undo a static εI there every
+/// solve, and faer's dynamic regularisation already catches a singular S's zero pivots.
 const EPS: f64 = 1e-13;
 
 type Mat6 = [[f64; 6]; 6];
+
+/// A right-hand side of the KKT system by block (r_x, r_E, r_G), or a solution read back.
+#[derive(Clone, Copy)]
+pub struct Rhs<'a> {
+    pub x: &'a [f64],
+    pub eq: &'a [f64],
+    pub ineq: &'a [f64],
+}
+
+/// Where a solve of the KKT system writes its solution by block: x, z_E, z_G.
+pub struct Step<'a> {
+    pub x: &'a mut [f64],
+    pub eq: &'a mut [f64],
+    pub ineq: &'a mut [f64],
+}
+
+impl Step<'_> {
+    /// The solution written so far, read-only.
+    fn view(&self) -> Rhs<'_> {
+        Rhs { x: self.x, eq: self.eq, ineq: self.ineq }
+    }
+}
+
+/// Vectors with the KKT system's blocks (x, the equality rows, the inequality rows), owned.
+#[derive(Default)]
+pub struct Blocks {
+    pub x: Vec<f64>,
+    pub eq: Vec<f64>,
+    pub ineq: Vec<f64>,
+}
+
+impl Blocks {
+    pub fn zeros(n: usize, m_e: usize, m_g: usize) -> Self {
+        Self { x: vec![0.0; n], eq: vec![0.0; m_e], ineq: vec![0.0; m_g] }
+    }
+
+    pub fn rhs(&self) -> Rhs<'_> {
+        Rhs { x: &self.x, eq: &self.eq, ineq: &self.ineq }
+    }
+
+    pub fn step(&mut self) -> Step<'_> {
+        Step { x: &mut self.x, eq: &mut self.eq, ineq: &mut self.ineq }
+    }
+}
+
+/// Iterative refinement's work: the residual of the current solution, and a candidate one.
+#[derive(Default)]
+struct Refinement {
+    residual: Blocks,
+    candidate: Blocks,
+}
+
+/// The load factor's part of the bordered solves (module docs).
+struct LoadFactor {
+    /// H_λ.
+    h: f64,
+    /// w = S⁻¹ L.
+    w: Vec<f64>,
+    /// Lᵀw.
+    lw: f64,
+}
 
 /// Where a contact's blocks sit in S's values: the start of each column's run of the
 /// off-diagonal 6×6 block (rows of the larger block index, columns of the smaller).
@@ -61,8 +117,7 @@ struct ContactSlots {
 
 /// S's pattern (lower triangle, CSC) and its symbolic factorisation — AMD ordering,
 /// elimination tree, supernodes: a function of the contact graph only, so a warm start carries
-/// it to the next problem of the same layout (on the Armadillo it is 2.5 of the 3 ms of
-/// setting up a solve).
+/// it to the next problem of the same layout (it is most of a solve's set-up).
 pub struct Pattern {
     col_ptr: Vec<usize>,
     row_idx: Vec<usize>,
@@ -74,8 +129,8 @@ pub struct Kkt<const C: usize> {
     chol: Vec<[[f64; C]; C]>,
     /// H_σ⁻¹ per budget slack.
     hinv_sigma: Vec<f64>,
-    /// With a load factor: H_λ, w = S⁻¹ L and Lᵀw (module docs).
-    factor: Option<(f64, Vec<f64>, f64)>,
+    /// With a load factor: its part of the bordered solves.
+    factor: Option<LoadFactor>,
     slots: Vec<Option<ContactSlots>>,
     m_e: usize,
     /// S's pattern and symbolic factorisation, and its values.
@@ -89,19 +144,15 @@ pub struct Kkt<const C: usize> {
     /// Work: the right-hand side of S, r̃x per point.
     rhs_s: Vec<f64>,
     rt: Vec<[f64; C]>,
-    /// Refinement work.
-    work: [Vec<f64>; 6],
+    refinement: Refinement,
 }
 
 /// The Cholesky factor of a symmetric positive definite C×C `h`: lower L with H = L Lᵀ, its
 /// diagonal stored inverted (the solves multiply). `None` when `h` is not numerically positive
 /// definite.
 ///
-/// Why a factor and not H⁻¹: near the optimum H_p's eigenvalues spread over ~17 decades (an
-/// active facet's z/s reached 1.2e9 on a sliding wall, inactive ones 1e-8), and x = H⁻¹ r by
-/// the explicit inverse then misses H x = r by up to 7e3 on a right-hand side of 14 — an
-/// error iterative refinement could not remove (a load factor ended `InsufficientProgress`).
-/// Substitution with the factor is backward stable: the miss stays at round-off of ‖H‖‖x‖.
+/// A factor, not H⁻¹: near the optimum H_p's eigenvalues spread over many decades, where
+/// substitution with the factor stays backward stable and the explicit inverse does not.
 fn cholesky<const C: usize>(h: &[[f64; C]; C]) -> Option<[[f64; C]; C]> {
     let mut l = [[0.0f64; C]; C];
     for j in 0..C {
@@ -209,89 +260,111 @@ fn as_point<const C: usize>(v: &[f64], p: usize) -> [f64; C] {
     out
 }
 
+/// Per block column of S, the larger blocks it shares an interface with, in order: the
+/// off-diagonal 6×6 blocks below its diagonal block.
+fn pairs_below<const C: usize>(sh: &Shape<C>) -> Vec<Vec<usize>> {
+    let mut pairs: Vec<(usize, usize)> = sh
+        .contacts
+        .iter()
+        .filter_map(|c| match (&c.sides[0], &c.sides[1]) {
+            (Some(a), Some(b)) if a.block != b.block => Some((a.block.max(b.block), a.block.min(b.block))),
+            _ => None,
+        })
+        .collect();
+    pairs.sort_unstable();
+    pairs.dedup();
+    let mut below: Vec<Vec<usize>> = vec![Vec::new(); sh.blocks];
+    for &(i, j) in &pairs {
+        below[j].push(i);
+    }
+    below
+}
+
+/// S's lower triangle (CSC column pointers and row indices) for `nb` blocks and `nk` budgets:
+/// dense 6×6 diagonal blocks, an off-diagonal block per pair in `below`, budget rows against
+/// every block and each other.
+fn lower_pattern(nb: usize, nk: usize, below: &[Vec<usize>]) -> (Vec<usize>, Vec<usize>) {
+    let m_e = 6 * nb + nk;
+    let mut col_ptr = Vec::with_capacity(m_e + 1);
+    let mut row_idx = Vec::new();
+    col_ptr.push(0);
+    for j in 0..nb {
+        for c in 0..6 {
+            for r in c..6 {
+                row_idx.push(6 * j + r);
+            }
+            for &i in &below[j] {
+                row_idx.extend(6 * i..6 * i + 6);
+            }
+            row_idx.extend(6 * nb..m_e);
+            col_ptr.push(row_idx.len());
+        }
+    }
+    for k in 0..nk {
+        row_idx.extend(6 * nb + k..m_e);
+        col_ptr.push(row_idx.len());
+    }
+    (col_ptr, row_idx)
+}
+
+/// Each contact's [`ContactSlots`] in the pattern of [`lower_pattern`] (`None` for a contact
+/// with a support, or within one block).
+fn contact_slots<const C: usize>(sh: &Shape<C>, below: &[Vec<usize>], col_ptr: &[usize]) -> Vec<Option<ContactSlots>> {
+    sh.contacts
+        .iter()
+        .map(|c| match (&c.sides[0], &c.sides[1]) {
+            (Some(a), Some(b)) if a.block != b.block => {
+                let (i, j) = (a.block.max(b.block), a.block.min(b.block));
+                let at = below[j].binary_search(&i).ok()?;
+                let mut off = [0usize; 6];
+                for (c, o) in off.iter_mut().enumerate() {
+                    // Column 6j + c: its diagonal-block run (6 − c rows), then 6 rows per
+                    // pair before this one.
+                    *o = col_ptr[6 * j + c] + (6 - c) + 6 * at;
+                }
+                Some(ContactSlots { off })
+            }
+            _ => None,
+        })
+        .collect()
+}
+
+impl Pattern {
+    /// The pattern `col_ptr`, `row_idx` of an `m_e`-row S with its symbolic factorisation:
+    /// `reuse`'s when it has the same pattern, else a new analysis.
+    fn analysed(m_e: usize, col_ptr: Vec<usize>, row_idx: Vec<usize>, reuse: Option<&Arc<Self>>) -> Option<Arc<Self>> {
+        if let Some(p) = reuse
+            && p.col_ptr == col_ptr
+            && p.row_idx == row_idx
+        {
+            return Some(Arc::clone(p));
+        }
+        let sym = SymbolicSparseColMatRef::new_checked(m_e, m_e, &col_ptr, None, &row_idx);
+        let symbolic = factorize_symbolic_cholesky(
+            sym,
+            Side::Lower,
+            SymmetricOrdering::Amd,
+            CholeskySymbolicParams {
+                // Half faer's flops-per-entry cut: vaults and walls, whose fill makes dense
+                // blocks pay, go supernodal; chains such as arches stay simplicial.
+                supernodal_flop_ratio_threshold: SupernodalThreshold(0.5),
+                ..Default::default()
+            },
+        )
+        .ok()?;
+        Some(Arc::new(Self { col_ptr, row_idx, symbolic }))
+    }
+}
+
 impl<const C: usize> Kkt<C> {
     /// The system of `sh`; with `reuse`, its symbolic factorisation when the pattern is the same.
     pub fn new(sh: &Shape<C>, threads: usize, parallel_from: usize, reuse: Option<&Arc<Pattern>>) -> Option<Self> {
-        let nb = sh.blocks;
         let nk = sh.budget_vars.len();
-        let m_e = 6 * nb + nk;
-        // Pattern: dense 6×6 diagonal blocks, an off-diagonal block per pair of blocks that
-        // share an interface, budget rows against every block and each other.
-        let mut pairs: Vec<(usize, usize)> = sh
-            .contacts
-            .iter()
-            .filter_map(|c| match (&c.sides[0], &c.sides[1]) {
-                (Some(a), Some(b)) if a.block != b.block => Some((a.block.max(b.block), a.block.min(b.block))),
-                _ => None,
-            })
-            .collect();
-        pairs.sort_unstable();
-        pairs.dedup();
-        // Rows below the diagonal block, per block column: the larger blocks it pairs with.
-        let mut below: Vec<Vec<usize>> = vec![Vec::new(); nb];
-        for &(i, j) in &pairs {
-            below[j].push(i);
-        }
-        let mut col_ptr = Vec::with_capacity(m_e + 1);
-        let mut row_idx = Vec::new();
-        col_ptr.push(0);
-        for j in 0..nb {
-            for c in 0..6 {
-                for r in c..6 {
-                    row_idx.push(6 * j + r);
-                }
-                for &i in &below[j] {
-                    row_idx.extend(6 * i..6 * i + 6);
-                }
-                row_idx.extend(6 * nb..m_e);
-                col_ptr.push(row_idx.len());
-            }
-        }
-        for k in 0..nk {
-            row_idx.extend(6 * nb + k..m_e);
-            col_ptr.push(row_idx.len());
-        }
-        let slots = sh
-            .contacts
-            .iter()
-            .map(|c| match (&c.sides[0], &c.sides[1]) {
-                (Some(a), Some(b)) if a.block != b.block => {
-                    let (i, j) = (a.block.max(b.block), a.block.min(b.block));
-                    let at = below[j].binary_search(&i).ok()?;
-                    let mut off = [0usize; 6];
-                    for (c, o) in off.iter_mut().enumerate() {
-                        // Column 6j + c: its diagonal-block run (6 − c rows), then 6 rows per
-                        // pair before this one.
-                        *o = col_ptr[6 * j + c] + (6 - c) + 6 * at;
-                    }
-                    Some(ContactSlots { off })
-                }
-                _ => None,
-            })
-            .collect();
-        let pattern = match reuse {
-            Some(p) if p.col_ptr == col_ptr && p.row_idx == row_idx => Arc::clone(p),
-            _ => {
-                let sym = SymbolicSparseColMatRef::new_checked(m_e, m_e, &col_ptr, None, &row_idx);
-                let symbolic = factorize_symbolic_cholesky(
-                    sym,
-                    Side::Lower,
-                    SymmetricOrdering::Amd,
-                    CholeskySymbolicParams {
-                        // Supernodal where the fill makes dense blocks pay (vaults, walls),
-                        // simplicial for chains (an arch of 1000: 2× faster than supernodal).
-                        // faer's own cut (flops per entry of L above 40) left the Armadillo and
-                        // the 100-brick wall simplicial; at 20 (half of it) they go supernodal,
-                        // 13 % and 18 % faster (interleaved runs, best of 4), while arches of
-                        // 100–1000 stay simplicial.
-                        supernodal_flop_ratio_threshold: SupernodalThreshold(0.5),
-                        ..Default::default()
-                    },
-                )
-                .ok()?;
-                Arc::new(Pattern { col_ptr, row_idx, symbolic })
-            }
-        };
+        let m_e = 6 * sh.blocks + nk;
+        let below = pairs_below(sh);
+        let (col_ptr, row_idx) = lower_pattern(sh.blocks, nk, &below);
+        let slots = contact_slots(sh, &below, &col_ptr);
+        let pattern = Pattern::analysed(m_e, col_ptr, row_idx, reuse)?;
         let symbolic = &pattern.symbolic;
         let par = if threads > 1 && symbolic.len_val() >= parallel_from { Par::rayon(threads) } else { Par::Seq };
         let req = symbolic
@@ -300,8 +373,7 @@ impl<const C: usize> Kkt<C> {
         let buffer = MemBuffer::new(req);
         let l_values = vec![0.0; symbolic.len_val()];
         let values = vec![0.0; pattern.row_idx.len()];
-        let n = sh.n();
-        let mg = sh.m_g();
+        let (n, mg) = (sh.n(), sh.m_g());
         Some(Self {
             chol: vec![[[0.0; C]; C]; sh.points()],
             hinv_sigma: vec![0.0; nk],
@@ -315,7 +387,7 @@ impl<const C: usize> Kkt<C> {
             buffer,
             rhs_s: vec![0.0; m_e],
             rt: vec![[0.0; C]; sh.points()],
-            work: [vec![0.0; n], vec![0.0; m_e], vec![0.0; mg], vec![0.0; n], vec![0.0; m_e], vec![0.0; mg]],
+            refinement: Refinement { residual: Blocks::zeros(n, m_e, mg), candidate: Blocks::zeros(n, m_e, mg) },
         })
     }
 
@@ -350,7 +422,6 @@ impl<const C: usize> Kkt<C> {
         }
     }
 
-    /// Factorises the system for the current scaling.
     /// Forms S for the scaling `sc` and factors it: per contact, the points' H_p⁻¹ and the
     /// interface's 6×6 wrench matrix K, mapped to its blocks; then the budget rows. `false` when
     /// an H_p or S cannot be factored.
@@ -377,7 +448,7 @@ impl<const C: usize> Kkt<C> {
         let mut w = vec![0.0; self.m_e];
         self.solve_s(&mut w);
         let lw: f64 = column.iter().zip(&w).map(|(l, w)| l * w).sum();
-        self.factor = Some((h, w, lw));
+        self.factor = Some(LoadFactor { h, w, lw });
         lw.is_finite()
     }
 
@@ -604,47 +675,26 @@ impl<const C: usize> Kkt<C> {
         ze.copy_from_slice(&self.rhs_s);
     }
 
-    /// One solve of the regularised system: (rx, r_E, r_G) → (x, z_E, z_G).
-    #[allow(clippy::too_many_arguments)]
-    fn solve_reg(
-        &mut self,
-        sh: &Shape<C>,
-        sc: &Scaling,
-        rx: &[f64],
-        re: &[f64],
-        rg: &[f64],
-        x: &mut [f64],
-        ze: &mut [f64],
-        zg: &mut [f64],
-    ) {
+    /// One solve of the regularised system: `rhs` (r_x, r_E, r_G) → `out` (x, z_E, z_G).
+    fn solve_reg(&mut self, sh: &Shape<C>, sc: &Scaling, rhs: Rhs, out: &mut Step) {
+        let rt_sigma = self.reduce_rhs(sh, sc, rhs);
+        self.solve_s(out.eq);
+        self.solve_load_factor(sh, sc, rhs, out);
+        self.back_substitute(sh, sc, rhs, out);
+        self.budget_slacks(sh, sc, rhs, &rt_sigma, out);
+    }
+
+    /// S's right side E H⁻¹ r̃x − r_E into `rhs_s`, with r̃x = r_x + Gᵀ Hs⁻¹ r_G kept per point
+    /// in `rt`; returns the budget slacks' r̃x.
+    fn reduce_rhs(&mut self, sh: &Shape<C>, sc: &Scaling, rhs: Rhs) -> [f64; 2] {
         let nb = sh.blocks;
-        let mp = sh.m_p;
-        let nn = sh.nonneg.len();
-        let np = sh.points();
-        for (o, r) in self.rhs_s.iter_mut().zip(re) {
+        for (o, r) in self.rhs_s.iter_mut().zip(rhs.eq) {
             *o = -r;
         }
-        // r̃x = rx + Gᵀ Hs⁻¹ r_G; S's right side E H⁻¹ r̃x − r_E.
         for contact in sh.contacts {
             let mut w6 = [0.0f64; 6];
             for p in contact.points.clone() {
-                let mut rt: [f64; C] = as_point(rx, p);
-                let rgp = &rg[p * mp..(p + 1) * mp];
-                let dinv = &sc.dinv[p * mp..p * mp + nn];
-                for (r, g) in sh.nonneg.iter().enumerate() {
-                    let f = rgp[r] * dinv[r];
-                    for k in 0..C {
-                        rt[k] += g[k] * f;
-                    }
-                }
-                if let Some(soc) = &sh.soc {
-                    let f = sc.hs_inv_mul(p, &[rgp[nn], rgp[nn + 1], rgp[nn + 2]]);
-                    for i in 0..3 {
-                        for k in 0..C {
-                            rt[k] += soc[i][k] * f[i];
-                        }
-                    }
-                }
+                let rt = Self::point_rhs(sh, sc, rhs, p);
                 self.rt[p] = rt;
                 let w = chol_solve(&self.chol[p], &rt);
                 let f = point_force(sh, &w);
@@ -660,132 +710,171 @@ impl<const C: usize> Kkt<C> {
                 side.add_wrench(&w6, &mut self.rhs_s[6 * side.block..6 * side.block + 6]);
             }
         }
-        let nk = sh.budget_vars.len();
+        let (np, mp) = (sh.points(), sh.m_p);
         let mut rt_sigma = [0.0f64; 2];
-        for kb in 0..nk {
+        for kb in 0..sh.budget_vars.len() {
             let i = np * mp + kb;
             // G row of σ is −1.
-            rt_sigma[kb] = rx[np * C + kb] - rg[i] * sc.dinv[i];
+            rt_sigma[kb] = rhs.x[np * C + kb] - rhs.ineq[i] * sc.dinv[i];
             self.rhs_s[6 * nb + kb] += self.hinv_sigma[kb] * rt_sigma[kb];
         }
-        self.solve_s(ze);
-        // λ (module docs): r̃x_λ = rx_λ − rg_λ Hs⁻¹ (its G row is −1); y = S⁻¹ r is in z_E.
-        if let (Some((column, _)), Some((h, w, lw))) = (sh.factor, &self.factor) {
-            let i = np * mp + nk;
-            let rt = rx[sh.lambda()] - rg[i] * sc.dinv[i];
-            let ly: f64 = column.iter().zip(ze.iter()).map(|(l, z)| l * z).sum();
-            let xl = (rt - ly) / (lw + h);
-            ze.iter_mut().zip(w).for_each(|(z, w)| *z += w * xl);
-            x[sh.lambda()] = xl;
-            zg[i] = (-xl - rg[i]) * sc.dinv[i];
+        rt_sigma
+    }
+
+    /// r̃x = r_x + G_pᵀ Hs_p⁻¹ r_G of point `p`.
+    fn point_rhs(sh: &Shape<C>, sc: &Scaling, rhs: Rhs, p: usize) -> [f64; C] {
+        let (mp, nn) = (sh.m_p, sh.nonneg.len());
+        let mut rt: [f64; C] = as_point(rhs.x, p);
+        let rgp = &rhs.ineq[p * mp..(p + 1) * mp];
+        let dinv = &sc.dinv[p * mp..p * mp + nn];
+        for (r, g) in sh.nonneg.iter().enumerate() {
+            let f = rgp[r] * dinv[r];
+            for k in 0..C {
+                rt[k] += g[k] * f;
+            }
         }
-        // x = H⁻¹ (r̃x − Eᵀ z_E), z_G = Hs⁻¹ (G x − r_G).
+        if let Some(soc) = &sh.soc {
+            let f = sc.hs_inv_mul(p, &[rgp[nn], rgp[nn + 1], rgp[nn + 2]]);
+            for i in 0..3 {
+                for k in 0..C {
+                    rt[k] += soc[i][k] * f[i];
+                }
+            }
+        }
+        rt
+    }
+
+    /// λ's bordered solve (module docs), with y = S⁻¹ r already in z_E: x_λ and its z_G, and
+    /// z_E += w x_λ. Nothing without a load factor.
+    fn solve_load_factor(&self, sh: &Shape<C>, sc: &Scaling, rhs: Rhs, out: &mut Step) {
+        let (Some((column, _)), Some(lf)) = (sh.factor, &self.factor) else { return };
+        let i = sh.points() * sh.m_p + sh.budget_vars.len();
+        // r̃x_λ = rx_λ − rg_λ Hs⁻¹ (its G row is −1).
+        let rt = rhs.x[sh.lambda()] - rhs.ineq[i] * sc.dinv[i];
+        let ly: f64 = column.iter().zip(out.eq.iter()).map(|(l, z)| l * z).sum();
+        let xl = (rt - ly) / (lf.lw + lf.h);
+        out.eq.iter_mut().zip(&lf.w).for_each(|(z, w)| *z += w * xl);
+        out.x[sh.lambda()] = xl;
+        out.ineq[i] = (-xl - rhs.ineq[i]) * sc.dinv[i];
+    }
+
+    /// The points' x = H⁻¹ (r̃x − Eᵀ z_E) and z_G = Hs⁻¹ (G x − r_G), from z_E.
+    fn back_substitute(&self, sh: &Shape<C>, sc: &Scaling, rhs: Rhs, out: &mut Step) {
+        let nb = sh.blocks;
         for contact in sh.contacts {
             let mut u = [0.0f64; 6];
             for side in contact.sides.iter().flatten() {
-                side.add_seen(&ze[6 * side.block..6 * side.block + 6], &mut u);
+                side.add_seen(&out.eq[6 * side.block..6 * side.block + 6], &mut u);
             }
             for p in contact.points.clone() {
                 let mut t = point_motion(sh, &u, &sh.rho[p]);
                 for (kb, &col) in sh.budget_vars.iter().enumerate() {
-                    t[col] += ze[6 * nb + kb];
+                    t[col] += out.eq[6 * nb + kb];
                 }
                 let mut r = self.rt[p];
                 for k in 0..C {
                     r[k] -= t[k];
                 }
                 let xp = chol_solve(&self.chol[p], &r);
-                x[p * C..(p + 1) * C].copy_from_slice(&xp);
-                let rgp = &rg[p * mp..(p + 1) * mp];
-                let dinv = &sc.dinv[p * mp..p * mp + nn];
-                let zgp = &mut zg[p * mp..(p + 1) * mp];
-                for (r, g) in sh.nonneg.iter().enumerate() {
-                    let mut gx = 0.0;
-                    for k in 0..C {
-                        gx += g[k] * xp[k];
-                    }
-                    zgp[r] = (gx - rgp[r]) * dinv[r];
-                }
-                if let Some(soc) = &sh.soc {
-                    let mut gx = [0.0; 3];
-                    for i in 0..3 {
-                        let mut s = -rgp[nn + i];
-                        for k in 0..C {
-                            s += soc[i][k] * xp[k];
-                        }
-                        gx[i] = s;
-                    }
-                    zgp[nn..nn + 3].copy_from_slice(&sc.hs_inv_mul(p, &gx));
-                }
+                out.x[p * C..(p + 1) * C].copy_from_slice(&xp);
+                Self::point_duals(sh, sc, rhs, p, &xp, out.ineq);
             }
-        }
-        for kb in 0..nk {
-            let i = np * mp + kb;
-            let xs = self.hinv_sigma[kb] * (rt_sigma[kb] - ze[6 * nb + kb]);
-            x[np * C + kb] = xs;
-            zg[i] = (-xs - rg[i]) * sc.dinv[i];
         }
     }
 
-    /// Solves K [x; z_E; z_G] = [rx; r_E; r_G]; with `refine`, iterative refinement against
-    /// the unregularised matrix (clarabel's defaults: relative 1e-13, absolute 1e-12, ≤ 10
-    /// steps, stop when a step gains less than 5×). False when the result is not finite.
-    #[allow(clippy::too_many_arguments)]
-    pub fn solve(
-        &mut self,
-        sh: &Shape<C>,
-        sc: &Scaling,
-        rx: &[f64],
-        re: &[f64],
-        rg: &[f64],
-        x: &mut [f64],
-        ze: &mut [f64],
-        zg: &mut [f64],
-        refine: bool,
-    ) -> bool {
-        self.solve_reg(sh, sc, rx, re, rg, x, ze, zg);
-        if refine {
-            let norm_b = rx.iter().chain(re).chain(rg).fold(0.0f64, |a, v| a.max(v.abs()));
-            let [mut ex, mut ee, mut eg, mut dx, mut de, mut dg] = std::mem::take(&mut self.work);
-            // e = rhs − K [x; z].
-            let error = |ex: &mut [f64], ee: &mut [f64], eg: &mut [f64], x: &[f64], ze: &[f64], zg: &[f64]| -> f64 {
-                sh.apply(sc, x, ze, zg, ex, ee, eg);
-                let mut e = 0.0f64;
-                for (k, r) in ex.iter_mut().zip(rx).chain(ee.iter_mut().zip(re)).chain(eg.iter_mut().zip(rg)) {
-                    *k = r - *k;
-                    e = e.max(k.abs());
-                }
-                e
-            };
-            let mut norm_e = error(&mut ex, &mut ee, &mut eg, x, ze, zg);
-            for _ in 0..10 {
-                if norm_e <= 1e-12 + 1e-13 * norm_b {
-                    break;
-                }
-                self.solve_reg(sh, sc, &ex, &ee, &eg, &mut dx, &mut de, &mut dg);
-                // Candidate x + dx into dx (and so on).
-                for (d, v) in dx.iter_mut().zip(x.iter()) {
-                    *d += v;
-                }
-                for (d, v) in de.iter_mut().zip(ze.iter()) {
-                    *d += v;
-                }
-                for (d, v) in dg.iter_mut().zip(zg.iter()) {
-                    *d += v;
-                }
-                let new_e = error(&mut ex, &mut ee, &mut eg, &dx, &de, &dg);
-                if new_e < norm_e {
-                    x.copy_from_slice(&dx);
-                    ze.copy_from_slice(&de);
-                    zg.copy_from_slice(&dg);
-                }
-                if new_e * 5.0 > norm_e {
-                    break;
-                }
-                norm_e = new_e;
+    /// z_G = Hs_p⁻¹ (G_p x_p − r_G) of point `p` into `zg`.
+    fn point_duals(sh: &Shape<C>, sc: &Scaling, rhs: Rhs, p: usize, xp: &[f64; C], zg: &mut [f64]) {
+        let (mp, nn) = (sh.m_p, sh.nonneg.len());
+        let rgp = &rhs.ineq[p * mp..(p + 1) * mp];
+        let dinv = &sc.dinv[p * mp..p * mp + nn];
+        let zgp = &mut zg[p * mp..(p + 1) * mp];
+        for (r, g) in sh.nonneg.iter().enumerate() {
+            let mut gx = 0.0;
+            for k in 0..C {
+                gx += g[k] * xp[k];
             }
-            self.work = [ex, ee, eg, dx, de, dg];
+            zgp[r] = (gx - rgp[r]) * dinv[r];
         }
-        x.iter().chain(ze.iter()).chain(zg.iter()).all(|v| v.is_finite())
+        if let Some(soc) = &sh.soc {
+            let mut gx = [0.0; 3];
+            for i in 0..3 {
+                let mut s = -rgp[nn + i];
+                for k in 0..C {
+                    s += soc[i][k] * xp[k];
+                }
+                gx[i] = s;
+            }
+            zgp[nn..nn + 3].copy_from_slice(&sc.hs_inv_mul(p, &gx));
+        }
     }
+
+    /// The budget slacks' x = H_σ⁻¹ (r̃x_σ − z_E) and z_G, `rt_sigma` from [`Self::reduce_rhs`].
+    fn budget_slacks(&self, sh: &Shape<C>, sc: &Scaling, rhs: Rhs, rt_sigma: &[f64; 2], out: &mut Step) {
+        let (nb, np, mp) = (sh.blocks, sh.points(), sh.m_p);
+        for kb in 0..sh.budget_vars.len() {
+            let i = np * mp + kb;
+            let xs = self.hinv_sigma[kb] * (rt_sigma[kb] - out.eq[6 * nb + kb]);
+            out.x[np * C + kb] = xs;
+            out.ineq[i] = (-xs - rhs.ineq[i]) * sc.dinv[i];
+        }
+    }
+
+    /// Solves K [x; z_E; z_G] = `rhs` into `out`; with `refine`, iterative refinement against
+    /// the unregularised matrix. False when the result is not finite.
+    pub fn solve(&mut self, sh: &Shape<C>, sc: &Scaling, rhs: Rhs, mut out: Step, refine: bool) -> bool {
+        self.solve_reg(sh, sc, rhs, &mut out);
+        if refine {
+            let mut work = std::mem::take(&mut self.refinement);
+            self.refine(sh, sc, rhs, &mut out, &mut work);
+            self.refinement = work;
+        }
+        out.x.iter().chain(out.eq.iter()).chain(out.ineq.iter()).all(|v| v.is_finite())
+    }
+
+    /// Iterative refinement of `out` (clarabel's defaults: relative 1e-13, absolute 1e-12,
+    /// ≤ 10 steps, stop when a step gains less than 5×); a candidate is kept when it lowers
+    /// the residual.
+    fn refine(&mut self, sh: &Shape<C>, sc: &Scaling, rhs: Rhs, out: &mut Step, work: &mut Refinement) {
+        let norm_b = rhs.x.iter().chain(rhs.eq).chain(rhs.ineq).fold(0.0f64, |a, v| a.max(v.abs()));
+        let Refinement { residual, candidate } = work;
+        let mut norm_e = residual_of(sh, sc, rhs, out.view(), residual);
+        for _ in 0..10 {
+            if norm_e <= 1e-12 + 1e-13 * norm_b {
+                break;
+            }
+            self.solve_reg(sh, sc, residual.rhs(), &mut candidate.step());
+            // The candidate: out + the correction.
+            for (d, v) in candidate.x.iter_mut().zip(out.x.iter()) {
+                *d += v;
+            }
+            for (d, v) in candidate.eq.iter_mut().zip(out.eq.iter()) {
+                *d += v;
+            }
+            for (d, v) in candidate.ineq.iter_mut().zip(out.ineq.iter()) {
+                *d += v;
+            }
+            let new_e = residual_of(sh, sc, rhs, candidate.rhs(), residual);
+            if new_e < norm_e {
+                out.x.copy_from_slice(&candidate.x);
+                out.eq.copy_from_slice(&candidate.eq);
+                out.ineq.copy_from_slice(&candidate.ineq);
+            }
+            if new_e * 5.0 > norm_e {
+                break;
+            }
+            norm_e = new_e;
+        }
+    }
+}
+
+/// The residual `rhs` − K `sol` into `into`; returns its largest magnitude.
+fn residual_of<const C: usize>(sh: &Shape<C>, sc: &Scaling, rhs: Rhs, sol: Rhs, into: &mut Blocks) -> f64 {
+    sh.apply(sc, sol.x, sol.eq, sol.ineq, &mut into.x, &mut into.eq, &mut into.ineq);
+    let mut e = 0.0f64;
+    let pairs = into.x.iter_mut().zip(rhs.x).chain(into.eq.iter_mut().zip(rhs.eq));
+    for (k, r) in pairs.chain(into.ineq.iter_mut().zip(rhs.ineq)) {
+        *k = r - *k;
+        e = e.max(k.abs());
+    }
+    e
 }

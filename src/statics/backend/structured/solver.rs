@@ -6,7 +6,7 @@
 
 use super::cones::{Layout, Scaling, shift_to_interior};
 use super::iterate::{Vars, dot};
-use super::kkt::{Kkt, Pattern};
+use super::kkt::{Blocks, Kkt, Pattern, Rhs, Step};
 use super::measures::{Info, Tolerances, convergence, info};
 use super::shape::Shape;
 use crate::statics::problem::{Accuracy, ContactProblem, SolverStatus};
@@ -26,19 +26,13 @@ pub struct IpmOutcome {
 }
 
 /// The barrier parameter, relative to the cold start's, at which a solve keeps its iterate for
-/// the next nearby problem. Measured on the edit loop's wall (a cut moved by 1 cm; cold: 13
-/// iterations, μ falling from 1.0 to 3e-9): kept at μ₀ × 7e-3 / 1e-3 / 1.3e-4 / 2.9e-6
-/// (iterations 5, 6, 7, 9), the next solve took 8, 7, 6 and 7 iterations. Earlier iterates
-/// are far from the new optimum; later ones so close to their own boundary that the new
-/// problem's first steps are short.
+/// the next nearby problem: earlier iterates are far from the new optimum, later ones so close
+/// to their own boundary that the new problem's first steps are short.
 const KEEP_AT: f64 = 1e-4;
 
 /// A kept iterate whose primal or dual residual on the new problem (clarabel's relative
-/// measures) is above this is not used: the edit was not small. Measured: the starts that
-/// converged faster than cold had 2.5e-4 (a wall, a cut moved by 1 cm: 6 iterations instead
-/// of 13), 9e-3 (an arch, one voussoir 20 % heavier: 6 instead of 11) and 1.1e-2 (a stack,
-/// its top block 10 % heavier: 4 instead of 7); those that did not end `Solved` within the
-/// cold solve's iterations (and so cost both) had 0.25–0.55 (blocks 10–30× heavier, and back).
+/// measures) is above this is not used: the edit was not small, and the warm run would likely
+/// cost a cold one's iterations on top of its own.
 const START_RESIDUAL_MAX: f64 = 0.05;
 
 /// An interior iterate of a solved problem, kept to start a nearby one from: the same rows
@@ -149,45 +143,29 @@ struct Run {
     mu_keep: f64,
 }
 
-/// The right-hand side of one Newton solve: the residuals (rx, r_E, r_G), the Δs constant term
-/// `c`, rτ and rκ (clarabel's `DefaultKKTSystem::solve`).
-struct Rhs<'a> {
-    rx: &'a [f64],
-    re: &'a [f64],
-    rg: &'a [f64],
+/// The right-hand side of one Newton solve: the residuals (r_x, r_E, r_G), the Δs constant
+/// term `c`, rτ and rκ (clarabel's `DefaultKKTSystem::solve`).
+struct NewtonRhs<'a> {
+    r: Rhs<'a>,
     c: &'a [f64],
     r_tau: f64,
     r_kappa: f64,
 }
 
-/// One solve of the reduced system: x, z_E and z_G (no Δs: that comes from Δz afterwards).
-struct Part {
-    x: Vec<f64>,
-    ze: Vec<f64>,
-    z: Vec<f64>,
-}
-
-impl Part {
-    fn zeros(n: usize, me: usize, mg: usize) -> Self {
-        Self { x: vec![0.0; n], ze: vec![0.0; me], z: vec![0.0; mg] }
-    }
-}
-
-/// What every Newton solve of an iteration shares: its variable part (x1, z1), its constant
-/// part (x2, z2), x / τ, and the right-hand side buffers.
+/// What every Newton solve of an iteration shares: its variable part (x1, z1) and its constant
+/// part (x2, z2), each one solve of the reduced system (x, z_E, z_G; Δs comes from Δz
+/// afterwards), x / τ, and the right-hand side buffers of the equality and inequality rows.
 struct Newton {
-    c1: Part,
-    c2: Part,
+    c1: Blocks,
+    c2: Blocks,
     xi: Vec<f64>,
-    we: Vec<f64>,
-    wg: Vec<f64>,
+    rhs_eq: Vec<f64>,
+    rhs_ineq: Vec<f64>,
 }
 
 /// The corrector's right-hand side (the residuals scaled by 1 − σ, the Δs constant term).
 struct Corrector {
-    rx: Vec<f64>,
-    re: Vec<f64>,
-    rg: Vec<f64>,
+    r: Blocks,
     c: Vec<f64>,
 }
 
@@ -209,9 +187,8 @@ struct Solver<'a, const C: usize> {
     newton: Newton,
     corrector: Corrector,
     /// The affine (predictor) direction, then the combined (corrector) one in the same
-    /// buffers: the corrector's right-hand side takes what it needs of the first before the
-    /// second is solved (one set of iterate-sized vectors fewer; a 100 000-brick wall's are
-    /// 0.2 GB).
+    /// buffers (one set of iterate-sized vectors fewer): the corrector's right-hand side takes
+    /// what it needs of the first before the second is solved.
     dir: Vars,
     /// −q over all points.
     minus_q: Vec<f64>,
@@ -230,13 +207,13 @@ impl<'a, const C: usize> Solver<'a, C> {
         };
         let minus_q: Vec<f64> = (0..n).map(|j| -sh.q_at(j)).collect();
         let newton = Newton {
-            c1: Part::zeros(n, me, mg),
-            c2: Part::zeros(n, me, mg),
+            c1: Blocks::zeros(n, me, mg),
+            c2: Blocks::zeros(n, me, mg),
             xi: vec![0.0; n],
-            we: vec![0.0; me],
-            wg: vec![0.0; mg],
+            rhs_eq: vec![0.0; me],
+            rhs_ineq: vec![0.0; mg],
         };
-        let corrector = Corrector { rx: vec![0.0; n], re: vec![0.0; me], rg: vec![0.0; mg], c: vec![0.0; mg] };
+        let corrector = Corrector { r: Blocks::zeros(n, me, mg), c: vec![0.0; mg] };
         let mut v = Vars::zeros(n, me, mg);
         v.tau = 1.0;
         v.kappa = 1.0;
@@ -309,18 +286,16 @@ impl<'a, const C: usize> Solver<'a, C> {
         false
     }
 
-    /// Removes the equality residual a warm run ends with. Its start was interior for the
+    /// Removes the equality residual a warm run ends with (its start was interior for the
     /// previous problem, not feasible for this one, and each step removes only the fraction α
-    /// of that residual: a cold run ends at ~1e-14 of the right-hand side, a warm one at
-    /// ~1e-10 (the wall of the edit loop), which the caller's polish (conjugate gradients on A
-    /// Aᵀ) then needed 200 iterations to reduce. Here one Newton solve with the last factored
-    /// system takes it out: x ← x − H⁻¹Eᵀ S⁻¹ (E x − τ b), the H-weighted least correction
-    /// (active rows, with a small H⁻¹, barely move); kept only where it lowers the residual.
+    /// of it), which would leave the caller's polish far more to do than a cold run's: one
+    /// Newton solve with the last factored system, x ← x − H⁻¹Eᵀ S⁻¹ (E x − τ b), the
+    /// H-weighted least correction (active rows, with a small H⁻¹, barely move); kept only
+    /// where it lowers the residual.
     fn settle(&mut self) {
         let sh = self.sh;
         let (n, me, mg) = (sh.n(), sh.m_e(), sh.m_g());
-        let [ex, gx, dx] = [vec![0.0; me], vec![0.0; mg], vec![0.0; n]];
-        let (mut ex, mut gx, mut dx) = (ex, gx, dx);
+        let (mut ex, mut gx) = (vec![0.0; me], vec![0.0; mg]);
         let residual = |x: &[f64], ex: &mut Vec<f64>, gx: &mut Vec<f64>, tau: f64| -> f64 {
             sh.a_mul(x, ex, gx);
             ex.iter_mut().zip(&sh.b_e).fold(0.0f64, |m, (e, b)| {
@@ -330,13 +305,12 @@ impl<'a, const C: usize> Solver<'a, C> {
         };
         let tau = self.v.tau;
         let before = residual(&self.v.x, &mut ex, &mut gx, tau);
-        let (mut dze, mut dzg) = (vec![0.0; me], vec![0.0; mg]);
-        let zeros_g = vec![0.0; mg];
-        let zeros_n = vec![0.0; n];
-        if !self.kkt.solve(sh, &self.sc, &zeros_n, &ex, &zeros_g, &mut dx, &mut dze, &mut dzg, true) {
+        let (zeros_n, zeros_g) = (vec![0.0; n], vec![0.0; mg]);
+        let mut d = Blocks::zeros(n, me, mg);
+        if !self.kkt.solve(sh, &self.sc, Rhs { x: &zeros_n, eq: &ex, ineq: &zeros_g }, d.step(), true) {
             return;
         }
-        let candidate: Vec<f64> = self.v.x.iter().zip(&dx).map(|(x, d)| x - d).collect();
+        let candidate: Vec<f64> = self.v.x.iter().zip(&d.x).map(|(x, d)| x - d).collect();
         if residual(&candidate, &mut ex, &mut gx, tau) < before {
             self.v.x = candidate;
         }
@@ -362,16 +336,19 @@ impl<'a, const C: usize> Solver<'a, C> {
         let (zeros_n, zeros_e, zeros_g) = (vec![0.0; n], vec![0.0; me], vec![0.0; mg]);
         let (v, sc, minus_q) = (&mut self.v, &self.sc, &self.minus_q);
         if sh.p.iter().any(|p| *p != 0.0) {
-            self.kkt.solve(sh, sc, minus_q, &sh.b_e, &zeros_g, &mut v.x, &mut v.ze, &mut v.z, true);
+            let rhs = Rhs { x: minus_q, eq: &sh.b_e, ineq: &zeros_g };
+            self.kkt.solve(sh, sc, rhs, Step { x: &mut v.x, eq: &mut v.ze, ineq: &mut v.z }, true);
             for i in 0..mg {
                 v.s[i] = -v.z[i];
             }
         } else {
             let mut tmp_e = vec![0.0; me];
-            self.kkt.solve(sh, sc, &zeros_n, &sh.b_e, &zeros_g, &mut v.x, &mut tmp_e, &mut v.s, true);
+            let rhs = Rhs { x: &zeros_n, eq: &sh.b_e, ineq: &zeros_g };
+            self.kkt.solve(sh, sc, rhs, Step { x: &mut v.x, eq: &mut tmp_e, ineq: &mut v.s }, true);
             v.s.iter_mut().for_each(|s| *s = -*s);
             let mut xt = vec![0.0; n];
-            self.kkt.solve(sh, sc, minus_q, &zeros_e, &zeros_g, &mut xt, &mut v.ze, &mut v.z, true);
+            let rhs = Rhs { x: minus_q, eq: &zeros_e, ineq: &zeros_g };
+            self.kkt.solve(sh, sc, rhs, Step { x: &mut xt, eq: &mut v.ze, ineq: &mut v.z }, true);
         }
         shift_to_interior(&self.layout, &mut v.s);
         shift_to_interior(&self.layout, &mut v.z);
@@ -412,9 +389,10 @@ impl<'a, const C: usize> Solver<'a, C> {
         }
         // Constant part of the step: K [x2; z2] = [−q; b; 0] (r_G's buffer is free until the
         // Newton solves below fill it).
-        let Newton { c2, wg: zeros_g, .. } = &mut self.newton;
+        let Newton { c2, rhs_ineq: zeros_g, .. } = &mut self.newton;
         zeros_g.fill(0.0);
-        if !self.kkt.solve(sh, &self.sc, &self.minus_q, &sh.b_e, zeros_g, &mut c2.x, &mut c2.ze, &mut c2.z, true) {
+        let rhs = Rhs { x: &self.minus_q, eq: &sh.b_e, ineq: zeros_g };
+        if !self.kkt.solve(sh, &self.sc, rhs, c2.step(), true) {
             return Err(SolverStatus::NumericalError);
         }
         for j in 0..n {
@@ -422,7 +400,8 @@ impl<'a, const C: usize> Solver<'a, C> {
         }
         // Affine (predictor) step: Δs constant term s.
         let (inf, v) = (&self.inf, &self.v);
-        let rhs = Rhs { rx: &inf.rx, re: &inf.re, rg: &inf.rg, c: &v.s, r_tau: inf.rtau, r_kappa: v.tau * v.kappa };
+        let r = Rhs { x: &inf.rx, eq: &inf.re, ineq: &inf.rg };
+        let rhs = NewtonRhs { r, c: &v.s, r_tau: inf.rtau, r_kappa: v.tau * v.kappa };
         if !newton(sh, &mut self.kkt, &self.sc, v, &mut self.newton, &rhs, false, &mut self.dir) {
             return Err(SolverStatus::NumericalError);
         }
@@ -433,16 +412,16 @@ impl<'a, const C: usize> Solver<'a, C> {
         let (v, inf, aff, cr) = (&self.v, &self.inf, &self.dir, &mut self.corrector);
         self.sc.combined_const(&v.s, &v.z, &aff.s, &aff.z, mfac, sigma * self.mu, &mut cr.c);
         for j in 0..n {
-            cr.rx[j] = (1.0 - sigma) * inf.rx[j];
+            cr.r.x[j] = (1.0 - sigma) * inf.rx[j];
         }
         for i in 0..me {
-            cr.re[i] = (1.0 - sigma) * inf.re[i];
+            cr.r.eq[i] = (1.0 - sigma) * inf.re[i];
         }
         for i in 0..mg {
-            cr.rg[i] = (1.0 - sigma) * inf.rg[i];
+            cr.r.ineq[i] = (1.0 - sigma) * inf.rg[i];
         }
         let r_kappa = -sigma * self.mu + mfac * aff.tau * aff.kappa + v.tau * v.kappa;
-        let rhs = Rhs { rx: &cr.rx, re: &cr.re, rg: &cr.rg, c: &cr.c, r_tau: (1.0 - sigma) * inf.rtau, r_kappa };
+        let rhs = NewtonRhs { r: cr.r.rhs(), c: &cr.c, r_tau: (1.0 - sigma) * inf.rtau, r_kappa };
         if !newton(sh, &mut self.kkt, &self.sc, v, &mut self.newton, &rhs, true, &mut self.dir) {
             return Err(SolverStatus::NumericalError);
         }
@@ -471,8 +450,8 @@ impl<'a, const C: usize> Solver<'a, C> {
 
     /// v ← v + α Δ (the combined direction), keeping the previous iterate. The new iterate is
     /// written into the previous one's buffers and the two swapped, and so are the measures
-    /// (the next termination check overwrites every field): no allocation per iteration (each
-    /// was a fresh set of vectors of the problem's size, page faults included).
+    /// (the next termination check overwrites every field), so that an iteration allocates
+    /// nothing.
     fn take_step(&mut self, alpha: f64) {
         let (prev_v, prev_inf) = self.prev.get_or_insert_with(|| (self.v.clone(), self.inf.clone()));
         let (v, d) = (&self.v, &self.dir);
@@ -525,25 +504,25 @@ fn newton<const C: usize>(
     sc: &Scaling,
     v: &Vars,
     w: &mut Newton,
-    rhs: &Rhs,
+    rhs: &NewtonRhs,
     refine: bool,
     out: &mut Vars,
 ) -> bool {
     let (n, me, mg) = (sh.n(), sh.m_e(), sh.m_g());
     // The z right-hand side is c − r_z (c = 0 on the equality rows).
     for i in 0..me {
-        w.we[i] = -rhs.re[i];
+        w.rhs_eq[i] = -rhs.r.eq[i];
     }
     for i in 0..mg {
-        w.wg[i] = rhs.c[i] - rhs.rg[i];
+        w.rhs_ineq[i] = rhs.c[i] - rhs.r.ineq[i];
     }
-    let c1 = &mut w.c1;
-    if !kkt.solve(sh, sc, rhs.rx, &w.we, &w.wg, &mut c1.x, &mut c1.ze, &mut c1.z, refine) {
+    let r = Rhs { x: rhs.r.x, eq: &w.rhs_eq, ineq: &w.rhs_ineq };
+    if !kkt.solve(sh, sc, r, w.c1.step(), refine) {
         return false;
     }
     let (c1, c2, xi) = (&w.c1, &w.c2, &w.xi);
     let b_z = |ze: &[f64]| dot(&sh.b_e, ze);
-    let num = rhs.r_tau - rhs.r_kappa / v.tau + sh.q_dot(&c1.x) + b_z(&c1.ze) + 2.0 * sh.p_quad(xi, &c1.x);
+    let num = rhs.r_tau - rhs.r_kappa / v.tau + sh.q_dot(&c1.x) + b_z(&c1.eq) + 2.0 * sh.p_quad(xi, &c1.x);
     let mut quad = 0.0;
     for p in 0..sh.points() {
         for k in 0..C {
@@ -552,16 +531,16 @@ fn newton<const C: usize>(
             quad += sh.p[k] * (d * d - c2.x[j] * c2.x[j]);
         }
     }
-    let den = v.kappa / v.tau - sh.q_dot(&c2.x) - b_z(&c2.ze) + quad;
+    let den = v.kappa / v.tau - sh.q_dot(&c2.x) - b_z(&c2.eq) + quad;
     let dtau = num / den;
     for j in 0..n {
         out.x[j] = c1.x[j] + dtau * c2.x[j];
     }
     for i in 0..me {
-        out.ze[i] = c1.ze[i] + dtau * c2.ze[i];
+        out.ze[i] = c1.eq[i] + dtau * c2.eq[i];
     }
     for i in 0..mg {
-        out.z[i] = c1.z[i] + dtau * c2.z[i];
+        out.z[i] = c1.ineq[i] + dtau * c2.ineq[i];
     }
     sc.ds_from_dz(&out.z, rhs.c, &mut out.s);
     out.tau = dtau;
