@@ -14,6 +14,7 @@ use crate::model::cut::{Cut, CutShape};
 use crate::model::edit::{Edit, apply};
 use crate::studies::sequence::OrderSpec;
 use crate::viz::DiagramMode;
+use bevy::ecs::system::SystemParam;
 use bevy::prelude::*;
 use nalgebra::{Rotation3, Unit, Vector3};
 use std::path::PathBuf;
@@ -102,6 +103,17 @@ impl ActiveCut {
     }
 }
 
+/// The mechanism drawn beside the design: one at a time.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Overlay {
+    #[default]
+    None,
+    /// The collapse mechanism of the load factor (live loads, else the worst direction).
+    Mechanism,
+    /// The kinematic check runs after every analysis; its mechanism when the design fails it.
+    Kinematic,
+}
+
 /// What the viewer shows and remembers.
 #[derive(Resource, Debug)]
 pub struct ViewerState {
@@ -123,9 +135,8 @@ pub struct ViewerState {
     pub message: Option<String>,
     pub drop_view: bool,
     pub sequence_view: bool,
-    pub mechanism_view: bool,
-    /// The kinematic check runs and its mechanism is the one drawn.
-    pub kinematic_view: bool,
+    /// The mechanism drawn beside the design, if any.
+    pub overlay: Overlay,
     /// Set when the camera should fit the design at the next analysis.
     pub frame_pending: bool,
 }
@@ -149,8 +160,7 @@ impl ViewerState {
             message: None,
             drop_view: false,
             sequence_view: false,
-            mechanism_view: false,
-            kinematic_view: false,
+            overlay: Overlay::None,
             frame_pending: true,
         }
     }
@@ -212,179 +222,217 @@ fn turned(normal: Vector3<f64>, yaw: f64, tilt: f64) -> Vector3<f64> {
     (Rotation3::from_axis_angle(&axis, tilt.to_radians()) * n).normalize()
 }
 
-#[allow(clippy::too_many_arguments)]
-fn apply_actions(
-    mut actions: MessageReader<ViewerAction>,
-    mut state: ResMut<ViewerState>,
-    pipeline: Res<PipelineState>,
-    mut drop: ResMut<DropStatus>,
-    mut sequence: ResMut<SequenceStatus>,
-    mut edits: MessageWriter<EditDesign>,
-    mut diagram: MessageWriter<SetDiagram>,
-    mut drops: MessageWriter<RunDropTest>,
-    mut starts: MessageWriter<StartSequence>,
-    mut steps: MessageWriter<StepSequence>,
-    mut robustness: ResMut<RobustnessRequest>,
-    mut kinematic: ResMut<KinematicRequest>,
-    mut repairs: MessageWriter<RunRepair>,
-) {
+/// Everything the actions read and change besides the actions themselves.
+#[derive(SystemParam)]
+struct Effects<'w> {
+    studies: Studies<'w>,
+    state: ResMut<'w, ViewerState>,
+    pipeline: Res<'w, PipelineState>,
+    // What runs after each analysis for the overlay.
+    robustness: ResMut<'w, RobustnessRequest>,
+    kinematic: ResMut<'w, KinematicRequest>,
+    edits: MessageWriter<'w, EditDesign>,
+    repairs: MessageWriter<'w, RunRepair>,
+    diagram: MessageWriter<'w, SetDiagram>,
+}
+
+/// The drop test and the assembly sequence: what starts them and what they show.
+#[derive(SystemParam)]
+struct Studies<'w> {
+    drop: ResMut<'w, DropStatus>,
+    drops: MessageWriter<'w, RunDropTest>,
+    sequence: ResMut<'w, SequenceStatus>,
+    starts: MessageWriter<'w, StartSequence>,
+    steps: MessageWriter<'w, StepSequence>,
+}
+
+fn apply_actions(mut actions: MessageReader<ViewerAction>, mut effects: Effects) {
     for action in actions.read() {
-        let s = &mut *state;
+        effects.apply(action);
+    }
+}
+
+impl Effects<'_> {
+    fn apply(&mut self, action: &ViewerAction) {
+        use ViewerAction as A;
+        let s = &mut *self.state;
         match action {
-            ViewerAction::SetMode(m) => {
+            A::SetMode(m) => {
                 s.mode = *m;
-                diagram.write(SetDiagram(*m));
+                self.diagram.write(SetDiagram(*m));
             }
-            ViewerAction::ToggleTranslucent => s.translucent = !s.translucent,
-            ViewerAction::ToggleMassCentres => s.mass_centres = !s.mass_centres,
-            ViewerAction::ToggleVertexArrows => s.vertex_arrows = !s.vertex_arrows,
-            ViewerAction::ToggleLabels => s.labels = !s.labels,
-            ViewerAction::ToggleMechanism => {
-                s.mechanism_view = !s.mechanism_view;
-                // One mechanism drawn at a time.
-                if s.mechanism_view && s.kinematic_view {
-                    s.kinematic_view = false;
-                    *kinematic = KinematicRequest::Off;
-                }
-                let live = s.design.loads.iter().any(|l| l.kind() == crate::model::LoadKind::Live);
-                *robustness = match (s.mechanism_view, live) {
-                    (false, _) => RobustnessRequest::Off,
-                    (true, true) => RobustnessRequest::LiveLoads,
-                    (true, false) => {
-                        RobustnessRequest::Worst(crate::stability::DirectionSettings::default().directions)
-                    }
-                };
-            }
-            ViewerAction::ToggleKinematic => {
-                s.kinematic_view = !s.kinematic_view;
-                *kinematic =
-                    if s.kinematic_view { KinematicRequest::On(Default::default()) } else { KinematicRequest::Off };
-                if s.kinematic_view && s.mechanism_view {
-                    s.mechanism_view = false;
-                    *robustness = RobustnessRequest::Off;
-                }
-            }
-            ViewerAction::Select(name) => s.selected = name.clone(),
+            A::ToggleTranslucent => s.translucent = !s.translucent,
+            A::ToggleMassCentres => s.mass_centres = !s.mass_centres,
+            A::ToggleVertexArrows => s.vertex_arrows = !s.vertex_arrows,
+            A::ToggleLabels => s.labels = !s.labels,
+            A::ToggleMechanism => self.toggle_overlay(Overlay::Mechanism),
+            A::ToggleKinematic => self.toggle_overlay(Overlay::Kinematic),
+            A::Select(name) => s.selected = name.clone(),
             // Done by the picking system (it has the ray caster).
-            ViewerAction::ClickToward(_) => {}
-            ViewerAction::AddCut => {
-                let Some(name) = s.selected.clone() else {
-                    s.message = Some("select a block to cut (click it)".into());
-                    continue;
-                };
-                let Some(cut) = new_cut(&pipeline, &name, s.design.cuts.len()) else { continue };
-                if let Some(e) = s.edit(Edit::AddCut(cut.cut())) {
-                    edits.write(e);
-                    s.active_cut = Some(cut);
-                    s.selected = None;
-                }
-            }
-            ViewerAction::ShiftCut(_) | ViewerAction::TurnCut { .. } => {
-                let Some(mut cut) = s.active_cut.clone() else {
-                    s.message = Some("no cut being edited (C cuts the selected block)".into());
-                    continue;
-                };
-                match action {
-                    ViewerAction::ShiftCut(f) => cut.point += cut.normal * (f * cut.size),
-                    ViewerAction::TurnCut { yaw, tilt } => cut.normal = turned(cut.normal, *yaw, *tilt),
-                    _ => unreachable!(),
-                }
-                if let Some(e) = s.edit(Edit::MoveCut { index: cut.index, cut: cut.cut() }) {
-                    edits.write(e);
-                    s.active_cut = Some(cut);
-                }
-            }
-            ViewerAction::DeleteCut => {
-                if let Some(cut) = s.active_cut.take()
-                    && let Some(e) = s.edit(Edit::RemoveCut(cut.index))
-                {
-                    edits.write(e);
-                }
-            }
-            ViewerAction::Repair => {
-                let cuts = s.selected.as_ref().map(|name| {
-                    (0..s.design.cuts.len()).filter(|&i| crate::history::made_by(name, i)).collect::<Vec<_>>()
-                });
-                if cuts.as_ref().is_some_and(Vec::is_empty) || s.design.cuts.is_empty() {
-                    s.message =
-                        Some("no cut made this design or block: nothing to move (C cuts the selected block)".into());
-                    continue;
-                }
-                s.message = Some(match &cuts {
-                    Some(c) => format!("repairing cuts {c:?} of {}…", s.selected.as_deref().unwrap_or_default()),
-                    None => format!("repairing all {} cuts…", s.design.cuts.len()),
-                });
-                s.active_cut = None;
-                repairs.write(RunRepair(crate::synthesis::RepairSettings { cuts, ..Default::default() }));
-            }
-            ViewerAction::ToggleSupport | ViewerAction::RemoveBlock => {
-                let Some(name) = s.selected.clone() else {
-                    s.message = Some("select a block first (click it)".into());
-                    continue;
-                };
-                let edit = if *action == ViewerAction::RemoveBlock {
-                    s.selected = None;
-                    Edit::RemoveBlock(name)
-                } else {
-                    Edit::ToggleSupport(name)
-                };
-                if let Some(e) = s.edit(edit) {
-                    edits.write(e);
-                }
-            }
-            ViewerAction::RestoreBlock => match s.design.removed.last().cloned() {
-                Some(name) => {
-                    if let Some(e) = s.edit(Edit::RestoreBlock(name)) {
-                        edits.write(e);
-                    }
-                }
-                None => s.message = Some("no removed block to restore".into()),
-            },
-            ViewerAction::Undo | ViewerAction::Redo => {
-                let (from, to) =
-                    if *action == ViewerAction::Undo { (&mut s.undo, &mut s.redo) } else { (&mut s.redo, &mut s.undo) };
-                let Some(scene) = from.pop() else {
-                    s.message = Some("nothing to undo or redo".into());
-                    continue;
-                };
-                to.push(std::mem::replace(&mut s.design, scene.clone()));
-                // A snapshot may predate the cut being edited: stop editing it.
-                s.active_cut = None;
-                edits.write(EditDesign(Edit::Load(scene)));
-            }
-            ViewerAction::Save => s.save(),
-            ViewerAction::DropTest => {
+            A::ClickToward(_) => {}
+            A::AddCut => self.add_cut(),
+            A::ShiftCut(_) | A::TurnCut { .. } => self.move_cut(action),
+            A::DeleteCut => self.delete_cut(),
+            A::Repair => self.repair(),
+            A::ToggleSupport | A::RemoveBlock => self.edit_selected(action == &A::RemoveBlock),
+            A::RestoreBlock => self.restore_block(),
+            A::Undo => self.travel(true),
+            A::Redo => self.travel(false),
+            A::Save => s.save(),
+            A::DropTest => {
                 s.drop_view = true;
-                drops.write(RunDropTest(DropSettings::default()));
+                self.studies.drops.write(RunDropTest(DropSettings::default()));
             }
-            ViewerAction::ResetDrop => {
-                s.drop_view = false;
-                drop.running = None;
-                drop.result = None;
-                drop.agree = None;
-            }
-            ViewerAction::StartSequence => {
-                let spec = if s.design.order.is_empty() {
-                    OrderSpec::BottomUp
-                } else {
-                    OrderSpec::Given(s.design.order.clone())
-                };
-                s.sequence_view = true;
-                starts.write(StartSequence(spec));
-            }
-            ViewerAction::Step(k) => {
-                if !s.sequence_view {
-                    s.message = Some("no sequence shown (Q checks the assembly order)".into());
-                    continue;
-                }
-                steps.write(StepSequence(*k));
-            }
-            ViewerAction::ExitSequence => {
+            A::ResetDrop => self.reset_drop(),
+            A::StartSequence => self.start_sequence(),
+            A::Step(k) => self.step_sequence(*k),
+            A::ExitSequence => {
                 s.sequence_view = false;
-                *sequence = SequenceStatus::default();
+                *self.studies.sequence = SequenceStatus::default();
             }
-            ViewerAction::Frame => s.frame_pending = true,
+            A::Frame => s.frame_pending = true,
         }
+    }
+
+    /// Shows `overlay` (hiding the other) or hides it, and asks for what it draws.
+    fn toggle_overlay(&mut self, overlay: Overlay) {
+        let s = &mut *self.state;
+        s.overlay = if s.overlay == overlay { Overlay::None } else { overlay };
+        let live = s.design.loads.iter().any(|l| l.kind() == crate::model::LoadKind::Live);
+        let robustness = match (s.overlay, live) {
+            (Overlay::Mechanism, true) => RobustnessRequest::LiveLoads,
+            (Overlay::Mechanism, false) => {
+                RobustnessRequest::Worst(crate::stability::DirectionSettings::default().directions)
+            }
+            _ => RobustnessRequest::Off,
+        };
+        let kinematic = match s.overlay {
+            Overlay::Kinematic => KinematicRequest::On(Default::default()),
+            _ => KinematicRequest::Off,
+        };
+        self.robustness.set_if_neq(robustness);
+        self.kinematic.set_if_neq(kinematic);
+    }
+
+    /// Applies `edit` to the mirror and sends it; false (with a note) when it cannot apply.
+    fn send_edit(&mut self, edit: Edit) -> bool {
+        let Some(e) = self.state.edit(edit) else { return false };
+        self.edits.write(e);
+        true
+    }
+
+    fn add_cut(&mut self) {
+        let Some(name) = self.state.selected.clone() else {
+            self.state.message = Some("select a block to cut (click it)".into());
+            return;
+        };
+        let Some(cut) = new_cut(&self.pipeline, &name, self.state.design.cuts.len()) else { return };
+        if self.send_edit(Edit::AddCut(cut.cut())) {
+            self.state.active_cut = Some(cut);
+            self.state.selected = None;
+        }
+    }
+
+    fn move_cut(&mut self, action: &ViewerAction) {
+        let Some(mut cut) = self.state.active_cut.clone() else {
+            self.state.message = Some("no cut being edited (C cuts the selected block)".into());
+            return;
+        };
+        match action {
+            ViewerAction::ShiftCut(f) => cut.point += cut.normal * (f * cut.size),
+            ViewerAction::TurnCut { yaw, tilt } => cut.normal = turned(cut.normal, *yaw, *tilt),
+            _ => return,
+        }
+        if self.send_edit(Edit::MoveCut { index: cut.index, cut: cut.cut() }) {
+            self.state.active_cut = Some(cut);
+        }
+    }
+
+    fn delete_cut(&mut self) {
+        if let Some(cut) = self.state.active_cut.take() {
+            self.send_edit(Edit::RemoveCut(cut.index));
+        }
+    }
+
+    /// Sends a repair of the selected block's cuts (every cut when none is selected).
+    fn repair(&mut self) {
+        let s = &mut *self.state;
+        let cuts = s
+            .selected
+            .as_ref()
+            .map(|name| (0..s.design.cuts.len()).filter(|&i| crate::history::made_by(name, i)).collect::<Vec<_>>());
+        if cuts.as_ref().is_some_and(Vec::is_empty) || s.design.cuts.is_empty() {
+            s.message = Some("no cut made this design or block: nothing to move (C cuts the selected block)".into());
+            return;
+        }
+        s.message = Some(match &cuts {
+            Some(c) => format!("repairing cuts {c:?} of {}…", s.selected.as_deref().unwrap_or_default()),
+            None => format!("repairing all {} cuts…", s.design.cuts.len()),
+        });
+        s.active_cut = None;
+        self.repairs.write(RunRepair(crate::synthesis::RepairSettings { cuts, ..Default::default() }));
+    }
+
+    /// Removes the selected block (`remove`) or toggles its support.
+    fn edit_selected(&mut self, remove: bool) {
+        let Some(name) = self.state.selected.clone() else {
+            self.state.message = Some("select a block first (click it)".into());
+            return;
+        };
+        let edit = if remove {
+            self.state.selected = None;
+            Edit::RemoveBlock(name)
+        } else {
+            Edit::ToggleSupport(name)
+        };
+        self.send_edit(edit);
+    }
+
+    fn restore_block(&mut self) {
+        match self.state.design.removed.last().cloned() {
+            Some(name) => {
+                self.send_edit(Edit::RestoreBlock(name));
+            }
+            None => self.state.message = Some("no removed block to restore".into()),
+        }
+    }
+
+    /// Undo (`back`) or redo: swaps in a whole snapshot of the design.
+    fn travel(&mut self, back: bool) {
+        let s = &mut *self.state;
+        let (from, to) = if back { (&mut s.undo, &mut s.redo) } else { (&mut s.redo, &mut s.undo) };
+        let Some(scene) = from.pop() else {
+            s.message = Some("nothing to undo or redo".into());
+            return;
+        };
+        to.push(std::mem::replace(&mut s.design, scene.clone()));
+        // A snapshot may predate the cut being edited: stop editing it.
+        s.active_cut = None;
+        self.edits.write(EditDesign(Edit::Load(scene)));
+    }
+
+    fn reset_drop(&mut self) {
+        self.state.drop_view = false;
+        self.studies.drop.running = None;
+        self.studies.drop.result = None;
+        self.studies.drop.agree = None;
+    }
+
+    /// Checks the design's order (its `order`, else bottom-up).
+    fn start_sequence(&mut self) {
+        let s = &mut *self.state;
+        let spec =
+            if s.design.order.is_empty() { OrderSpec::BottomUp } else { OrderSpec::Given(s.design.order.clone()) };
+        s.sequence_view = true;
+        self.studies.starts.write(StartSequence(spec));
+    }
+
+    fn step_sequence(&mut self, k: i64) {
+        if !self.state.sequence_view {
+            self.state.message = Some("no sequence shown (Q checks the assembly order)".into());
+            return;
+        }
+        self.studies.steps.write(StepSequence(k));
     }
 }
 

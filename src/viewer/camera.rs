@@ -3,7 +3,7 @@
 //! whole window. Orbit about a focus point with z up; the main camera has no tone mapping so
 //! that the diagram colours reach the screen as computed.
 
-use super::{PANEL_WIDTH, ViewerState};
+use super::{Overlay, PANEL_WIDTH, ViewerState};
 use crate::ecs::PipelineState;
 use bevy::camera::visibility::RenderLayers;
 use bevy::camera::{ClearColorConfig, Viewport};
@@ -143,7 +143,7 @@ fn set_viewports(
     let size = window.physical_size();
     let panel = ((PANEL_WIDTH * window.scale_factor()) as u32).min(size.x.saturating_sub(2));
     let width = size.x - panel;
-    let split = state.drop_view || state.mechanism_view || state.kinematic_view;
+    let split = state.drop_view || state.overlay != Overlay::None;
     let main_width = if split { width / 2 } else { width };
     let view = |x: u32, w: u32| Viewport {
         physical_position: UVec2::new(x, 0),

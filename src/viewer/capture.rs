@@ -5,10 +5,8 @@
 
 use super::actions::{ViewerAction, ViewerState};
 use super::camera::{MainCamera, PhysicsCamera};
-use crate::ecs::{
-    DropStatus, EditDesign, InterfaceColors, KinematicStatus, PipelineState, RepairStatus, RobustnessStatus,
-    SceneStatus, SequenceStatus,
-};
+use super::hud::Shown;
+use crate::ecs::{DropStatus, EditDesign, InterfaceColors, PipelineState, RepairStatus, SequenceStatus};
 use crate::model::Scene;
 use crate::model::edit::Edit;
 use bevy::prelude::*;
@@ -181,51 +179,46 @@ fn run_script(
 /// What was on screen when a shot was taken.
 #[derive(bevy::ecs::system::SystemParam)]
 struct ShotInfo<'w, 's> {
-    state: Res<'w, ViewerState>,
-    status: Res<'w, SceneStatus>,
-    pipeline: Res<'w, PipelineState>,
-    drop: Res<'w, DropStatus>,
-    sequence: Res<'w, SequenceStatus>,
-    robustness: Res<'w, RobustnessStatus>,
-    kinematic: Res<'w, KinematicStatus>,
+    shown: Shown<'w>,
     main: Query<'w, 's, &'static Camera, With<MainCamera>>,
     physics: Query<'w, 's, &'static Camera, With<PhysicsCamera>>,
 }
 
 impl ShotInfo<'_, '_> {
     fn describe(&self, path: &std::path::Path, size: (u32, u32)) -> Value {
+        let Shown { state, status, pipeline, drop, sequence, robustness, kinematic } = &self.shown;
         let rect = |c: &Camera| {
             c.physical_viewport_rect().filter(|_| c.is_active).map(|r| [r.min.x, r.min.y, r.max.x, r.max.y])
         };
-        let a = self.pipeline.analysis.as_ref();
+        let a = pipeline.analysis.as_ref();
         json!({
             "path": path.display().to_string(),
             "size": [size.0, size.1],
-            "mode": format!("{:?}", self.state.mode),
-            "verdict": self.status.verdict.map(|v| format!("{v:?}")),
-            "stands": self.status.stands,
-            "error": self.status.error,
+            "mode": format!("{:?}", state.mode),
+            "verdict": status.verdict.map(|v| format!("{v:?}")),
+            "stands": status.stands,
+            "error": status.error,
             "blocks": a.map_or(0, |a| a.assembly.blocks.len()),
             "interfaces": a.map_or(0, |a| a.interfaces.len()),
-            "cuts": self.state.design.cuts.len(),
-            "removed": self.state.design.removed.clone(),
-            "undo": self.state.undo.len(),
-            "redo": self.state.redo.len(),
-            "message": self.state.message,
-            "translucent": self.state.translucent,
-            "drop_stands": self.drop.result.as_ref().map(|r| r.stands),
-            "drop_agrees": self.drop.agree,
-            "sequence_step": self.sequence.step().filter(|_| self.state.sequence_view).map(|s| json!({
-                "index": self.sequence.current,
+            "cuts": state.design.cuts.len(),
+            "removed": state.design.removed.clone(),
+            "undo": state.undo.len(),
+            "redo": state.redo.len(),
+            "message": state.message,
+            "translucent": state.translucent,
+            "drop_stands": drop.result.as_ref().map(|r| r.stands),
+            "drop_agrees": drop.agree,
+            "sequence_step": sequence.step().filter(|_| state.sequence_view).map(|s| json!({
+                "index": sequence.current,
                 "placed": s.placed,
                 "stands": s.stands,
                 "drop_stands": s.dynamic.as_ref().map(|d| d.stands),
             })),
-            "load_factor": Some(self.robustness.load_factor()).filter(|l| !l.is_nan()),
-            "worst_azimuth": self.robustness.worst_azimuth,
-            "kinematic": self.kinematic.result.as_ref().map(|k| k.verdict),
-            "kinematic_agrees": self.kinematic.result.as_ref().map(|k| k.agrees),
-            "kinematic_moving": self.kinematic.result.as_ref().and_then(|k| k.mechanism.as_ref()).map(|m| m.blocks.len()),
+            "load_factor": Some(robustness.load_factor()).filter(|l| !l.is_nan()),
+            "worst_azimuth": robustness.worst_azimuth,
+            "kinematic": kinematic.result.as_ref().map(|k| k.verdict),
+            "kinematic_agrees": kinematic.result.as_ref().map(|k| k.agrees),
+            "kinematic_moving": kinematic.result.as_ref().and_then(|k| k.mechanism.as_ref()).map(|m| m.blocks.len()),
             "main_viewport": self.main.single().ok().and_then(rect),
             "physics_viewport": self.physics.single().ok().and_then(rect),
         })

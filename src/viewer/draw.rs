@@ -4,8 +4,8 @@
 //! view's moving copies of the blocks, and the gizmos: force arrows, mass centres, the cut
 //! being edited.
 
-use super::ViewerState;
 use super::camera::PHYSICS_LAYER;
+use super::{Overlay, ViewerState};
 use crate::ecs::{BlockMesh, BlockName, BlockPose, InterfaceColors, InterfaceForces, MassCentre, PipelineState};
 use crate::ecs::{DropStatus, KinematicStatus, Placed, RobustnessStatus, SequenceStatus, Support, VoussoirSet};
 use crate::stability::{BlockMotion, Mechanism};
@@ -315,17 +315,16 @@ fn ghosts(
     }
 }
 
-/// The mechanism drawn: the kinematic check's while it is on, else the load factor's while
-/// the mechanism view is on.
+/// The mechanism drawn: the kinematic check's or the load factor's, as the overlay says.
 fn shown_mechanism<'a>(
     state: &ViewerState,
     robustness: &'a RobustnessStatus,
     kinematic: &'a KinematicStatus,
 ) -> Option<&'a Mechanism> {
-    if state.kinematic_view {
-        kinematic.result.as_ref().and_then(|k| k.mechanism.as_ref())
-    } else {
-        robustness.result.as_ref().and_then(|r| r.mechanism.as_ref()).filter(|_| state.mechanism_view)
+    match state.overlay {
+        Overlay::None => None,
+        Overlay::Mechanism => robustness.result.as_ref().and_then(|r| r.mechanism.as_ref()),
+        Overlay::Kinematic => kinematic.result.as_ref().and_then(|k| k.mechanism.as_ref()),
     }
 }
 

@@ -3,13 +3,14 @@
 //! buttons for everything the keys do; the keys. Optional force labels over the interfaces.
 
 use super::PANEL_WIDTH;
-use super::actions::{ViewerAction, ViewerState};
+use super::actions::{Overlay, ViewerAction, ViewerState};
 use super::camera::MainCamera;
 use crate::ecs::{
     DropStatus, InterfaceForces, KinematicStatus, PipelineState, RobustnessStatus, SceneStatus, SequenceStatus,
 };
 use crate::statics::Verdict;
-use crate::viz::DiagramMode;
+use crate::viz::{DiagramMode, colors};
+use bevy::ecs::system::SystemParam;
 use bevy::prelude::*;
 
 pub struct HudPlugin;
@@ -161,130 +162,157 @@ fn press_buttons(
 
 /// The verdict in words and its colour.
 pub fn verdict_text(v: Option<Verdict>) -> (&'static str, Color) {
-    match v {
-        Some(Verdict::Stands) => ("STANDS", Color::srgb(0.35, 0.85, 0.45)),
-        Some(Verdict::NeedsTension) => ("NEEDS TENSION", Color::srgb(0.95, 0.3, 0.25)),
-        Some(Verdict::NeedsFriction) => ("FRICTION EXCEEDED", Color::srgb(0.95, 0.5, 0.15)),
-        Some(Verdict::NeedsTensionAndFriction) => ("TENSION + FRICTION", Color::srgb(0.95, 0.3, 0.25)),
-        Some(Verdict::Unsupported) => ("UNSUPPORTED", Color::srgb(0.95, 0.3, 0.25)),
-        Some(Verdict::Unresolved) => ("SOLVER TROUBLE", Color::srgb(0.9, 0.8, 0.2)),
-        None => ("—", Color::srgb(0.7, 0.7, 0.7)),
-    }
+    let text = match v {
+        Some(Verdict::Stands) => "STANDS",
+        Some(Verdict::NeedsTension) => "NEEDS TENSION",
+        Some(Verdict::NeedsFriction) => "FRICTION EXCEEDED",
+        Some(Verdict::NeedsTensionAndFriction) => "TENSION + FRICTION",
+        Some(Verdict::Unsupported) => "UNSUPPORTED",
+        Some(Verdict::Unresolved) => "SOLVER TROUBLE",
+        None => "—",
+    };
+    let [r, g, b] = colors::verdict(v);
+    (text, Color::srgb(r, g, b))
 }
 
-#[allow(clippy::too_many_arguments)]
-fn write_texts(
-    state: Res<ViewerState>,
-    status: Res<SceneStatus>,
-    pipeline: Res<PipelineState>,
-    drop: Res<DropStatus>,
-    sequence: Res<SequenceStatus>,
-    robustness: Res<RobustnessStatus>,
-    kinematic: Res<KinematicStatus>,
-    mut texts: Query<(&Line, &mut Text, &mut TextColor)>,
-) {
-    let a = pipeline.analysis.as_ref();
+/// What the viewer shows: its own state and the ECS's results.
+#[derive(SystemParam)]
+pub(super) struct Shown<'w> {
+    pub state: Res<'w, ViewerState>,
+    pub status: Res<'w, SceneStatus>,
+    pub pipeline: Res<'w, PipelineState>,
+    pub drop: Res<'w, DropStatus>,
+    pub sequence: Res<'w, SequenceStatus>,
+    pub robustness: Res<'w, RobustnessStatus>,
+    pub kinematic: Res<'w, KinematicStatus>,
+}
+
+fn write_texts(shown: Shown, mut texts: Query<(&Line, &mut Text, &mut TextColor)>) {
     for (line, mut text, mut colour) in &mut texts {
-        let value = match line {
-            Line::Title => {
-                let (b, i) = a.map_or((0, 0), |a| (a.assembly.blocks.len(), a.interfaces.len()));
-                format!("{}\n{b} blocks · {i} interfaces", state.design.name)
+        if *line == Line::Verdict {
+            let c = verdict_text(shown.status.verdict).1;
+            if colour.0 != c {
+                colour.0 = c;
             }
-            Line::Verdict => {
-                let (t, c) = verdict_text(status.verdict);
-                if colour.0 != c {
-                    colour.0 = c;
-                }
-                t.to_string()
-            }
-            Line::Numbers => {
-                let t = &status.timings;
-                let mut s = format!(
-                    "tension {:.2e} W · friction excess {:.2e} W\nmax friction utilisation {:.2} μ{}\nsolve {:.1} ms (detect {:.1}, assemble {:.1}, interior point {:.1}; total {:.1})",
-                    status.tension_ratio,
-                    status.friction_excess_ratio,
-                    status.max_friction_utilization,
-                    // Utilisation is measured as a circle; the polyhedral models allow more.
-                    a.map(|a| a.statics.friction_model)
-                        .filter(|m| *m != crate::statics::FrictionModel::Cone)
-                        .map_or(String::new(), |m| format!(" (≤ {:.2} in {m})", m.max_utilization())),
-                    1e3 * (t.assemble + t.solve),
-                    1e3 * t.detect,
-                    1e3 * t.assemble,
-                    1e3 * t.solve,
-                    1e3 * t.total
-                );
-                if let Some(e) = &status.error {
-                    s = format!("error: {e}");
-                }
-                s
-            }
-            Line::Dynamics => match (&drop.running, &drop.result) {
-                (Some(run), _) => format!(
-                    "drop test: {:.2} / {:.2} s simulated",
-                    run.steps_done() as f64 * run.dt(),
-                    run.total_steps() as f64 * run.dt()
-                ),
-                (None, Some(r)) => format!(
-                    "drop test: {} (drift {:.1e}, rotation {:.1e}) — {}",
-                    if r.stands { "stands" } else { "falls" },
-                    r.max_drift,
-                    r.max_rotation,
-                    match drop.agree {
-                        Some(true) => "agrees with the statics",
-                        Some(false) => "DISAGREES with the statics",
-                        None => "",
-                    }
-                ),
-                _ => drop.error.clone().unwrap_or_else(|| "drop test: not run (D)".into()),
-            },
-            Line::Robustness => robustness_text(&state, &robustness),
-            Line::Kinematic => kinematic_text(&state, &kinematic),
-            Line::Sequence => match (&sequence.report, sequence.step()) {
-                (Some(r), Some(step)) => {
-                    let dynamic = step
-                        .dynamic
-                        .as_ref()
-                        .map_or(String::new(), |d| format!(" · drop: {}", if d.stands { "stands" } else { "falls" }));
-                    let mut s = format!(
-                        "sequence step {}/{}: + {}\nstatics: {}{dynamic}",
-                        sequence.current + 1,
-                        r.steps.len(),
-                        step.placed,
-                        verdict_text(Some(step.verdict)).0.to_lowercase()
-                    );
-                    if !step.offending.is_empty() {
-                        s += &format!("\noffending: {}", step.offending.join(", "));
-                    }
-                    s
-                }
-                _ => sequence.error.clone().map_or(String::new(), |e| format!("sequence: {e}")),
-            },
-            Line::Edit => {
-                let mut s = format!("selected: {}", state.selected.as_deref().unwrap_or("—"));
-                if let Some(c) = &state.active_cut {
-                    s += &format!(
-                        "\ncut #{} of {}: point ({:.3}, {:.3}, {:.3}) normal ({:.2}, {:.2}, {:.2})",
-                        c.index, c.target, c.point.x, c.point.y, c.point.z, c.normal.x, c.normal.y, c.normal.z
-                    );
-                }
-                s += &format!("\nundo {} · redo {}", state.undo.len(), state.redo.len());
-                if let Some(m) = &state.message {
-                    s += &format!("\n{m}");
-                }
-                s
-            }
-        };
+        }
+        let value = shown.text(*line);
         if text.0 != value {
             text.0 = value;
         }
     }
 }
 
+impl Shown<'_> {
+    fn text(&self, line: Line) -> String {
+        match line {
+            Line::Title => {
+                let a = self.pipeline.analysis.as_ref();
+                let (b, i) = a.map_or((0, 0), |a| (a.assembly.blocks.len(), a.interfaces.len()));
+                format!("{}\n{b} blocks · {i} interfaces", self.state.design.name)
+            }
+            Line::Verdict => verdict_text(self.status.verdict).0.to_string(),
+            Line::Numbers => self.numbers_text(),
+            Line::Dynamics => self.drop_text(),
+            Line::Robustness => robustness_text(&self.state, &self.robustness),
+            Line::Kinematic => kinematic_text(&self.state, &self.kinematic),
+            Line::Sequence => self.sequence_text(),
+            Line::Edit => edit_text(&self.state),
+        }
+    }
+
+    /// The graded numbers and the solve's timings, or the error that stopped the analysis.
+    fn numbers_text(&self) -> String {
+        let status = &self.status;
+        if let Some(e) = &status.error {
+            return format!("error: {e}");
+        }
+        let t = &status.timings;
+        // Utilisation is measured as a circle; the polyhedral models allow more.
+        let model = self.pipeline.analysis.as_ref().map(|a| a.statics.friction_model);
+        let bound = model
+            .filter(|m| *m != crate::statics::FrictionModel::Cone)
+            .map_or(String::new(), |m| format!(" (≤ {:.2} in {m})", m.max_utilization()));
+        format!(
+            "tension {:.2e} W · friction excess {:.2e} W\nmax friction utilisation {:.2} μ{bound}\nsolve {:.1} ms (detect {:.1}, assemble {:.1}, interior point {:.1}; total {:.1})",
+            status.tension_ratio,
+            status.friction_excess_ratio,
+            status.max_friction_utilization,
+            1e3 * (t.assemble + t.solve),
+            1e3 * t.detect,
+            1e3 * t.assemble,
+            1e3 * t.solve,
+            1e3 * t.total
+        )
+    }
+
+    /// The drop test: its progress, its outcome beside the statics', or why it did not run.
+    fn drop_text(&self) -> String {
+        let drop = &self.drop;
+        match (&drop.running, &drop.result) {
+            (Some(run), _) => format!(
+                "drop test: {:.2} / {:.2} s simulated",
+                run.steps_done() as f64 * run.dt(),
+                run.total_steps() as f64 * run.dt()
+            ),
+            (None, Some(r)) => format!(
+                "drop test: {} (drift {:.1e}, rotation {:.1e}) — {}",
+                if r.stands { "stands" } else { "falls" },
+                r.max_drift,
+                r.max_rotation,
+                match drop.agree {
+                    Some(true) => "agrees with the statics",
+                    Some(false) => "DISAGREES with the statics",
+                    None => "",
+                }
+            ),
+            _ => drop.error.clone().unwrap_or_else(|| "drop test: not run (D)".into()),
+        }
+    }
+
+    /// The sequence step shown: the block placed, its verdicts and what fails.
+    fn sequence_text(&self) -> String {
+        let sequence = &self.sequence;
+        let (Some(r), Some(step)) = (&sequence.report, sequence.step()) else {
+            return sequence.error.clone().map_or(String::new(), |e| format!("sequence: {e}"));
+        };
+        let dynamic = step
+            .dynamic
+            .as_ref()
+            .map_or(String::new(), |d| format!(" · drop: {}", if d.stands { "stands" } else { "falls" }));
+        let mut s = format!(
+            "sequence step {}/{}: + {}\nstatics: {}{dynamic}",
+            sequence.current + 1,
+            r.steps.len(),
+            step.placed,
+            verdict_text(Some(step.verdict)).0.to_lowercase()
+        );
+        if !step.offending.is_empty() {
+            s += &format!("\noffending: {}", step.offending.join(", "));
+        }
+        s
+    }
+}
+
+/// The edit state: the selection, the cut being edited, the history, the last note.
+fn edit_text(state: &ViewerState) -> String {
+    let mut s = format!("selected: {}", state.selected.as_deref().unwrap_or("—"));
+    if let Some(c) = &state.active_cut {
+        s += &format!(
+            "\ncut #{} of {}: point ({:.3}, {:.3}, {:.3}) normal ({:.2}, {:.2}, {:.2})",
+            c.index, c.target, c.point.x, c.point.y, c.point.z, c.normal.x, c.normal.y, c.normal.z
+        );
+    }
+    s += &format!("\nundo {} · redo {}", state.undo.len(), state.redo.len());
+    if let Some(m) = &state.message {
+        s += &format!("\n{m}");
+    }
+    s
+}
+
 /// The load factor line: λ* (and the worst direction) while the mechanism view is on.
 fn robustness_text(state: &ViewerState, r: &RobustnessStatus) -> String {
     use crate::stability::Safety;
-    if !state.mechanism_view {
+    if state.overlay != Overlay::Mechanism {
         return "load factor: not computed (K)".into();
     }
     if let Some(e) = &r.error {
@@ -306,7 +334,7 @@ fn robustness_text(state: &ViewerState, r: &RobustnessStatus) -> String {
 /// The kinematic line: both verdicts and whether they agree, while the check is on.
 fn kinematic_text(state: &ViewerState, k: &KinematicStatus) -> String {
     use crate::stability::kinematic::KinematicVerdict;
-    if !state.kinematic_view {
+    if state.overlay != Overlay::Kinematic {
         return "kinematic check: not run (J)".into();
     }
     if let Some(e) = &k.error {

@@ -20,7 +20,7 @@ pub mod draw;
 pub mod hud;
 pub mod input;
 
-pub use actions::{ViewerAction, ViewerState};
+pub use actions::{Overlay, ViewerAction, ViewerState};
 pub use capture::{Script, ScriptStep};
 
 use crate::dynamics::DropSettings;

@@ -1,5 +1,6 @@
 //! The seed paper's diagram colours as pure functions (docs/design.md#diagrams), shared by the glTF export and
-//! the viewer. Colours are linear RGB in [0, 1].
+//! the viewer, and the verdict colours of the viewer's panel and the plots. Diagram colours are
+//! linear RGB in [0, 1]; verdict colours are sRGB ([`Srgb`]).
 //!
 //! - Compression–tension: per interface vertex, the net normal force normalised by the largest
 //!   |net normal force| on the same face; blue for compression (light → deep with the share),
@@ -7,6 +8,10 @@
 //! - Friction: per vertex, the friction utilisation u = |f_t| / (μ · compression); grey without
 //!   friction, yellow up to a user threshold, orange shades from the threshold up to the allowed
 //!   maximum (u = 1), red beyond it (and where friction acts without compression).
+//! - Verdicts and joint states: the colour of what an analysis says (the viewer's panel, the
+//!   plots' strips and text, the mechanism's moving interfaces).
+
+use crate::statics::{JointState, Verdict};
 
 /// Linear RGB.
 pub type Rgb = [f32; 3];
@@ -19,6 +24,51 @@ const BLUE_DEEP: Rgb = [0.02, 0.15, 0.75];
 const RED_LIGHT: Rgb = [1.0, 0.72, 0.72];
 const ORANGE_LIGHT: Rgb = [1.0, 0.72, 0.25];
 const ORANGE_DEEP: Rgb = [0.9, 0.38, 0.0];
+
+/// sRGB as displayed, in [0, 1]: text and plot marks, which are not shaded.
+pub type Srgb = [f32; 3];
+
+/// An sRGB colour from 8-bit channels.
+pub const fn srgb8(r: u8, g: u8, b: u8) -> Srgb {
+    [r as f32 / 255.0, g as f32 / 255.0, b as f32 / 255.0]
+}
+
+// Verdicts on the viewer's dark panel: light shades.
+pub const STANDS: Srgb = [0.35, 0.85, 0.45];
+pub const FAILS: Srgb = [0.95, 0.3, 0.25];
+pub const FRICTION_EXCEEDED: Srgb = [0.95, 0.5, 0.15];
+pub const UNRESOLVED: Srgb = [0.9, 0.8, 0.2];
+pub const NO_VERDICT: Srgb = [0.7, 0.7, 0.7];
+
+// Verdicts on a plot's white: deep shades of the same hues, legible as text.
+pub const STANDS_ON_WHITE: Srgb = srgb8(30, 120, 50);
+pub const FAILS_ON_WHITE: Srgb = srgb8(190, 20, 20);
+
+/// The colour of `verdict` on the viewer's dark panel (`None`: no analysis yet).
+pub fn verdict(verdict: Option<Verdict>) -> Srgb {
+    match verdict {
+        Some(Verdict::Stands) => STANDS,
+        Some(Verdict::NeedsTension | Verdict::NeedsTensionAndFriction | Verdict::Unsupported) => FAILS,
+        Some(Verdict::NeedsFriction) => FRICTION_EXCEEDED,
+        Some(Verdict::Unresolved) => UNRESOLVED,
+        None => NO_VERDICT,
+    }
+}
+
+/// Stands or not, on a plot's white.
+pub fn stands_on_white(stands: bool) -> Srgb {
+    if stands { STANDS_ON_WHITE } else { FAILS_ON_WHITE }
+}
+
+/// The colour of a mechanism's interface by what it does (linear RGB, like the diagrams).
+pub fn joint_state(state: JointState) -> Rgb {
+    match state {
+        JointState::Closed => GREY,
+        JointState::Hinging => [0.85, 0.45, 0.0],
+        JointState::Opening => [0.8, 0.1, 0.1],
+        JointState::Sliding => [0.1, 0.35, 0.85],
+    }
+}
 
 /// Below this share of the face's largest force (or of the capacity) a value counts as zero.
 pub const ZERO_SHARE: f64 = 1e-6;

@@ -8,9 +8,9 @@
 //! and a text panel with the verdict and a colour legend. The 3D viewer draws the same colours
 //! interactively; this is what CI and headless servers can render.
 
-use super::{Drawing, PlotError};
+use super::{Drawing, PlotError, rgb};
 use crate::pipeline::Analysis;
-use crate::viz::colors::Rgb;
+use crate::viz::colors::{self, Rgb};
 use crate::viz::{DiagramMode, interface_triangles};
 use nalgebra::{Point3, Vector3};
 use plotters::coord::Shift;
@@ -222,8 +222,7 @@ impl DiagramPicture<'_> {
         ];
         for (k, line) in lines.iter().enumerate() {
             let f = if k == 0 || k == 3 { title.clone() } else { font.clone() };
-            let colour =
-                if k == 3 { if s.stands { RGBColor(30, 120, 50) } else { RGBColor(190, 20, 20) } } else { BLACK };
+            let colour = if k == 3 { rgb(colors::stands_on_white(s.stands)) } else { BLACK };
             root.draw(&Text::new(line.clone(), (x, 20 + 24 * k as i32), f.color(&colour)))?;
         }
         let legend = crate::viz::legend(self.mode);

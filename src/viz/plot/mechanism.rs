@@ -8,7 +8,7 @@ use crate::interfaces::Interface;
 use crate::model::BlockId;
 use crate::pipeline::Analysis;
 use crate::stability::{DirectionSweep, JointState, Robustness, Safety};
-use crate::viz::colors::Rgb;
+use crate::viz::colors;
 use nalgebra::{Point3, Vector3};
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -16,16 +16,6 @@ use std::path::Path;
 
 /// The largest displacement drawn, as a fraction of the model size.
 const EXAGGERATION: f64 = 0.08;
-
-/// Colour of an interface state.
-pub fn state_colour(state: JointState) -> Rgb {
-    match state {
-        JointState::Closed => [0.55, 0.55, 0.55],
-        JointState::Hinging => [0.85, 0.45, 0.0],
-        JointState::Opening => [0.8, 0.1, 0.1],
-        JointState::Sliding => [0.1, 0.35, 0.85],
-    }
-}
 
 /// A mechanism picture (same view as the diagrams).
 pub struct MechanismPicture<'a> {
@@ -108,8 +98,8 @@ impl MechanismPicture<'_> {
                 moved.push(Face {
                     depth: view.depth(&c) + 1e-9 * asm.scale,
                     points: pts.iter().map(|p| view.xy(p)).collect(),
-                    fill: rgba(state_colour(im.state), 0.9),
-                    outline: rgba(state_colour(im.state), 1.0),
+                    fill: rgba(colors::joint_state(im.state), 0.9),
+                    outline: rgba(colors::joint_state(im.state), 1.0),
                 });
             }
         }
@@ -174,7 +164,7 @@ impl Drawing for MechanismPicture<'_> {
         let y0 = 20 + 24 * 10;
         for (k, state) in [JointState::Hinging, JointState::Opening, JointState::Sliding].into_iter().enumerate() {
             let y = y0 + 26 * k as i32;
-            root.draw(&Rectangle::new([(x, y), (x + 22, y + 16)], rgba(state_colour(state), 1.0).filled()))
+            root.draw(&Rectangle::new([(x, y), (x + 22, y + 16)], rgba(colors::joint_state(state), 1.0).filled()))
                 .map_err(err)?;
             root.draw(&Text::new(format!("{state:?}").to_lowercase(), (x + 30, y), font.clone())).map_err(err)?;
         }

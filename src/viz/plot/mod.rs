@@ -39,6 +39,12 @@ pub fn register_font() {
     });
 }
 
+/// A palette colour as plotters draws it (8-bit sRGB).
+pub(crate) fn rgb(c: crate::viz::colors::Srgb) -> RGBColor {
+    let [r, g, b] = c.map(|v| (v.clamp(0.0, 1.0) * 255.0).round() as u8);
+    RGBColor(r, g, b)
+}
+
 /// Something drawable on any plotters backend.
 pub trait Drawing {
     fn draw<DB: DrawingBackend>(&self, root: DrawingArea<DB, Shift>) -> Result<(), String>;
