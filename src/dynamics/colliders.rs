@@ -119,9 +119,9 @@ fn shape_of(mesh: &Mesh) -> Option<SharedShape> {
 
 /// Every block's collider hull (relative to its centroid) and its volume excess over the block
 /// (a fraction). Where a joint is warped (its two faces triangulated differently, as on the
-/// Armadillo) the two blocks' hulls bulge into each other by the warp — up to 9 mm — and would
-/// start out pushing apart: at such a joint, and only there, both hulls are cut back to the
-/// joint plane, each keeping its side, so that they meet on it. Joints whose hulls do not
+/// Armadillo) the two blocks' hulls bulge into each other by the warp and would start out
+/// pushing apart: at such a joint, and only there, both hulls are cut back to the joint plane,
+/// each keeping its side, so that they meet on it. Joints whose hulls do not
 /// overlap by more than `depth` (m) are left alone (cutting a conforming but non-planar joint
 /// slices real material off: the compas crossvault then fell), and so is a cut that would take
 /// more than `keep` of the block's volume. `None` for a block whose points span no volume.

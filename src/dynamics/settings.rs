@@ -1,5 +1,5 @@
-//! Drop-test settings. Each default is written once, in `Default`, with the measurement that
-//! chose it; the field docs say what a setting means.
+//! Drop-test settings. Each default is written once, in `Default`, with why (the measurements
+//! that chose them: docs/benchmarks.md); the field docs say what a setting means.
 
 use thiserror::Error;
 
@@ -29,12 +29,11 @@ pub struct DropSettings {
     pub hull_tolerance: f64,
     /// Where two blocks' hulls overlap at a joint (a warped joint triangulated differently on
     /// its two sides), both are cut back to the joint plane — if the cut takes at most this
-    /// fraction of the block's volume (a warp's sliver: ≤ 0.24 % on the Armadillo).
+    /// fraction of the block's volume (a warp's sliver).
     pub max_joint_cut: f64,
     /// Solver contacts deeper than this fraction of the median block size are dropped for the
     /// step: rapier's manifolds between many-sided hulls sometimes carry points reported far
-    /// deeper than the shapes overlap (0.79 m on the Armadillo where they touch), and their
-    /// impulses burst a vault open.
+    /// deeper than the shapes overlap, and their impulses burst a vault open.
     pub max_contact_depth: f64,
     /// A block has moved when its centroid drifted more than this fraction of its size (the
     /// bounding-box diagonal).
@@ -53,20 +52,17 @@ impl Default for DropSettings {
             solver_iterations: 10,
             // rapier's own default is 30 Hz.
             contact_frequency: 120.0,
-            // rapier's is 5; the 15-voussoir arch at t/R 0.15 settled least with 1: 0.95 %
-            // drift against 1.1 % at 5.
+            // rapier's is 5; a thin arch settles least with 1.
             contact_damping: 1.0,
             friction: None,
             perturbation: 0.0,
             hull_tolerance: 0.02,
-            // 1 cm on the Armadillo; 0.025 let it burst; a standing stack's contacts sink by
-            // well under 1e-3.
+            // Below the depth that let the Armadillo burst, far above a standing stack's sinking.
             max_contact_depth: 0.01,
-            // The compas crossvault fell with cuts of up to 0.85 % allowed, stands with 0.5 %.
+            // A warp's sliver, not the real material a larger cut took off the compas crossvault.
             max_joint_cut: 0.005,
             drift_tolerance: 0.02,
-            // ≈ 2.9°: a standing arch settles by up to 0.015 rad at the default stiffness, a
-            // falling block turns by far more.
+            // ≈ 2.9°: above what a standing arch settles by, far below what a falling block turns.
             rotation_tolerance: 0.05,
         }
     }

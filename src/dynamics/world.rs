@@ -41,9 +41,7 @@ impl Simulation {
         p.contact_softness.damping_ratio = settings.contact_damping as f32;
         p.static_contact_softness.natural_frequency = settings.contact_frequency as f32;
         p.static_contact_softness.damping_ratio = settings.contact_damping as f32;
-        // Recycled contacts let touching wedges hinge: with recycling on, a 15-voussoir arch at
-        // t/R = 0.3 drifted 3 % of its size and turned 0.04 rad under any dt, stiffness or
-        // iteration count; with it off it holds within 0.7 % (measured, rapier 0.36.1).
+        // Recycled contacts let touching wedges hinge (a standing arch drifts under any dt).
         p.contact_recycling = false;
         let mu = settings.friction.unwrap_or(assembly.material.friction) as f32;
         let mut all = crate::geometry::Aabb3::empty();
@@ -140,10 +138,8 @@ impl Simulation {
 }
 
 /// Drops solver contacts deeper than `depth` (m): rapier's manifolds between many-sided hulls
-/// sometimes carry points reported tens of centimetres deep where the shapes only touch
-/// (measured on the Armadillo: 0.79 m between support 86 and block 156, whose hulls parry's
-/// contact query finds 1e-7 m apart); their corrective impulses burst a vault open in the first
-/// step.
+/// sometimes carry points reported tens of centimetres deep where the shapes only touch; their
+/// corrective impulses burst a vault open in the first step.
 struct DeepContacts {
     depth: f32,
 }

@@ -34,8 +34,7 @@ use std::hash::{Hash, Hasher};
 pub const MAX_PARTS: usize = 32;
 
 /// Triangles of a block beyond which no exact decomposition is tried: a finely tessellated
-/// curved block would need far more than [`MAX_PARTS`] (the compas_cra curved blocks, 1000–1800
-/// triangles, spent 15–60 ms each to find that out).
+/// curved block would need far more than [`MAX_PARTS`], and finding that out is slow.
 pub const MAX_TRIANGLES: usize = 256;
 
 pub(crate) fn v32(v: Vector3) -> Vector {
@@ -80,7 +79,7 @@ struct Checker<'a> {
     shapes: Vec<Shapes>,
     /// The length unit of the shapes given to parry, m: the median block size, so that its
     /// f32 queries and their built-in tolerances work on shapes of about unit size whatever
-    /// the model's units (in metres, a vault scaled by 1e10 showed overlaps that are not there).
+    /// the model's units (in metres, a very large model shows overlaps that are not there).
     unit: f64,
 }
 

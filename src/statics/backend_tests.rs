@@ -53,8 +53,8 @@ fn every_stage_shape_meets_clarabel() {
             let (_, f, fc) = both(&sys, Stage::FrictionExcess { tension: t, penalty });
             assert!((f - fc).abs() <= 1e-7 * (1.0 + fc.abs()), "{model} M {penalty}: {f} vs {fc}");
         }
-        // The distribution QP (weights 1e6 on tension and slack): clarabel ends it at its
-        // reduced accuracy (5e-5) on the pyramid.
+        // The distribution QP (weights 1e6 on tension and slack): clarabel ends it only at its
+        // reduced accuracy on the pyramid, hence 1e-4.
         let (_, d, dc) = both(&sys, Stage::Distribution { tension: t, excess: 1.0 });
         assert!((d - dc).abs() <= 1e-4 * (1.0 + dc.abs()), "{model}: distribution {d} vs {dc}");
         // Zero tension: the pinned layout of 4 variables per point.
@@ -83,9 +83,7 @@ fn the_cone_slope_excess_is_sin_minus_mu_cos() {
     let o = solve(&cp, LP, 200, Warm::Off).unwrap();
     assert_eq!(o.status, SolverStatus::Solved);
     let th = 35f64.to_radians();
-    // The closed form to 1e-9 (measured: 3.1e-10). clarabel, at the same tolerances, ends
-    // 3.1e-8 below it — as did this solver while it inverted each point's H_p explicitly (it
-    // then stalled one step short and returned that iterate as AlmostSolved) — so the
+    // The closed form to 1e-9; clarabel, at the same tolerances, ends further from it, so the
     // cross-check allows clarabel's own accuracy.
     assert!((o.objective - (th.sin() - 0.5 * th.cos())).abs() < 1e-9, "{}", o.objective);
     let c = run(&cp, Backend::Clarabel, LP, 200);
@@ -201,11 +199,11 @@ fn strict_system(scene: &crate::model::Scene) -> System {
 
 /// Invariant: a warm start is only a starting point. From the iterate a solve of a wall kept,
 /// the same wall with one brick 10 % heavier (same rows and columns) is solved to the cold
-/// solve's optimum (objective within 5e-8 relative: both within the gap tolerance 1e-8 of it, and
-/// feasible to 1e-8; forces, in units of the weight, within 1e-5: a gap of 1e-8 allows
-/// √(2·1e-8) ≈ 1.4e-4 for an objective of unit curvature, and the cold solve is ~1e-6 from a
-/// solve to 1e-10 — tests/it/statics_warm_start.rs) in fewer
-/// iterations, reusing the start's symbolic factorisation (the same pattern); a warm run cut
+/// solve's optimum (objective within 5e-8 relative: both within the gap tolerance 1e-8 of it,
+/// and feasible to 1e-8; forces, in units of the weight, within 1e-5: a gap of 1e-8 allows
+/// √(2·1e-8) ≈ 1.4e-4 for an objective of unit curvature, and the cold solve is far nearer a
+/// solve to 1e-10 — tests/it/statics_warm_start.rs) in fewer iterations, reusing the start's
+/// symbolic factorisation (the same pattern); a warm run cut
 /// short (capped at one iteration) is replaced by the cold solve itself, bit for bit, its
 /// iteration spent counted; a start of another size is not used (the cold solve, bit for bit,
 /// with its own symbolic factorisation).

@@ -89,11 +89,7 @@ fn accuracy(settings: &StaticsSettings, lp: bool) -> Accuracy {
 /// `Solved`, again on clarabel (the iterations of both counted).
 ///
 /// Why: at λ* the design is on the edge of collapse, where the structured solver's reduced
-/// Newton system can lose its last digits. A safety net since H_p is solved by its factor
-/// (`backend::structured::kkt`): before that, a 6 × 8 brick wall sliding on the ground at 30°
-/// ended `InsufficientProgress`, its previous iterate taken at clarabel's reduced tolerances
-/// with λ* 1.2e-6 too high, and 8 of its 36 sweep directions ended short; now 1 does, and none
-/// of the Armadillo's 43 or the builtin dome's 37.
+/// Newton system can lose its last digits; a safety net, rarely taken (docs/benchmarks.md).
 fn solve_to_full_accuracy(cp: &ContactProblem, settings: &StaticsSettings) -> QpOutcome {
     let acc = accuracy(settings, false);
     let first = run(cp, settings.backend, acc, settings.max_iterations);

@@ -47,8 +47,8 @@
 //! enters in each block's principal axes (so M⁻¹ is diagonal): the moment rows' residual r
 //! (world axes) is R r' with R the principal axes, r' weighted 1/Ĩ_k with Ĩ_k = I_k g / (W L²);
 //! the force rows' residual weighted 1/m̃ with m̃ = m g / W. The residual's columns are
-//! scaled by √m̃ and √Ĩ_k, so that Gauss's weight on them is the identity (weights 1/m̃ ~ 10²
-//! beside 1/Ĩ ~ 10⁶ on the Armadillo's stones cost the interior point accuracy per iteration).
+//! scaled by √m̃ and √Ĩ_k, so that Gauss's weight on them is the identity (weights of very
+//! different sizes cost the interior point accuracy per iteration).
 //! Accelerations come back in m/s² and rad/s².
 
 use super::assemble::System;
@@ -82,12 +82,9 @@ pub struct KinematicSettings {
 impl Default for KinematicSettings {
     fn default() -> Self {
         Self {
-            // Measured: 1–3 rounds on the letters, wedges, arch, dome, wall, cross vault and
-            // Armadillo, 18–30 on the compas_cra shelves and bridge; shelf-s2/s3 (which the
-            // statics already fail) cycle past 40. The limit only bounds the ones that cycle.
+            // Above the rounds of every design that settles: it only bounds the ones that cycle.
             max_rounds: 40,
-            // A round solved to 1e-10 leaves accelerations of 1e-12–1e-10 g on designs at rest
-            // (measured on the same scenes).
+            // Far above the accelerations a round solved to 1e-10 leaves on designs at rest.
             still: 1e-6,
             // The capacities converge linearly; 1e-4 of the largest is far inside what changes
             // a verdict and saves the tail of rounds.
@@ -204,10 +201,9 @@ pub fn rate_problem(
         }
         // A normal force within the solver's noise is none. The second QP resolves Σ f² to its
         // relative tolerance, so a force with f² below tol × Σ f² is invisible to it, and the
-        // barrier keeps such forces on contacts that stay closed with nothing to carry (a bar
-        // sliding between free posts kept 8e-7 W per vertex). Changes are measured against the
-        // mean capacity per point at the least, so that capacities of ~0 that merely wobble
-        // count as settled.
+        // barrier keeps such forces on contacts that stay closed with nothing to carry. Changes
+        // are measured against the mean capacity per point at the least, so that capacities of
+        // ~0 that merely wobble count as settled.
         let sum_sq: f64 = step.normal.iter().map(|f| f * f).sum();
         let noise = (NOISE * settings.solver_tolerance).max((settings.solver_tolerance * sum_sq).sqrt());
         let next: Vec<f64> = step.normal.iter().map(|&f| if f > noise { mu * f } else { 0.0 }).collect();

@@ -171,9 +171,8 @@ fn interface_results(
         }
     }
     // Below what the LPs resolve (STAND_FLOOR of the weight) an interface's forces are the
-    // interior-point solution's round-off: an interface carrying 1e-9 W showed "1 249 % of μ"
-    // beside a standing verdict (the Armadillo at μ = 0.3). Its use and its resultant's point
-    // are not computed from them.
+    // interior-point solution's round-off: its use and its resultant's point are not computed
+    // from them.
     let noise = STAND_FLOOR * out.weight;
     by_interface
         .into_iter()

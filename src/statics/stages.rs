@@ -26,9 +26,7 @@ pub const LP_TOLERANCE: f64 = 1e-10;
 ///
 /// Why a penalty and not the budget Σ c_n⁻ ≤ T*: in the dual (a mechanism), M bounds how fast
 /// a joint may open; with the budget (or with c_n⁻ pinned at 0) the openings are unbounded,
-/// the dual optimal face with them, and the interior-point method drifts towards it — 40–190
-/// iterations on the Armadillo's partial shells, often ending at reduced accuracy with a
-/// wrong optimum (2.3e7 W where the optimum is 4.9 W). The penalty form takes 22–50. Its
+/// the dual optimal face with them, and the interior-point method drifts towards it. Its
 /// answer is the budget form's whenever Σ c_n⁻ comes back at T*: then it is feasible for the
 /// budget form, and no point of the budget form does better (M T* + F ≥ M Σc_n⁻ + Σ s).
 const EXCESS_PENALTY: (f64, f64) = (1e3, 1e7);
@@ -99,8 +97,7 @@ struct ComponentSolve<'a> {
 /// `settings.warm_start`, the strict QP starts from `warm` (the iterate the previous solve of
 /// a component of this layout kept, when it fits), and the iterate this solve keeps comes back
 /// beside the outcome. Only the strict QP: on the relaxed stages' LPs (degenerate, near a
-/// mechanism) warm starts measured no gain — a failing arch's five edits took 51–89 iterations
-/// warm against 67–81 cold.
+/// mechanism) a warm start saves no iterations.
 pub fn solve_component(
     assembly: &Assembly,
     interfaces: &[Interface],
@@ -181,10 +178,16 @@ impl<'a> ComponentSolve<'a> {
     /// A component without a solution. `residual` (N) is the equilibrium residual of the last
     /// iterate, or the unbalanced weight when nothing could hold the blocks.
     fn failed(&self, status: SolverStatus, message: String, residual: f64) -> ComponentOutcome {
+        self.outcome(status, Some(message), residual)
+    }
+
+    /// The component's outcome with what its stages spent and no forces (no minima either:
+    /// NaN); a solved component's forces and minima are set over it.
+    fn outcome(&self, status: SolverStatus, message: Option<String>, residual: f64) -> ComponentOutcome {
         let t = &self.tally;
         ComponentOutcome {
             status,
-            message: Some(message),
+            message,
             forces: Vec::new(),
             points: Vec::new(),
             min_tension: f64::NAN,
@@ -266,9 +269,8 @@ impl<'a> ComponentSolve<'a> {
     /// less than [`CONFIRM_BELOW`] of the weight. The LPs' minima are read at feasible states
     /// ([`System::make_feasible`]), upper bounds whose rows an interior point met only to its
     /// tolerance: over thousands of points such a bound can pass the floor where the true
-    /// minimum is 0 (the Armadillo, before the minima were read at feasible states: Σ s of
-    /// 1.3e-8 W). The strict QP decides such a case exactly as the strict-first path does, so
-    /// both paths give one verdict.
+    /// minimum is 0. The strict QP decides such a case exactly as the strict-first path does,
+    /// so both paths give one verdict.
     fn to_confirm(&self, s: &Solution) -> bool {
         let (weight, lightest) = self.weights;
         let threshold = stand_threshold(self.settings, lightest, weight) / s.sys.force_scale;
@@ -283,12 +285,8 @@ impl<'a> ComponentSolve<'a> {
     /// points: it stands only if that excess (an upper bound of the minimum) is within the stand
     /// tolerance, so that both ways in give the same verdict. Each friction row may miss by up
     /// to the feasibility tolerance, and over thousands of points that sum can pass the
-    /// threshold of a design that stands — the Armadillo at μ = 0.3 missed by 8e-8 W, at 0.2 by
-    /// 6e-8 W (clarabel's iterates, on the same problem and tolerances, by 6e-10 and 2e-9 W),
-    /// and the relaxed stages then took 66 more iterations, at 0.2 to an excess LP whose exact
-    /// penalty traded round-off tension for 3.8e-7 W of slack: "needs friction". Such a near
-    /// miss (below [`CONFIRM_BELOW`] of the weight) is solved again to the LPs' feasibility,
-    /// 1e-10: 1e-9 W on both, one iteration more than the first solve.
+    /// threshold of a design that stands. Such a near miss (below [`CONFIRM_BELOW`] of the
+    /// weight) is solved again to the LPs' feasibility, 1e-10.
     fn strict(&mut self) -> Option<Solution> {
         let sys = self.system(false);
         let (weight, lightest) = self.weights;
@@ -400,21 +398,13 @@ impl<'a> ComponentSolve<'a> {
         let forces = (0..sys.points.len())
             .map(|i| [Var::CnPos, Var::CnNeg, Var::Cu, Var::Cv, Var::Slack].map(|v| sys.value(&out.x, i, v) * fs))
             .collect();
-        let t = self.tally;
+        let message = (!solved(status)).then(|| format!("the force-distribution QP ended with status {status:?}"));
         ComponentOutcome {
-            status,
-            message: (!solved(status)).then(|| format!("the force-distribution QP ended with status {status:?}")),
             forces,
             points: sys.points,
             min_tension: tension * fs,
             min_excess: excess * fs,
-            residual,
-            iterations: t.iterations,
-            used_clarabel: t.used_clarabel,
-            weight: self.weights.0,
-            lightest: self.weights.1,
-            assemble_seconds: t.assemble_seconds,
-            solver_seconds: t.solver_seconds,
+            ..self.outcome(status, message, residual)
         }
     }
 }

@@ -413,9 +413,7 @@ fn both_backends_give_the_same_load_factor() {
 /// A running-bond wall on the ground (6 courses × 8 bricks, μ = 0.6) pushed by 1 g at 30°
 /// slides as a whole on the ground: the base friction forces lie on the 8-sided pyramid's
 /// facet whose normal is at 45° (15° from the load), so λ* = μ / cos 15° exactly. Invariant:
-/// the statics' default backend reaches it to 1e-7 relative with a full-accuracy status. (The
-/// structured solver once ended this one `InsufficientProgress`, λ* 1.2e-6 too high at reduced
-/// tolerances: H_p solved by its explicit inverse near the collapse limit.)
+/// the statics' default backend reaches it to 1e-7 relative with a full-accuracy status.
 #[test]
 fn a_wall_sliding_on_the_ground_reaches_mu_over_cos_15() {
     let mut s = voussoir::model::builtin("wall?courses=6&bricks=8").unwrap();

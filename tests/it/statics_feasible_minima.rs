@@ -10,9 +10,8 @@
 //! HiGHS (scipy 1.17.1's `linprog(method="highs-ipm")`, crossover to a vertex: primal and dual
 //! objectives equal to 10 digits, rows met to 1e-12): T* = 2.0223693157e-3 W and, from the
 //! exact-penalty LP's optimum M T* + F* = 2.0250672212 (M = 1000), F* = 2.6979054e-3 W. The
-//! interior-point objectives missed them by −9e-6 (T) and −1.2e-4 (M T + F) relative — below
-//! the optimum, from rows met only to the solver's feasibility — and the table printed F as
-//! 2.727e-3 W (1.1 % high, through a larger penalty weight that the low T* forced).
+//! reported minima, a feasible state's, are upper bounds of these: T* to 1e-6 and F* to 2e-4
+//! relative.
 
 use crate::common::*;
 use voussoir::pipeline::AnalysisSettings;

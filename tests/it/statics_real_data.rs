@@ -102,11 +102,9 @@ fn stored_forces_of_determinate_cases_agree() {
 }
 
 /// Invariant (issue #24's consistency regression): both ways into the stages give one verdict.
-/// A sequence check starts failing prefixes at the relaxed LPs (`FirstStage::Relaxed`, no
-/// distribution); on the complete Armadillo the interior-point LP's friction slacks summed to
-/// 1.3e-8 W (over the 1e-8 floor) where the strict QP proves the minimum is 0, so step 365 said
-/// "fails" while `analyze` said "stands". Now the relaxed answer near standing is confirmed by
-/// the strict QP: stands, with zero tension and friction excess, like the strict-first path.
+/// On the complete Armadillo the relaxed-first path (`FirstStage::Relaxed`, no distribution, as
+/// a sequence check starts failing prefixes) stands, with zero tension and friction excess,
+/// like the strict-first path: its answer near standing is confirmed by the strict QP.
 #[test]
 fn the_relaxed_first_path_gives_the_strict_verdict_on_the_armadillo() {
     let mut s = scene("compas_cra/armadillo_cra.json");
@@ -125,7 +123,7 @@ fn the_relaxed_first_path_gives_the_strict_verdict_on_the_armadillo() {
 /// pyramid8's capacity, 1/cos 22.5° = 108.24 % of μ·compression, up to what the solver resolves
 /// (1e-8 W, the verdict's floor, and 1e-4 relative: the polished forces of an interface at its
 /// limit overshoot by ~1e-5), and the reported use of an interface whose friction is below
-/// that is 0, not the 1 249 % of a round-off force that stood beside "stands".
+/// that is 0 (a round-off force has no use).
 #[test]
 fn a_standing_armadillo_reports_no_friction_use_beyond_the_pyramid() {
     let s = scene("compas_cra/armadillo_cra.json");
@@ -156,11 +154,9 @@ fn a_standing_armadillo_reports_no_friction_use_beyond_the_pyramid() {
 }
 
 /// Invariant: near its friction limit the Armadillo gets one verdict from both backends and
-/// both ways into the stages: at μ = 0.3 and 0.2 it stands (clarabel's strict QP proves it:
-/// friction missed by < 1e-8 W). The structured strict QP, solved to the solver tolerance,
-/// missed by 8e-8 and 6e-8 W, summed over 5 032 points; at 0.2 the relaxed stages then
-/// reported "needs friction" (3.8e-7 W) and at 0.3 took 82 iterations. Now the near miss is
-/// solved again to a tighter feasibility: it stands, at 0.3 in at most 40 iterations.
+/// both ways into the stages: at μ = 0.3 and 0.2 it stands (clarabel's strict QP proves it).
+/// The structured strict QP's near miss of friction, summed over thousands of points, is solved
+/// again to a tighter feasibility: at 0.3 it stands in at most 40 iterations.
 #[test]
 fn near_its_friction_limit_the_armadillo_gets_one_verdict() {
     use voussoir::statics::{Backend, FirstStage};

@@ -4,8 +4,7 @@
 
 use crate::arrays::{indices, rows, vector};
 use crate::errors;
-use crate::scene::Scene;
-use crate::settings::{Options, Supports};
+use crate::settings::solve_function;
 use numpy::{PyArray1, PyArray2};
 use pyo3::prelude::*;
 use voussoir::dynamics::{DropResult, DropSettings};
@@ -22,46 +21,32 @@ pub struct Analysis {
     kinematic: Option<Kinematic>,
 }
 
-/// Analyses `scene`: interfaces detected, equilibrium solved (the GIL released), and on request
-/// the kinematic check and the rapier drop test beside it.
-#[pyfunction]
-#[pyo3(signature = (
-    scene, *, mu = None, friction_model = None, solver = None, supports = None, ground = None,
-    density = None, strict = false, kinematic = false, dynamic = false
-))]
-#[allow(clippy::too_many_arguments)] // Python's keyword arguments
-pub fn analyze(
-    py: Python<'_>,
-    scene: &Scene,
-    mu: Option<f64>,
-    friction_model: Option<String>,
-    solver: Option<String>,
-    supports: Option<Supports>,
-    ground: Option<bool>,
-    density: Option<f64>,
-    strict: bool,
-    kinematic: bool,
-    dynamic: bool,
-) -> PyResult<Analysis> {
-    let options = Options { mu, friction_model, solver, supports, ground, density, strict };
-    let settings = options.settings()?;
-    let design = options.amend(&scene.scene, &scene.source, &settings)?;
-    let source = scene.source.as_str();
-    py.detach(|| {
-        let analysis = pipeline::analyze(&design, &settings).map_err(|e| e.to_string())?;
-        let kinematic = kinematic
-            .then(|| kinematic::check(&analysis, &settings.statics, &Default::default()))
-            .transpose()
-            .map_err(|e| e.to_string())?;
-        let dynamic = dynamic
-            .then(|| {
-                voussoir::dynamics::drop_test(&analysis.assembly, &DropSettings { friction: mu, ..Default::default() })
-            })
-            .transpose()
-            .map_err(|e| e.to_string())?;
-        Ok(Analysis { analysis, dynamic, kinematic })
-    })
-    .map_err(|e: String| errors::input(source, e))
+solve_function! {
+    /// Analyses `scene`: interfaces detected, equilibrium solved (the GIL released), and on request
+    /// the kinematic check and the rapier drop test beside it.
+    pub fn analyze<'py>(
+        py, scene,
+        ..options(mu, friction_model, solver, supports, ground, density),
+        strict: bool = false, kinematic: bool = false, dynamic: bool = false
+    ) -> PyResult<Analysis> {
+        let (design, mut settings) = options.apply(scene)?;
+        settings.strict = strict;
+        let source = scene.source.as_str();
+        py.detach(|| {
+            let analysis = pipeline::analyze(&design, &settings).map_err(|e| e.to_string())?;
+            let kinematic = kinematic
+                .then(|| kinematic::check(&analysis, &settings.statics, &Default::default()))
+                .transpose()
+                .map_err(|e| e.to_string())?;
+            let drop = DropSettings { friction: options.mu, ..Default::default() };
+            let dynamic = dynamic
+                .then(|| voussoir::dynamics::drop_test(&analysis.assembly, &drop))
+                .transpose()
+                .map_err(|e| e.to_string())?;
+            Ok(Analysis { analysis, dynamic, kinematic })
+        })
+        .map_err(|e: String| errors::input(source, e))
+    }
 }
 
 impl Analysis {

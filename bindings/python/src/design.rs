@@ -5,126 +5,94 @@
 
 use crate::errors;
 use crate::scene::Scene;
-use crate::settings::{Options, Supports};
+use crate::settings::solve_function;
 use crate::tasks::json_to_python;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use voussoir::synthesis::{self, BlockSize, Field, RepairSettings, ThrustSettings};
 
-/// Moves and turns the cuts of `scene` (all, or the indices in `cuts`) until it stands and, with
-/// `robust`, until its worst-direction horizontal load factor is largest (`voussoir repair`).
-/// Returns the repaired design and the report as a dict (`voussoir repair --json`): `outcome`,
-/// `before` / `after` scores, `load_factor_before` / `_after`, `changed` cuts, `history`,
-/// `failing` interfaces and a proposed `support` when it still fails. The same `seed` gives
-/// the same design.
-#[pyfunction]
-#[pyo3(signature = (
-    scene, *, cuts = None, max_turn = None, robust = true, seed = None, particles = None, iterations = None,
-    mu = None, friction_model = None, solver = None, supports = None, ground = None, density = None
-))]
-#[allow(clippy::too_many_arguments)] // Python's keyword arguments
-pub fn repair<'py>(
-    py: Python<'py>,
-    scene: &Scene,
-    cuts: Option<Vec<usize>>,
-    max_turn: Option<f64>,
-    robust: bool,
-    seed: Option<u64>,
-    particles: Option<usize>,
-    iterations: Option<u64>,
-    mu: Option<f64>,
-    friction_model: Option<String>,
-    solver: Option<String>,
-    supports: Option<Supports>,
-    ground: Option<bool>,
-    density: Option<f64>,
-) -> PyResult<(Scene, Bound<'py, PyAny>)> {
-    let options = Options { mu, friction_model, solver, supports, ground, density, strict: false };
-    let settings = options.settings()?;
-    let design = options.amend(&scene.scene, &scene.source, &settings)?;
-    let d = RepairSettings::default();
-    let repair = RepairSettings {
-        cuts,
-        max_turn_degrees: max_turn.unwrap_or(d.max_turn_degrees),
-        robust,
-        seed: seed.unwrap_or(d.seed),
-        particles: particles.unwrap_or(d.particles),
-        iterations: iterations.unwrap_or(d.iterations),
-        ..d
-    };
-    let source = scene.source.as_str();
-    let report = py
-        .detach(|| synthesis::repair(&design, &settings, &repair, &|_, _, _| {}).map_err(|e| e.to_string()))
-        .map_err(|e| errors::input(source, e))?;
-    let text = serde_json::to_string(&report).map_err(errors::setting)?;
-    Ok((scene.edited(report.design), json_to_python(py, &text)?))
+solve_function! {
+    /// Moves and turns the cuts of `scene` (all, or the indices in `cuts`) until it stands and, with
+    /// `robust`, until its worst-direction horizontal load factor is largest (`voussoir repair`).
+    /// Returns the repaired design and the report as a dict (`voussoir repair --json`): `outcome`,
+    /// `before` / `after` scores, `load_factor_before` / `_after`, `changed` cuts, `history`,
+    /// `failing` interfaces and a proposed `support` when it still fails. The same `seed` gives
+    /// the same design.
+    pub fn repair<'py>(
+        py, scene,
+        cuts: Option<Vec<usize>> = None, max_turn: Option<f64> = None, robust: bool = true, seed: Option<u64> = None,
+        particles: Option<usize> = None, iterations: Option<u64> = None,
+        ..options(mu, friction_model, solver, supports, ground, density)
+    ) -> PyResult<(Scene, Bound<'py, PyAny>)> {
+        let (design, settings) = options.apply(scene)?;
+        let d = RepairSettings::default();
+        let repair = RepairSettings {
+            cuts,
+            max_turn_degrees: max_turn.unwrap_or(d.max_turn_degrees),
+            robust,
+            seed: seed.unwrap_or(d.seed),
+            particles: particles.unwrap_or(d.particles),
+            iterations: iterations.unwrap_or(d.iterations),
+            ..d
+        };
+        let source = scene.source.as_str();
+        let report = py
+            .detach(|| synthesis::repair(&design, &settings, &repair, &|_, _, _| {}).map_err(|e| e.to_string()))
+            .map_err(|e| errors::input(source, e))?;
+        let text = serde_json::to_string(&report).map_err(errors::setting)?;
+        Ok((scene.edited(report.design), json_to_python(py, &text)?))
+    }
 }
 
-/// A cut history for the source shape `scene` (no history yet; `voussoir decompose`): about
-/// `blocks` blocks or none larger than `max_size` (m); beds horizontal, or through the axis
-/// `center` + s·`axis` (default axis +y) for arches and vaults; `strategy` "courses" or
-/// "thrust" (beds turned normal to the force an analysis finds crossing them); head joints
-/// staggered unless `stagger` is false. Returns the design and a dict: `courses`, `pieces`,
-/// `max_size` and, for "thrust", `rounds` (analyses, settled, last and largest turn in degrees).
-#[pyfunction]
-#[pyo3(signature = (
-    scene, *, blocks = None, max_size = None, strategy = "courses", center = None, axis = None, stagger = true,
-    mu = None, friction_model = None, solver = None, supports = None, ground = None, density = None
-))]
-#[allow(clippy::too_many_arguments)] // Python's keyword arguments
-pub fn decompose<'py>(
-    py: Python<'py>,
-    scene: &Scene,
-    blocks: Option<usize>,
-    max_size: Option<f64>,
-    strategy: &str,
-    center: Option<[f64; 3]>,
-    axis: Option<[f64; 3]>,
-    stagger: bool,
-    mu: Option<f64>,
-    friction_model: Option<String>,
-    solver: Option<String>,
-    supports: Option<Supports>,
-    ground: Option<bool>,
-    density: Option<f64>,
-) -> PyResult<(Scene, Bound<'py, PyDict>)> {
-    let size = match (blocks, max_size) {
-        (Some(n), None) => BlockSize::Count(n),
-        (None, Some(l)) => BlockSize::Max(l),
-        _ => return Err(errors::setting("decompose: give exactly one of blocks and max_size")),
-    };
-    let field = match (center, axis) {
-        (Some(center), axis) => Field::Radial { center, axis: axis.unwrap_or([0.0, 1.0, 0.0]) },
-        (None, None) => Field::Vertical,
-        (None, Some(_)) => return Err(errors::setting("decompose: axis needs center (a point on it)")),
-    };
-    let thrust = match strategy {
-        "courses" => false,
-        "thrust" => true,
-        other => return Err(errors::setting(format!("strategy: '{other}' is neither \"courses\" nor \"thrust\""))),
-    };
-    let options = Options { mu, friction_model, solver, supports, ground, density, strict: false };
-    let settings = options.settings()?;
-    let shape = options.amend(&scene.scene, &scene.source, &settings)?;
-    let source = scene.source.as_str();
-    let generated = py
-        .detach(|| {
-            if thrust {
-                synthesis::thrust(&shape, &field, &size, stagger, &ThrustSettings::default(), &settings)
-            } else {
-                synthesis::courses(&shape, &field, &size, stagger)
-            }
-            .map_err(|e| e.to_string())
-        })
-        .map_err(|e| errors::input(source, e))?;
-    let out = PyDict::new(py);
-    out.set_item("courses", generated.courses)?;
-    out.set_item("pieces", generated.pieces)?;
-    out.set_item("max_size", generated.max_size)?;
-    let rounds = match &generated.rounds {
-        Some(r) => Some(json_to_python(py, &serde_json::to_string(r).map_err(errors::setting)?)?),
-        None => None,
-    };
-    out.set_item("rounds", rounds)?;
-    Ok((scene.edited(generated.design), out))
+solve_function! {
+    /// A cut history for the source shape `scene` (no history yet; `voussoir decompose`): about
+    /// `blocks` blocks or none larger than `max_size` (m); beds horizontal, or through the axis
+    /// `center` + s·`axis` (default axis +y) for arches and vaults; `strategy` "courses" or
+    /// "thrust" (beds turned normal to the force an analysis finds crossing them); head joints
+    /// staggered unless `stagger` is false. Returns the design and a dict: `courses`, `pieces`,
+    /// `max_size` and, for "thrust", `rounds` (analyses, settled, last and largest turn in degrees).
+    pub fn decompose<'py>(
+        py, scene,
+        blocks: Option<usize> = None, max_size: Option<f64> = None, strategy: &str = "courses",
+        center: Option<[f64; 3]> = None, axis: Option<[f64; 3]> = None, stagger: bool = true,
+        ..options(mu, friction_model, solver, supports, ground, density)
+    ) -> PyResult<(Scene, Bound<'py, PyDict>)> {
+        let size = match (blocks, max_size) {
+            (Some(n), None) => BlockSize::Count(n),
+            (None, Some(l)) => BlockSize::Max(l),
+            _ => return Err(errors::setting("decompose: give exactly one of blocks and max_size")),
+        };
+        let field = match (center, axis) {
+            (Some(center), axis) => Field::Radial { center, axis: axis.unwrap_or([0.0, 1.0, 0.0]) },
+            (None, None) => Field::Vertical,
+            (None, Some(_)) => return Err(errors::setting("decompose: axis needs center (a point on it)")),
+        };
+        let thrust = match strategy {
+            "courses" => false,
+            "thrust" => true,
+            other => return Err(errors::setting(format!("strategy: '{other}' is neither \"courses\" nor \"thrust\""))),
+        };
+        let (shape, settings) = options.apply(scene)?;
+        let source = scene.source.as_str();
+        let generated = py
+            .detach(|| {
+                if thrust {
+                    synthesis::thrust(&shape, &field, &size, stagger, &ThrustSettings::default(), &settings)
+                } else {
+                    synthesis::courses(&shape, &field, &size, stagger)
+                }
+                .map_err(|e| e.to_string())
+            })
+            .map_err(|e| errors::input(source, e))?;
+        let out = PyDict::new(py);
+        out.set_item("courses", generated.courses)?;
+        out.set_item("pieces", generated.pieces)?;
+        out.set_item("max_size", generated.max_size)?;
+        let rounds = match &generated.rounds {
+            Some(r) => Some(json_to_python(py, &serde_json::to_string(r).map_err(errors::setting)?)?),
+            None => None,
+        };
+        out.set_item("rounds", rounds)?;
+        Ok((scene.edited(generated.design), out))
+    }
 }

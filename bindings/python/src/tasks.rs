@@ -4,8 +4,7 @@
 
 use crate::arrays::rows;
 use crate::errors;
-use crate::scene::Scene;
-use crate::settings::{Options, Supports};
+use crate::settings::solve_function;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use voussoir::dynamics::DropSettings;
@@ -27,83 +26,62 @@ pub(crate) fn json_to_python<'py>(py: Python<'py>, text: &str) -> PyResult<Bound
     py.import("json")?.call_method1("loads", (text,))
 }
 
-/// Interfaces of `scene` (its cut history replayed) without solving anything: a dict with
-/// `block_names`, `blocks` (m, 2; -1 the ground), `area` (m,), `centroid`, `normal`, `u`, `v`
-/// (m, 3) and `polygons` (m arrays of (k, 3), counter-clockwise about the normal).
-#[pyfunction]
-#[pyo3(signature = (scene, *, supports = None, ground = None))]
-pub fn detect_interfaces<'py>(
-    py: Python<'py>,
-    scene: &Scene,
-    supports: Option<Supports>,
-    ground: Option<bool>,
-) -> PyResult<Bound<'py, PyDict>> {
-    let options =
-        Options { mu: None, friction_model: None, solver: None, supports, ground, density: None, strict: false };
-    let settings = AnalysisSettings::default();
-    let design = options.amend(&scene.scene, &scene.source, &settings)?;
-    let source = scene.source.as_str();
-    let (assembly, interfaces) = py
-        .detach(|| {
-            let assembly = assembly_of(&design, &settings)?;
-            let interfaces = voussoir::interfaces::detect(&assembly);
-            Ok((assembly, interfaces))
-        })
-        .map_err(|e: String| errors::input(source, e))?;
-    let index = |b: Body| b.block().map_or(-1, |id| id.0 as i64);
-    let out = PyDict::new(py);
-    out.set_item("block_names", assembly.blocks.iter().map(|b| b.name.clone()).collect::<Vec<_>>())?;
-    out.set_item("blocks", rows(py, &interfaces.iter().map(|i| [index(i.a), index(i.b)]).collect::<Vec<_>>())?)?;
-    out.set_item("area", interfaces.iter().map(|i| i.area).collect::<Vec<_>>())?;
-    let frames = |f: fn(&voussoir::interfaces::Interface) -> [f64; 3]| interfaces.iter().map(f).collect::<Vec<_>>();
-    out.set_item("centroid", rows(py, &frames(|i| i.frame.origin.into()))?)?;
-    out.set_item("normal", rows(py, &frames(|i| i.frame.n.into()))?)?;
-    out.set_item("u", rows(py, &frames(|i| i.frame.u.into()))?)?;
-    out.set_item("v", rows(py, &frames(|i| i.frame.v.into()))?)?;
-    let polygons = PyList::empty(py);
-    for i in &interfaces {
-        let corners: Vec<[f64; 3]> = i.polygon.iter().map(|p| (*p).into()).collect();
-        polygons.append(rows(py, &corners)?)?;
+solve_function! {
+    /// Interfaces of `scene` (its cut history replayed) without solving anything: a dict with
+    /// `block_names`, `blocks` (m, 2; -1 the ground), `area` (m,), `centroid`, `normal`, `u`, `v`
+    /// (m, 3) and `polygons` (m arrays of (k, 3), counter-clockwise about the normal).
+    pub fn detect_interfaces<'py>(py, scene, ..options(supports, ground)) -> PyResult<Bound<'py, PyDict>> {
+        let (design, settings) = options.apply(scene)?;
+        let source = scene.source.as_str();
+        let (assembly, interfaces) = py
+            .detach(|| {
+                let assembly = assembly_of(&design, &settings)?;
+                let interfaces = voussoir::interfaces::detect(&assembly);
+                Ok((assembly, interfaces))
+            })
+            .map_err(|e: String| errors::input(source, e))?;
+        let index = |b: Body| b.block().map_or(-1, |id| id.0 as i64);
+        let out = PyDict::new(py);
+        out.set_item("block_names", assembly.blocks.iter().map(|b| b.name.clone()).collect::<Vec<_>>())?;
+        out.set_item("blocks", rows(py, &interfaces.iter().map(|i| [index(i.a), index(i.b)]).collect::<Vec<_>>())?)?;
+        out.set_item("area", interfaces.iter().map(|i| i.area).collect::<Vec<_>>())?;
+        let frames = |f: fn(&voussoir::interfaces::Interface) -> [f64; 3]| interfaces.iter().map(f).collect::<Vec<_>>();
+        out.set_item("centroid", rows(py, &frames(|i| i.frame.origin.into()))?)?;
+        out.set_item("normal", rows(py, &frames(|i| i.frame.n.into()))?)?;
+        out.set_item("u", rows(py, &frames(|i| i.frame.u.into()))?)?;
+        out.set_item("v", rows(py, &frames(|i| i.frame.v.into()))?)?;
+        let polygons = PyList::empty(py);
+        for i in &interfaces {
+            let corners: Vec<[f64; 3]> = i.polygon.iter().map(|p| (*p).into()).collect();
+            polygons.append(rows(py, &corners)?)?;
+        }
+        out.set_item("polygons", polygons)?;
+        Ok(out)
     }
-    out.set_item("polygons", polygons)?;
-    Ok(out)
 }
 
-/// The load factor λ* (`voussoir robustness --json` as a dict): of the scene's live loads, of
-/// a horizontal 1 g along `direction` (degrees from +x towards +y), or — the default with no
-/// live load — in the worst horizontal direction over `directions` azimuths.
-#[pyfunction]
-#[pyo3(signature = (
-    scene, *, direction = None, directions = None, mu = None, friction_model = None, solver = None,
-    supports = None, ground = None, density = None
-))]
-#[allow(clippy::too_many_arguments)] // Python's keyword arguments
-pub fn load_factor<'py>(
-    py: Python<'py>,
-    scene: &Scene,
-    direction: Option<f64>,
-    directions: Option<usize>,
-    mu: Option<f64>,
-    friction_model: Option<String>,
-    solver: Option<String>,
-    supports: Option<Supports>,
-    ground: Option<bool>,
-    density: Option<f64>,
-) -> PyResult<Bound<'py, PyAny>> {
-    let options = Options { mu, friction_model, solver, supports, ground, density, strict: false };
-    let settings = options.settings()?;
-    let design = options.amend(&scene.scene, &scene.source, &settings)?;
-    let source = scene.source.as_str();
-    let text = py
-        .detach(|| {
-            let analysis = analyze(&design, &settings).map_err(|e| e.to_string())?;
-            let question = Question::choose(&analysis, direction, directions);
-            let answer =
-                stability::answer(&analysis, &settings.statics, &question, &|_, _| {}).map_err(|e| e.to_string())?;
-            Ok(stability_report::to_json(&analysis, &answer.result, answer.sweep.as_ref(), &answer.load))
-        })
-        .map_err(|e: String| errors::input(source, e))?;
-    json_to_python(py, &text)
+solve_function! {
+    /// The load factor λ* (`voussoir robustness --json` as a dict): of the scene's live loads, of
+    /// a horizontal 1 g along `direction` (degrees from +x towards +y), or — the default with no
+    /// live load — in the worst horizontal direction over `directions` azimuths.
+    pub fn load_factor<'py>(
+        py, scene,
+        direction: Option<f64> = None, directions: Option<usize> = None,
+        ..options(mu, friction_model, solver, supports, ground, density)
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let (design, settings) = options.apply(scene)?;
+        let source = scene.source.as_str();
+        let text = py
+            .detach(|| {
+                let analysis = analyze(&design, &settings).map_err(|e| e.to_string())?;
+                let question = Question::choose(&analysis, direction, directions);
+                let answer =
+                    stability::answer(&analysis, &settings.statics, &question, &|_, _| {}).map_err(|e| e.to_string())?;
+                Ok(stability_report::to_json(&analysis, &answer.result, answer.sweep.as_ref(), &answer.load))
+            })
+            .map_err(|e: String| errors::input(source, e))?;
+        json_to_python(py, &text)
+    }
 }
 
 /// `order`: "bottom-up", "from-supports", or a list of block names.
@@ -113,99 +91,76 @@ pub enum Order {
     Given(Vec<String>),
 }
 
-/// Checks every step of an assembly order (`voussoir sequence --json` as a dict). `order`:
-/// "bottom-up", "from-supports" or a list of names (default: the scene's own order, else
-/// bottom-up); `props`: temporary supports where a step would not stand; `search`: look for an
-/// order in which every step stands; `dynamic` / `kinematic`: those checks at every step too.
-#[pyfunction]
-#[pyo3(signature = (
-    scene, *, order = None, props = false, search = false, dynamic = false, kinematic = false,
-    mu = None, friction_model = None, solver = None, supports = None, ground = None, density = None
-))]
-#[allow(clippy::too_many_arguments)] // Python's keyword arguments
-pub fn sequence<'py>(
-    py: Python<'py>,
-    scene: &Scene,
-    order: Option<Order>,
-    props: bool,
-    search: bool,
-    dynamic: bool,
-    kinematic: bool,
-    mu: Option<f64>,
-    friction_model: Option<String>,
-    solver: Option<String>,
-    supports: Option<Supports>,
-    ground: Option<bool>,
-    density: Option<f64>,
-) -> PyResult<Bound<'py, PyAny>> {
-    let options = Options { mu, friction_model, solver, supports, ground, density, strict: false };
-    let settings = options.settings()?;
-    let design = options.amend(&scene.scene, &scene.source, &settings)?;
-    let spec = match order {
-        Some(Order::Named(n)) if n == "bottom-up" => OrderSpec::BottomUp,
-        Some(Order::Named(n)) if n == "from-supports" => OrderSpec::FromSupports,
-        Some(Order::Named(n)) => {
-            return Err(errors::setting(format!(
-                "order: '{n}' is neither \"bottom-up\", \"from-supports\" nor a list of block names"
-            )));
-        }
-        Some(Order::Given(names)) => OrderSpec::Given(names),
-        None if !design.order.is_empty() => OrderSpec::Given(design.order.clone()),
-        None => OrderSpec::BottomUp,
-    };
-    let per_step = StepChecks {
-        dynamic: dynamic.then(|| DropSettings { friction: mu, ..Default::default() }),
-        kinematic: kinematic.then(Default::default),
-    };
-    let source = scene.source.as_str();
-    let text = py
-        .detach(|| {
-            let search_settings = SearchSettings::default();
-            let report = if search {
-                assembly_sequence::search(&design, &settings, &search_settings, &per_step, &|| {})
-            } else if props {
-                assembly_sequence::check_with_props(&design, &spec, &settings, &search_settings, &per_step, &|| {})
-            } else {
-                assembly_sequence::check(&design, &spec, &settings, &per_step, &|| {})
-            };
-            report.map(|r| serde_json::to_string(&r).unwrap_or_default()).map_err(|e| e.to_string())
-        })
-        .map_err(|e: String| errors::input(source, e))?;
-    json_to_python(py, &text)
+solve_function! {
+    /// Checks every step of an assembly order (`voussoir sequence --json` as a dict). `order`:
+    /// "bottom-up", "from-supports" or a list of names (default: the scene's own order, else
+    /// bottom-up); `props`: temporary supports where a step would not stand; `search`: look for an
+    /// order in which every step stands; `dynamic` / `kinematic`: those checks at every step too.
+    pub fn sequence<'py>(
+        py, scene,
+        order: Option<Order> = None, props: bool = false, search: bool = false, dynamic: bool = false,
+        kinematic: bool = false,
+        ..options(mu, friction_model, solver, supports, ground, density)
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let (design, settings) = options.apply(scene)?;
+        let spec = match order {
+            Some(Order::Named(n)) if n == "bottom-up" => OrderSpec::BottomUp,
+            Some(Order::Named(n)) if n == "from-supports" => OrderSpec::FromSupports,
+            Some(Order::Named(n)) => {
+                return Err(errors::setting(format!(
+                    "order: '{n}' is neither \"bottom-up\", \"from-supports\" nor a list of block names"
+                )));
+            }
+            Some(Order::Given(names)) => OrderSpec::Given(names),
+            None if !design.order.is_empty() => OrderSpec::Given(design.order.clone()),
+            None => OrderSpec::BottomUp,
+        };
+        let per_step = StepChecks {
+            dynamic: dynamic.then(|| DropSettings { friction: options.mu, ..Default::default() }),
+            kinematic: kinematic.then(Default::default),
+        };
+        let source = scene.source.as_str();
+        let text = py
+            .detach(|| {
+                let search_settings = SearchSettings::default();
+                let report = if search {
+                    assembly_sequence::search(&design, &settings, &search_settings, &per_step, &|| {})
+                } else if props {
+                    assembly_sequence::check_with_props(&design, &spec, &settings, &search_settings, &per_step, &|| {})
+                } else {
+                    assembly_sequence::check(&design, &spec, &settings, &per_step, &|| {})
+                };
+                report.map(|r| serde_json::to_string(&r).unwrap_or_default()).map_err(|e| e.to_string())
+            })
+            .map_err(|e: String| errors::input(source, e))?;
+        json_to_python(py, &text)
+    }
 }
 
-/// The rapier drop test (`voussoir drop --json`'s `dynamic` part as a dict): the blocks
-/// released under gravity for `duration` s with step `dt` (the library's defaults when None).
-#[pyfunction]
-#[pyo3(signature = (scene, *, duration = None, dt = None, mu = None, supports = None, ground = None, density = None))]
-#[allow(clippy::too_many_arguments)] // Python's keyword arguments
-pub fn drop<'py>(
-    py: Python<'py>,
-    scene: &Scene,
-    duration: Option<f64>,
-    dt: Option<f64>,
-    mu: Option<f64>,
-    supports: Option<Supports>,
-    ground: Option<bool>,
-    density: Option<f64>,
-) -> PyResult<Bound<'py, PyAny>> {
-    let options = Options { mu, friction_model: None, solver: None, supports, ground, density, strict: false };
-    let settings = options.settings()?;
-    let design = options.amend(&scene.scene, &scene.source, &settings)?;
-    let defaults = DropSettings::default();
-    let drop_settings = DropSettings {
-        duration: duration.unwrap_or(defaults.duration),
-        dt: dt.unwrap_or(defaults.dt),
-        friction: mu,
-        ..defaults
-    };
-    let source = scene.source.as_str();
-    let text = py
-        .detach(|| {
-            let assembly = assembly_of(&design, &settings)?;
-            let result = voussoir::dynamics::drop_test(&assembly, &drop_settings).map_err(|e| e.to_string())?;
-            Ok(serde_json::to_string(&result).unwrap_or_default())
-        })
-        .map_err(|e: String| errors::input(source, e))?;
-    json_to_python(py, &text)
+solve_function! {
+    /// The rapier drop test (`voussoir drop --json`'s `dynamic` part as a dict): the blocks
+    /// released under gravity for `duration` s with step `dt` (the library's defaults when None).
+    pub fn drop<'py>(
+        py, scene,
+        duration: Option<f64> = None, dt: Option<f64> = None,
+        ..options(mu, supports, ground, density)
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let (design, settings) = options.apply(scene)?;
+        let defaults = DropSettings::default();
+        let drop_settings = DropSettings {
+            duration: duration.unwrap_or(defaults.duration),
+            dt: dt.unwrap_or(defaults.dt),
+            friction: options.mu,
+            ..defaults
+        };
+        let source = scene.source.as_str();
+        let text = py
+            .detach(|| {
+                let assembly = assembly_of(&design, &settings)?;
+                let result = voussoir::dynamics::drop_test(&assembly, &drop_settings).map_err(|e| e.to_string())?;
+                Ok(serde_json::to_string(&result).unwrap_or_default())
+            })
+            .map_err(|e: String| errors::input(source, e))?;
+        json_to_python(py, &text)
+    }
 }

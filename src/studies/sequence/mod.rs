@@ -132,6 +132,17 @@ pub fn step_analysis(
     Ok(crate::pipeline::analyze(&prefix, &steps::prefix_settings(&resolved, settings))?)
 }
 
+/// `scene` with its cut history replayed, and `spec`'s order of its free blocks.
+fn resolved_order(
+    scene: &Scene,
+    spec: &OrderSpec,
+    settings: &AnalysisSettings,
+) -> Result<(Scene, Vec<String>), SequenceError> {
+    let resolved = resolved(scene, settings)?;
+    let order = order(&resolved, spec, settings)?;
+    Ok((resolved, order))
+}
+
 /// Checks every prefix of `spec`'s order of `scene` (its cut history replayed first).
 pub fn check(
     scene: &Scene,
@@ -140,8 +151,7 @@ pub fn check(
     per_step: &StepChecks,
     tick: &(dyn Fn() + Sync),
 ) -> Result<SequenceReport, SequenceError> {
-    let resolved = resolved(scene, settings)?;
-    let order = order(&resolved, spec, settings)?;
+    let (resolved, order) = resolved_order(scene, spec, settings)?;
     let steps = steps::check_order(&resolved, &order, settings, per_step, tick)?;
     Ok(SequenceReport::new(order, steps, Vec::new(), None))
 }
@@ -156,8 +166,7 @@ pub fn check_with_props(
     per_step: &StepChecks,
     tick: &(dyn Fn() + Sync),
 ) -> Result<SequenceReport, SequenceError> {
-    let resolved = resolved(scene, settings)?;
-    let order = order(&resolved, spec, settings)?;
+    let (resolved, order) = resolved_order(scene, spec, settings)?;
     let adj = order::adjacency(&resolved, settings)?;
     let mut stepper = Stepper::new(&resolved, settings);
     let (steps, props) = search::with_props(&mut stepper, &resolved, &adj, &order, search, per_step, tick)?;
