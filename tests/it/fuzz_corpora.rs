@@ -61,18 +61,26 @@ fn the_crashes_found_are_clear_errors() {
     assert!(count >= 2, "the two weld overflows of issue #44 are kept");
 }
 
-/// The kept corpora run without a panic, and a floor of each reaches the solver (detection for
-/// the mesh target): the fuzzers explore past the readers.
+/// The share of each kept corpus that reaches detection or further, at least: half of what the
+/// committed corpora reach (scene_json 40 %, compas 31 %, obj 58 %, stl 1.5 %, mesh 31 %,
+/// perturbed 93 %), so a reader or check that started refusing what it took
+/// fails here. STL's share is low by nature: a binary STL from random bytes is rarely a closed
+/// solid.
+const DEEP_FLOOR: [(&str, f64); 6] =
+    [("scene_json", 0.2), ("compas", 0.15), ("obj", 0.3), ("stl", 0.007), ("mesh", 0.15), ("perturbed", 0.45)];
+
+/// The kept corpora run without a panic, and a floor of each reaches detection (the fuzzers
+/// explore past the readers).
 #[test]
 fn the_corpora_run_and_reach_deep() {
-    for target in TARGETS {
+    for (target, floor) in DEEP_FLOOR {
         let runs = replay("corpus", target);
         if runs.is_empty() {
             continue;
         }
         let deep = runs.iter().filter(|(_, r)| r >= &Reached::Detected).count();
         let share = deep as f64 / runs.len() as f64;
-        eprintln!("{target}: {} inputs, {deep} reach detection or further ({:.0} %)", runs.len(), 100.0 * share);
-        assert!(share >= 0.05, "{target}: only {deep} of {} corpus inputs get past the readers", runs.len());
+        eprintln!("{target}: {} inputs, {deep} reach detection or further ({:.1} %)", runs.len(), 100.0 * share);
+        assert!(share >= floor, "{target}: only {deep} of {} corpus inputs get past the readers", runs.len());
     }
 }
