@@ -49,9 +49,7 @@ pub(crate) fn model_size(blocks: &[Block], tolerances: &Tolerances) -> Result<f6
     }
     check(blocks, tolerances.coplanar)
         .map_err(|(b, source)| ModelError::Mesh { block: blocks[b].name.clone(), source })?;
-    let mut all = Aabb3::empty();
-    blocks.iter().flat_map(|b| &b.mesh.vertices).for_each(|p| all.extend(p));
-    let extent = all.diagonal();
+    let extent = extent(blocks);
     if extent == 0.0 {
         let first = blocks.first().ok_or(ModelError::NoBlocks)?;
         let vertices = blocks.iter().map(|b| b.mesh.vertices.len()).sum();
@@ -65,6 +63,15 @@ pub(crate) fn model_size(blocks: &[Block], tolerances: &Tolerances) -> Result<f6
         return Err(ModelError::TooSmall(extent));
     }
     Ok(tolerances.scale(extent))
+}
+
+/// The bounding-box diagonal of every finite vertex of `blocks` (0 when they all coincide or
+/// there are none).
+pub(crate) fn extent(blocks: &[Block]) -> f64 {
+    let mut all = Aabb3::empty();
+    let finite = blocks.iter().flat_map(|b| &b.mesh.vertices).filter(|p| p.iter().all(|c| c.is_finite()));
+    finite.for_each(|p| all.extend(p));
+    all.diagonal()
 }
 
 /// The first vertex (in block order) whose coordinates are not sane, as the index of its block

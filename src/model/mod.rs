@@ -156,15 +156,11 @@ impl Scene {
     }
 
     /// The model size every tolerance is relative to: the bounding-box diagonal of all finite
-    /// vertices (1 when there are none; non-finite vertices are reported by validation).
+    /// vertices (1 when there are none; an assembly refuses such a model,
+    /// [`coordinates::extent`]).
     pub fn scale(&self) -> f64 {
-        let mut all = crate::geometry::Aabb3::empty();
-        for b in &self.blocks {
-            for p in b.mesh.vertices.iter().filter(|p| p.iter().all(|c| c.is_finite())) {
-                all.extend(p);
-            }
-        }
-        if all.diagonal() > 0.0 { all.diagonal() } else { 1.0 }
+        let extent = coordinates::extent(&self.blocks);
+        if extent > 0.0 { extent } else { 1.0 }
     }
 
     /// One density for every block (kg/m³): the material's, with the blocks' own overrides
