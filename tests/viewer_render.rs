@@ -14,7 +14,7 @@ use voussoir::viewer::{Script, ScriptStep, ViewerAction, ViewerOptions};
 use voussoir::viz::DiagramMode;
 
 /// Pixel counts of the 3D view by colour class.
-#[derive(Debug, Default)]
+#[derive(Default)]
 struct Census {
     total: usize,
     blue: usize,
@@ -23,9 +23,31 @@ struct Census {
     orange: usize,
     green: usize,
     sandstone: usize,
+    /// The motion pane's moved blocks.
+    violet: usize,
+    /// Hues of the orange pixels (degrees).
+    orange_hues: Vec<f32>,
 }
 
 /// Hue (degrees), saturation and value of an sRGB pixel.
+impl std::fmt::Debug for Census {
+    fn fmt(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+        let Census { total, blue, red, yellow, orange, green, sandstone, violet, .. } = self;
+        write!(
+            f,
+            "total {total}, blue {blue}, red {red}, yellow {yellow}, orange {orange}, green {green}, \
+             sandstone {sandstone}, violet {violet}"
+        )
+    }
+}
+
+/// The 5th and 95th percentiles of `hues`.
+fn spread(hues: &[f32]) -> (f32, f32) {
+    let mut h = hues.to_vec();
+    h.sort_by(f32::total_cmp);
+    (h[h.len() / 20], h[h.len() * 19 / 20])
+}
+
 fn hsv(p: [u8; 3]) -> (f32, f32, f32) {
     let [r, g, b] = p.map(|c| c as f32 / 255.0);
     let max = r.max(g).max(b);
@@ -60,9 +82,13 @@ fn census(img: &RgbImage, rect: [u32; 4]) -> Census {
             match h {
                 h if (200.0..=250.0).contains(&h) && s > 0.4 => c.blue += 1,
                 h if (45.0..=65.0).contains(&h) && s > 0.4 => c.yellow += 1,
-                h if (18.0..=40.0).contains(&h) && s > 0.6 => c.orange += 1,
+                h if (18.0..=40.0).contains(&h) && s > 0.45 => {
+                    c.orange += 1;
+                    c.orange_hues.push(h);
+                }
                 h if (100.0..=150.0).contains(&h) && s > 0.5 => c.green += 1,
-                h if (20.0..=45.0).contains(&h) && s <= 0.6 => c.sandstone += 1,
+                h if (20.0..=45.0).contains(&h) && s <= 0.45 => c.sandstone += 1,
+                h if (250.0..=290.0).contains(&h) && s > 0.25 => c.violet += 1,
                 _ => {}
             }
         }
@@ -91,6 +117,7 @@ fn picture(s: &Value, viewport: &str) -> Census {
 }
 
 fn main() {
+    no_display_is_one_clear_error();
     let dir = std::env::temp_dir().join(format!("voussoir-viewer-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let path = |name: &str| dir.join(format!("{name}.png"));
@@ -118,8 +145,18 @@ fn main() {
         Load(Box::new(builtin("slope?angle=35&mu=0.5").unwrap())),
         Settle(5),
         Shot(path("sliding_friction")),
-        // Editing: cut the top cube of a stack, move the cut, undo, redo, undo, save.
+        // tan 25° / 0.7 = 0.666: above the threshold, within μ: one orange interface.
+        Load(Box::new(builtin("slope?angle=25&mu=0.7").unwrap())),
+        Settle(5),
+        Shot(path("orange_friction")),
+        // The seed paper's Fig 6 in both modes.
+        Load(Box::new(fig6())),
+        Settle(5),
+        Shot(path("fig6_friction")),
         Act(A::SetMode(DiagramMode::Compression)),
+        Settle(3),
+        Shot(path("fig6_compression")),
+        // Editing: cut the top cube of a stack, move the cut, undo, redo, undo, save.
         Load(Box::new(builtin("stack?n=2").unwrap())),
         Settle(3),
         // Picked as a click would: the ray towards box1's centre meets box1 first.
@@ -159,30 +196,37 @@ fn main() {
         Act(A::ToggleMechanism),
         Settle(5),
         Shot(path("mechanism")),
-        // The kinematic check of compas_cra's letter H: RBE holds the bar, released from rest
-        // it falls; its mechanism is drawn beside the design (the load factor's view closes).
+        // The kinematic check of compas_cra's letter H on its lowest blocks (`--supports
+        // lowest`): RBE holds the bar, released from rest it falls; its mechanism is drawn
+        // beside the design (the load factor's pane closes).
         Load(Box::new(letter_h())),
         Act(A::ToggleKinematic),
         Settle(5),
         Shot(path("kinematic")),
         // The paper's M (Fig 4a: its cut through the V needs tension), repaired with O: the
-        // cut glides into place and the design stands.
+        // cut glides into place and the design stands; the keys listed too.
         Act(A::ToggleKinematic),
         Load(Box::new(fig4a())),
         Settle(3),
         Act(A::Repair),
+        Act(A::ToggleKeys),
         Settle(3),
         Shot(path("repaired")),
     ];
     let report_path = dir.join("report.json");
     let mut options = ViewerOptions::new(default_scene);
-    options.size = (720, 450);
+    // The smallest window the panel must fit (VOUSSOIR_SHOT_SIZE=1280x800 shoots another).
+    options.size = std::env::var("VOUSSOIR_SHOT_SIZE")
+        .ok()
+        .and_then(|s| s.split_once('x').and_then(|(w, h)| Some((w.parse().ok()?, h.parse().ok()?))))
+        .unwrap_or((1024, 640));
     options.save_to = Some(saved.clone());
     options.script = Some(Script { steps, report: Some(report_path.clone()) });
+    let width = options.size.0;
     let exit = voussoir::viewer::run(options);
     assert!(exit.is_success(), "the scripted session failed: {exit:?}");
     let report: Value = serde_json::from_str(&std::fs::read_to_string(&report_path).unwrap()).unwrap();
-    check(&report, &saved);
+    check(&report, &saved, width);
     // The line .ci/run sums, as the test harness prints it.
     println!("test result: ok. 1 passed; 0 failed; 0 ignored; 0 measured; 0 filtered out (viewer_render)");
     if std::env::var_os("VOUSSOIR_KEEP_SHOTS").is_none() {
@@ -190,21 +234,74 @@ fn main() {
     }
 }
 
+/// Without a display `view` says so and exits 2, and writes no screenshot.
+fn no_display_is_one_clear_error() {
+    let out = std::env::temp_dir().join(format!("voussoir-no-display-{}.png", std::process::id()));
+    let run = std::process::Command::new(env!("CARGO_BIN_EXE_voussoir"))
+        .args(["view", "--screenshot"])
+        .arg(&out)
+        .env_remove("DISPLAY")
+        .env_remove("WAYLAND_DISPLAY")
+        .output()
+        .expect("the CLI runs");
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert_eq!(run.status.code(), Some(2), "{stderr}");
+    assert!(stderr.starts_with("error: no display") && stderr.contains("xvfb-run"), "{stderr}");
+    assert_eq!(stderr.lines().count(), 1, "one line: {stderr}");
+    assert!(!String::from_utf8_lossy(&run.stdout).contains("screenshot written"));
+    assert!(!out.exists());
+}
+
+/// The seed paper's Fig 6: DMSC in many pieces.
+fn fig6() -> voussoir::model::Scene {
+    voussoir::io::load_scene(&Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/cases/fig6_dmsc.json")).unwrap()
+}
+
 /// The seed paper's Fig 4a: the M cut at z = 0.2 through its V.
 fn fig4a() -> voussoir::model::Scene {
     voussoir::io::load_scene(&Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/cases/fig4a_m_cut.json")).unwrap()
 }
 
-/// compas_cra's letter H on its two posts (as tests/it/kinematic_check.rs sets it up).
+/// compas_cra's letter H on its two posts, as `view H.json --supports lowest --mu 0.84` opens it.
 fn letter_h() -> voussoir::model::Scene {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/compas/compas_cra/H.json");
     let mut scene = voussoir::io::load_scene(&path).unwrap();
-    scene.mark_lowest_as_supports(1e-3);
+    let options = voussoir::cli::options::SceneOptions { supports: Some("lowest".into()), ..Default::default() };
+    options.apply(&mut scene, &Default::default()).unwrap();
     scene.material.friction = 0.84;
     scene
 }
 
-fn check(report: &Value, saved: &Path) {
+/// Every section of the panel lies within the panel and the window; a section written as
+/// lines (not free text) has no line wrapped.
+fn panel_fits(report: &Value, logical_width: u32) {
+    for s in report["shots"].as_array().unwrap() {
+        let [w, h] = [0, 1].map(|k| s["size"][k].as_f64().unwrap());
+        let panel = voussoir::viewer::PANEL_WIDTH as f64 * w / logical_width as f64;
+        for section in s["panel"].as_array().expect("the panel's layout") {
+            let r: Vec<f64> = section["rect"].as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).collect();
+            let name = &s["path"];
+            assert!(
+                r[0] >= -0.5 && r[1] >= -0.5 && r[2] <= panel + 0.5 && r[3] <= h + 0.5,
+                "{name}: {section} outside {panel}×{h}"
+            );
+            if !section["may_wrap"].as_bool().unwrap() {
+                assert!(
+                    section["visual_lines"].as_u64() <= section["lines"].as_u64(),
+                    "{name}: a line wraps: {section}"
+                );
+            }
+        }
+    }
+}
+
+/// The friction diagram's bands of a shot's interfaces.
+fn bands(s: &Value) -> Vec<String> {
+    s["friction_bands"].as_array().unwrap().iter().map(|b| b["band"].as_str().unwrap().to_string()).collect()
+}
+
+fn check(report: &Value, saved: &Path, logical_width: u32) {
+    panel_fits(report, logical_width);
     // The default arch stands: blue compression, no red tension; 17 blocks, 16 interfaces.
     let s = shot(report, "default_compression");
     assert_eq!((s["blocks"].as_u64(), s["interfaces"].as_u64()), (Some(17), Some(16)), "{s}");
@@ -214,10 +311,12 @@ fn check(report: &Value, saved: &Path) {
     assert!(c.blue > c.total / 200, "blue compression is shown: {c:?}");
     assert!(c.red < c.blue / 50, "no tension on a standing arch: {c:?}");
     // Friction: at most 45 % of μ everywhere, below the 50 % threshold: yellow, nothing red.
-    let c = picture(&shot(report, "default_friction"), "main_viewport");
+    let s = shot(report, "default_friction");
+    assert!(bands(&s).iter().all(|b| b == "yellow" || b == "no friction"), "{s}");
+    let c = picture(&s, "main_viewport");
     println!("default, friction: {c:?}");
     assert!(c.yellow > c.total / 400, "low friction is yellow: {c:?}");
-    assert!(c.red < c.yellow / 50 && c.blue < c.yellow / 50, "{c:?}");
+    assert!(c.red < c.yellow / 50 && c.blue < c.yellow / 50 && c.orange < c.yellow / 50, "{c:?}");
     // Vectors: green resultant arrows over the blue compression.
     let c = picture(&shot(report, "default_vectors"), "main_viewport");
     println!("default, vectors: {c:?}");
@@ -234,6 +333,40 @@ fn check(report: &Value, saved: &Path) {
     let c = picture(&s, "main_viewport");
     println!("slope, friction: {c:?}");
     assert!(c.red > c.total / 200 && c.yellow < c.red / 10, "exceeded friction is red: {c:?}");
+
+    // One orange interface at u = 0.67: orange pixels of one hue, the band's; the panel's
+    // largest use is the band's.
+    let s = shot(report, "orange_friction");
+    assert_eq!(bands(&s), ["orange"], "{s}");
+    let u = s["max_friction_use"].as_f64().unwrap();
+    assert!((u - 25f64.to_radians().tan() / 0.7).abs() < 1e-6, "{s}");
+    let c = picture(&s, "main_viewport");
+    println!("slope within μ, friction: {c:?}");
+    assert!(c.orange > c.total / 400 && c.yellow < c.orange / 50 && c.red < c.orange / 50, "{c:?}");
+    let (lo, hi) = spread(&c.orange_hues);
+    let band = &s["friction_bands"][0]["colour"];
+    let srgb = |k: usize| {
+        let l = band[k].as_f64().unwrap() as f32;
+        let v = if l <= 0.0031308 { 12.92 * l } else { 1.055 * l.powf(1.0 / 2.4) - 0.055 };
+        (v * 255.0).round() as u8
+    };
+    let (expected, _, _) = hsv([srgb(0), srgb(1), srgb(2)]);
+    assert!(
+        hi - lo < 6.0 && lo - 3.0 <= expected && expected <= hi + 3.0,
+        "one orange, the band's: {lo}–{hi} vs {expected}"
+    );
+    // Fig 6 (largest use 0.40 μ, by the panel): every interface yellow or grey, no orange.
+    let s = shot(report, "fig6_friction");
+    assert!(bands(&s).iter().all(|b| b == "yellow" || b == "no friction"), "{s}");
+    let numbers = s["panel"].as_array().unwrap().iter().find(|p| p["section"] == "Numbers").unwrap();
+    let u = s["max_friction_use"].as_f64().unwrap();
+    assert!(numbers["text"].as_str().unwrap().contains(&format!("{u:.2} μN")), "{numbers}");
+    let c = picture(&s, "main_viewport");
+    println!("fig6, friction: {c:?}");
+    assert!(c.yellow > c.total / 1000 && c.orange < c.yellow / 50 && c.red < c.yellow / 50, "{c:?}");
+    let c = picture(&shot(report, "fig6_compression"), "main_viewport");
+    println!("fig6, compression: {c:?}");
+    assert!(c.blue > c.total / 1000 && c.red < c.blue / 50, "{c:?}");
 
     // Editing: cut box1 (4 blocks with the slab), the move undone, so the cut halves box1: the
     // saved design has that one cut, through box1's centroid (0, 0, 1.5).
@@ -269,9 +402,10 @@ fn check(report: &Value, saved: &Path) {
     let main = rect(&s["main_viewport"]);
     let physics = rect(&s["physics_viewport"]);
     assert!(physics[0] >= main[2], "the drop view is beside the static one: {main:?} {physics:?}");
+    assert!(s["caption"].as_str().unwrap().starts_with("drop test (rapier)"), "{s}");
     let c = picture(&s, "physics_viewport");
     println!("drop view: {c:?}");
-    assert!(c.sandstone > c.total / 100, "the blocks are drawn in the drop view: {c:?}");
+    assert!(c.violet > c.total / 100, "the blocks are drawn in the drop view: {c:?}");
     assert!(c.blue == 0, "the drop view shows no diagram: {c:?}");
     // Sequence: bottom-up, step 9 of 15 of the arch (v0–v4 on the right, v10–v14 on the
     // left): the half arches lean in, needing tension (1.44 W by `voussoir sequence`).
@@ -301,9 +435,19 @@ fn check(report: &Value, saved: &Path) {
     assert!(s["worst_azimuth"].is_number(), "{s}");
     let physics = rect(&s["physics_viewport"]);
     assert!(physics[0] >= rect(&s["main_viewport"])[2], "the mechanism is beside the design: {s}");
+    // The pane: every block copied, the moved ones violet over their rest-state ghosts, the
+    // hinges marked, a caption with λ*, the exaggeration and the load.
+    let pane = &s["pane"];
+    assert_eq!(pane["copies"].as_u64(), Some(17), "{s}");
+    assert!(pane["moved"].as_u64().unwrap() >= 3 && pane["ghosts"] == pane["moved"], "{s}");
+    assert!(pane["joints"].as_u64().unwrap() >= 3, "an arch hinges at four joints: {s}");
+    let caption = s["caption"].as_str().unwrap();
+    assert!(caption.contains(&format!("λ* = {shown:.4}")) && caption.contains("8 % of the size"), "{caption}");
+    assert!(caption.contains("worst at") && caption.contains("hinging"), "{caption}");
     let c = picture(&s, "physics_viewport");
     println!("mechanism view: {c:?}");
-    assert!(c.sandstone > c.total / 100, "the moved blocks are drawn: {c:?}");
+    assert!(c.violet > c.total / 100, "the moved blocks are drawn: {c:?}");
+    assert!(c.orange > 20, "the hinges are marked: {c:?}");
     // The kinematic view: the core's verdicts on H (statics stands, the bar falls), one block
     // moving, drawn in the second view.
     let s = shot(report, "kinematic");
@@ -318,9 +462,11 @@ fn check(report: &Value, saved: &Path) {
     assert_eq!((s["kinematic_agrees"].as_bool(), s["stands"].as_bool()), (Some(false), Some(true)), "{s}");
     assert_eq!(s["kinematic_moving"].as_u64(), Some(1), "only the bar: {s}");
     assert_eq!(s["load_factor"], Value::Null, "one mechanism at a time: {s}");
+    assert_eq!(s["headline"], "STANDS (statics)\nFALLS (kinematic)", "the headline says they disagree: {s}");
+    assert!(s["caption"].as_str().unwrap().starts_with("kinematic check"), "{s}");
     let c = picture(&s, "physics_viewport");
     println!("kinematic view: {c:?}");
-    assert!(c.sandstone > c.total / 100, "the blocks are drawn beside the design: {c:?}");
+    assert!(c.violet > c.total / 200, "the falling bar is drawn beside the design: {c:?}");
     // Repair (O): the M stands with its one cut moved, one undo step back to Fig 4a, the
     // message the repair's, no red tension on screen; the design is the core's repair.
     let s = shot(report, "repaired");
@@ -330,6 +476,11 @@ fn check(report: &Value, saved: &Path) {
         "{s}"
     );
     assert!(s["message"].as_str().is_some_and(|m| m.starts_with("repaired: it stands now")), "{s}");
+    let message = s["message"].as_str().unwrap();
+    assert!(message.contains("needs tension → stands") && !message.contains("NeedsTension"), "words: {message}");
+    let title = s["panel"].as_array().unwrap().iter().find(|p| p["section"] == "Title").unwrap();
+    assert!(title["text"].as_str().unwrap().contains("(edited)"), "the title says it was edited: {title}");
+    assert!(s["panel"].as_array().unwrap().iter().any(|p| p["section"] == "Keys"), "the keys are listed: {s}");
     let core = voussoir::synthesis::repair(&fig4a(), &Default::default(), &Default::default(), &|_, _, _| {}).unwrap();
     assert_eq!(s["blocks"].as_u64(), Some(core.after.pieces as u64), "{s}");
     let c = picture(&s, "main_viewport");

@@ -1,11 +1,11 @@
 //! `voussoir analyze` (also `drop`, and `voussoir` without a command): the statics of one
 //! design, its text report and JSON report, and on request the drop test beside it.
 
-use super::options::{DropOptions, LoadOptions, SolverOptions};
+use super::options::{DropOptions, LoadOptions, SceneOptions, SolverOptions};
 use super::{BadInput, load, refuse_overwrite, scene_name, write_output};
 use crate::io;
-use crate::model::{LoadKind, Scene, SupportChoice};
-use crate::pipeline::{AnalysisSettings, analyze};
+use crate::model::LoadKind;
+use crate::pipeline::analyze;
 use crate::report::{self, text as text_report};
 use clap::{Args, FromArgMatches};
 use std::path::PathBuf;
@@ -31,20 +31,8 @@ pub struct AnalyzeArgs {
     pub solver: SolverOptions,
     #[command(flatten)]
     pub loads: LoadOptions,
-    /// Density for every block, kg/m³ (default: the scene's).
-    #[arg(long)]
-    pub density: Option<f64>,
-    /// Supports: `lowest` (blocks at the lowest level) or a comma-separated list of block
-    /// names; replaces the supports given in the scene.
-    #[arg(long)]
-    pub supports: Option<String>,
-    /// A JSON list of compas meshes added as supports (compas_dem's `supports.json` beside its
-    /// `blocks.json`).
-    #[arg(long)]
-    pub supports_file: Option<PathBuf>,
-    /// The ground plane z = 0 supports faces lying on it.
-    #[arg(long)]
-    pub ground: bool,
+    #[command(flatten)]
+    pub scene_options: SceneOptions,
     /// How many of the worst interfaces to list.
     #[arg(long, default_value_t = 5)]
     pub worst: usize,
@@ -93,7 +81,7 @@ pub fn run(args: &AnalyzeArgs) -> Result<i32, BadInput> {
     }
     let mut scene = load(args.scene.as_deref())?;
     let settings = args.solver.settings();
-    apply_scene_options(&mut scene, args, &settings)?;
+    args.scene_options.apply(&mut scene, &settings)?;
     scene.loads.extend(args.loads.loads()?);
     let live = scene.loads.iter().filter(|l| l.kind() == LoadKind::Live).count();
     let analysis =
@@ -135,31 +123,4 @@ pub fn run(args: &AnalyzeArgs) -> Result<i32, BadInput> {
         && dynamic.as_ref().is_none_or(|d| d.stands)
         && kinematic.as_ref().is_none_or(|k| k.verdict == crate::stability::kinematic::KinematicVerdict::Stands);
     Ok(if stands { 0 } else { 1 })
-}
-
-/// `--density`, `--ground`, `--supports` and `--supports-file`: the scene as the command line
-/// amends it.
-fn apply_scene_options(scene: &mut Scene, args: &AnalyzeArgs, settings: &AnalysisSettings) -> Result<(), BadInput> {
-    if let Some(file) = &args.supports_file {
-        let supports = crate::io::load_supports(file).map_err(|e| BadInput(e.to_string()))?;
-        if let Some(clash) = supports.iter().find(|s| scene.find(&s.name).is_some()) {
-            return Err(BadInput(format!("--supports-file: the scene already has a block named '{}'", clash.name)));
-        }
-        scene.blocks.extend(supports);
-    }
-    if let Some(d) = args.density {
-        scene.set_density(d);
-    }
-    if args.ground {
-        scene.ground = true;
-    }
-    let choice = match args.supports.as_deref() {
-        None => return Ok(()),
-        Some("lowest") => SupportChoice::Lowest,
-        Some(list) => {
-            SupportChoice::Named(list.split(',').map(str::trim).filter(|s| !s.is_empty()).map(str::to_string).collect())
-        }
-    };
-    scene.choose_supports(&choice, settings.tolerances.coplanar).map_err(|e| BadInput(format!("--supports: {e}")))?;
-    Ok(())
 }

@@ -6,11 +6,12 @@ use super::BadInput;
 use super::choice::Choice;
 use crate::dynamics::DropSettings;
 use crate::geometry::{Point3, Tolerances, Vector3};
-use crate::model::{Load, LoadKind};
+use crate::model::{Load, LoadKind, Scene, SupportChoice};
 use crate::pipeline::AnalysisSettings;
 use crate::statics::{Backend, FrictionModel, StaticsSettings};
 use crate::viz::DiagramMode;
 use clap::{Args, ValueEnum};
+use std::path::PathBuf;
 
 /// How the statics run (`analyze`, `drop`, `sequence`, `export`, `view`).
 #[derive(Args, Debug, Clone, PartialEq)]
@@ -181,5 +182,52 @@ impl LoadOptions {
             out.push(Load::Acceleration { accel: Vector3::new(a[0], a[1], a[2]), kind });
         }
         Ok(out)
+    }
+}
+
+/// The scene as the command line amends it: densities, supports, the ground (`analyze`,
+/// `drop`, `view`).
+#[derive(Args, Debug, Clone, PartialEq, Default)]
+pub struct SceneOptions {
+    /// Density for every block, kg/m³ (default: the scene's).
+    #[arg(long)]
+    pub density: Option<f64>,
+    /// Supports: `lowest` (blocks at the lowest level) or a comma-separated list of block
+    /// names; replaces the supports given in the scene.
+    #[arg(long)]
+    pub supports: Option<String>,
+    /// A JSON list of compas meshes added as supports (compas_dem's `supports.json` beside its
+    /// `blocks.json`).
+    #[arg(long)]
+    pub supports_file: Option<PathBuf>,
+    /// The ground plane z = 0 supports faces lying on it.
+    #[arg(long)]
+    pub ground: bool,
+}
+
+impl SceneOptions {
+    /// Applies the options to `scene` (supports chosen with `settings`' coplanarity tolerance).
+    pub fn apply(&self, scene: &mut Scene, settings: &AnalysisSettings) -> Result<(), BadInput> {
+        if let Some(file) = &self.supports_file {
+            let supports = crate::io::load_supports(file).map_err(|e| BadInput(e.to_string()))?;
+            if let Some(clash) = supports.iter().find(|s| scene.find(&s.name).is_some()) {
+                return Err(BadInput(format!("--supports-file: the scene already has a block named '{}'", clash.name)));
+            }
+            scene.blocks.extend(supports);
+        }
+        if let Some(d) = self.density {
+            scene.set_density(d);
+        }
+        if self.ground {
+            scene.ground = true;
+        }
+        let choice = match self.supports.as_deref() {
+            None => return Ok(()),
+            Some("lowest") => SupportChoice::Lowest,
+            Some(list) => SupportChoice::Named(
+                list.split(',').map(str::trim).filter(|s| !s.is_empty()).map(str::to_string).collect(),
+            ),
+        };
+        scene.choose_supports(&choice, settings.tolerances.coplanar).map_err(|e| BadInput(format!("--supports: {e}")))
     }
 }

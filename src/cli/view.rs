@@ -2,7 +2,7 @@
 //! command says how to build it.
 
 use super::BadInput;
-use super::options::{DiagramOptions, SolverOptions};
+use super::options::{DiagramOptions, SceneOptions, SolverOptions};
 use clap::Args;
 use std::path::PathBuf;
 
@@ -14,6 +14,8 @@ pub struct ViewArgs {
     pub diagram: DiagramOptions,
     #[command(flatten)]
     pub solver: SolverOptions,
+    #[command(flatten)]
+    pub scene_options: SceneOptions,
     /// Draw the blocks opaque (default translucent, so that the interfaces show).
     #[arg(long)]
     pub opaque: bool,
@@ -46,19 +48,35 @@ pub fn run(_: &ViewArgs) -> Result<i32, BadInput> {
     ))
 }
 
+/// Why no window can open here, if none can: on Linux and the BSDs the viewer needs an X11
+/// or Wayland display (bevy's window would panic without one).
+pub fn missing_display(var: impl Fn(&str) -> Option<std::ffi::OsString>) -> Option<String> {
+    let unix_desktop = cfg!(all(unix, not(target_os = "macos"), not(target_os = "ios"), not(target_os = "android")));
+    let set = |name: &str| var(name).is_some_and(|v| !v.is_empty());
+    (unix_desktop && !set("DISPLAY") && !set("WAYLAND_DISPLAY")).then(|| {
+        "no display: the viewer needs a window, and neither DISPLAY nor WAYLAND_DISPLAY is set \
+         (run it under xvfb-run, e.g. `xvfb-run -a voussoir view ...`)"
+            .to_string()
+    })
+}
+
 #[cfg(feature = "viewer")]
 pub fn run(args: &ViewArgs) -> Result<i32, BadInput> {
     use super::{load, refuse_overwrite, scene_name};
     use crate::viewer::{Script, ScriptStep, ViewerOptions};
     let mode = args.diagram.mode()?;
-    let scene = load(args.scene.as_deref())?;
+    let mut scene = load(args.scene.as_deref())?;
     if let Some(out) = &args.screenshot {
         refuse_overwrite(args.scene.as_deref(), out, "--screenshot")?;
     }
     let settings = args.solver.settings();
+    args.scene_options.apply(&mut scene, &settings)?;
     // A design that cannot be analysed is reported here, not as an empty window.
     crate::pipeline::analyze(&scene, &settings)
         .map_err(|e| BadInput(format!("{}: {e}", scene_name(args.scene.as_deref()))))?;
+    if let Some(why) = missing_display(|name| std::env::var_os(name)) {
+        return Err(BadInput(why));
+    }
     let mut options = ViewerOptions::new(scene);
     options.input = args.scene.as_ref().filter(|s| !s.starts_with("builtin:")).map(PathBuf::from);
     options.save_to = args.save.clone();
@@ -72,8 +90,12 @@ pub fn run(args: &ViewArgs) -> Result<i32, BadInput> {
         .as_ref()
         .map(|out| Script { steps: vec![ScriptStep::Settle(5), ScriptStep::Shot(out.clone())], report: None });
     let exit = crate::viewer::run(options);
-    if let Some(out) = &args.screenshot {
-        println!("screenshot written to {}", out.display());
+    match (&args.screenshot, exit.is_success()) {
+        (Some(out), true) => println!("screenshot written to {}", out.display()),
+        (Some(out), false) => {
+            eprintln!("error: the viewer stopped before the screenshot: {} not written", out.display())
+        }
+        (None, _) => {}
     }
     Ok(if exit.is_success() { 0 } else { 1 })
 }

@@ -1,8 +1,10 @@
 //! Writers of an analysis's results: the JSON report ([`json`]), the robustness report
 //! ([`stability`]), the text the CLI prints ([`text`]) and the compas files with interface
-//! forces ([`compas`]). Writes go through [`crate::io::write_atomic`].
+//! forces ([`compas`]), and numbers worded for people ([`words`]). Writes go through
+//! [`crate::io::write_atomic`].
 
 pub mod compas;
 pub mod json;
 pub mod stability;
 pub mod text;
+pub mod words;

@@ -484,6 +484,20 @@ pub enum Verdict {
     Unresolved,
 }
 
+impl Verdict {
+    /// The verdict in words, lower case ("stands", "needs tension", …).
+    pub fn words(self) -> &'static str {
+        match self {
+            Verdict::Stands => "stands",
+            Verdict::NeedsTension => "needs tension",
+            Verdict::NeedsFriction => "needs more friction",
+            Verdict::NeedsTensionAndFriction => "needs tension and friction",
+            Verdict::Unsupported => "unsupported",
+            Verdict::Unresolved => "solver trouble",
+        }
+    }
+}
+
 /// Below this fraction of a component's weight a minimum tension or excess is not resolved
 /// by the LPs (solved to 1e-10): it counts as zero.
 pub const STAND_FLOOR: f64 = 1e-8;

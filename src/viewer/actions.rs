@@ -41,6 +41,8 @@ pub enum ViewerAction {
     ToggleMassCentres,
     ToggleVertexArrows,
     ToggleLabels,
+    /// Show or hide the list of keys in the panel.
+    ToggleKeys,
     /// Show the collapse mechanism beside the design (the load factor of the live loads, or of
     /// the worst horizontal direction when there are none), or hide it.
     ToggleMechanism,
@@ -122,6 +124,8 @@ pub struct ViewerState {
     pub mass_centres: bool,
     pub vertex_arrows: bool,
     pub labels: bool,
+    /// The panel lists the keys.
+    pub keys: bool,
     pub selected: Option<String>,
     pub active_cut: Option<ActiveCut>,
     /// The design as the viewer last sent it.
@@ -149,6 +153,7 @@ impl ViewerState {
             mass_centres: true,
             vertex_arrows: false,
             labels: false,
+            keys: false,
             selected: None,
             active_cut: None,
             design: o.scene.clone(),
@@ -265,6 +270,7 @@ impl Effects<'_> {
             A::ToggleMassCentres => s.mass_centres = !s.mass_centres,
             A::ToggleVertexArrows => s.vertex_arrows = !s.vertex_arrows,
             A::ToggleLabels => s.labels = !s.labels,
+            A::ToggleKeys => s.keys = !s.keys,
             A::ToggleMechanism => self.toggle_overlay(Overlay::Mechanism),
             A::ToggleKinematic => self.toggle_overlay(Overlay::Kinematic),
             A::Select(name) => s.selected = name.clone(),
@@ -463,25 +469,29 @@ fn follow_repair(
     state.message = Some(repair_summary(report));
 }
 
-/// One line: the outcome, the verdicts and load factors before and after, the cuts moved.
+/// Three short lines: the outcome; the verdicts and load factors before and after; the cuts
+/// moved and the search's cost.
 fn repair_summary(r: &crate::synthesis::RepairReport) -> String {
     use crate::synthesis::RepairOutcome;
-    let verdict = |s: &crate::synthesis::Score| s.verdict.map_or("cannot be cut".to_string(), |v| format!("{v:?}"));
+    let verdict = |s: &crate::synthesis::Score| s.verdict.map_or("cannot be cut", crate::statics::Verdict::words);
     let lambda = |l: Option<f64>| l.map_or("—".into(), |l| format!("{l:.3}"));
     let outcome = match &r.outcome {
         RepairOutcome::Repaired => "repaired: it stands now",
         RepairOutcome::AlreadyStood { improved: true } => "it stood; now more safely",
         RepairOutcome::AlreadyStood { improved: false } => "it stood; no safer placement found",
-        RepairOutcome::NotRepaired => "NOT repaired: no placement of these cuts makes it stand",
+        RepairOutcome::NotRepaired => "NOT repaired: no placement of\nthese cuts makes it stand",
         RepairOutcome::NothingToMove => "nothing to move",
     };
+    let moved = match r.changed.len() {
+        1 => "1 cut moved".to_string(),
+        n => format!("{n} cuts moved"),
+    };
     format!(
-        "{outcome} ({} → {}, λ* {} → {}, {} cut(s) moved, {} evaluations in {:.2} s)",
+        "{outcome}\n  {} → {}\n  λ* {} → {}\n  {moved} · {} evaluations, {:.1} s",
         verdict(&r.before),
         verdict(&r.after),
         lambda(r.load_factor_before),
         lambda(r.load_factor_after),
-        r.changed.len(),
         r.evaluations,
         r.seconds
     )

@@ -11,8 +11,19 @@ use bevy::core_pipeline::tonemapping::Tonemapping;
 use bevy::prelude::*;
 use bevy::window::PrimaryWindow;
 
-/// Render layer of the drop-test view.
+/// Render layer of the motion pane (drop test, mechanisms).
 pub const PHYSICS_LAYER: usize = 1;
+
+/// How the motion pane looks at the design.
+#[derive(Resource, Clone, Copy, Debug, Default, PartialEq)]
+pub enum PaneView {
+    /// As the main view (the drop test).
+    #[default]
+    Follow,
+    /// Level, square to a vertical plane whose normal has azimuth `yaw` (a mechanism's plane),
+    /// from the side nearer the main view.
+    Square { yaw: f32 },
+}
 
 pub struct CameraPlugin;
 
@@ -118,13 +129,27 @@ fn frame_design(mut state: ResMut<ViewerState>, pipeline: Res<PipelineState>, mu
 type Views = Or<(With<MainCamera>, With<PhysicsCamera>)>;
 
 /// Both views from the orbit; a view narrower than it is tall steps back so that what fits a
-/// wide view still fits (the field of view is vertical).
-fn place_cameras(main: Query<&OrbitCamera, With<MainCamera>>, mut cams: Query<(&Camera, &mut Transform), Views>) {
+/// wide view still fits (the field of view is vertical). The motion pane may look square to a
+/// mechanism's plane instead.
+fn place_cameras(
+    main: Query<&OrbitCamera, With<MainCamera>>,
+    pane: Res<PaneView>,
+    mut cams: Query<(&Camera, &mut Transform, Has<PhysicsCamera>), Views>,
+) {
     let Ok(orbit) = main.single() else { return };
-    for (camera, mut transform) in &mut cams {
+    for (camera, mut transform, is_pane) in &mut cams {
         let aspect =
             camera.viewport.as_ref().map_or(1.0, |v| v.physical_size.x as f32 / v.physical_size.y.max(1) as f32);
-        let t = OrbitCamera { distance: orbit.distance / aspect.clamp(0.2, 1.0), ..*orbit }.transform();
+        let mut view = OrbitCamera { distance: orbit.distance / aspect.clamp(0.2, 1.0), ..*orbit };
+        if let (true, PaneView::Square { yaw }) = (is_pane, *pane) {
+            // Of the plane's two sides, the one nearer the main view's azimuth.
+            let turn = |y: f32| (y - orbit.yaw + std::f32::consts::PI).rem_euclid(std::f32::consts::TAU);
+            let flipped = yaw + std::f32::consts::PI;
+            let nearer = |y: f32| (turn(y) - std::f32::consts::PI).abs();
+            view.yaw = if nearer(yaw) <= nearer(flipped) { yaw } else { flipped };
+            view.pitch = 0.12;
+        }
+        let t = view.transform();
         if *transform != t {
             *transform = t;
         }

@@ -5,7 +5,8 @@
 
 use super::actions::{ViewerAction, ViewerState};
 use super::camera::{MainCamera, PhysicsCamera};
-use super::hud::Shown;
+use super::hud::{PanelLayout, Shown};
+use super::motion::{Motions, PaneCounts};
 use crate::ecs::{DropStatus, EditDesign, InterfaceColors, PipelineState, RepairStatus, SequenceStatus};
 use crate::model::Scene;
 use crate::model::edit::Edit;
@@ -180,6 +181,9 @@ fn run_script(
 #[derive(bevy::ecs::system::SystemParam)]
 struct ShotInfo<'w, 's> {
     shown: Shown<'w>,
+    panel: PanelLayout<'w, 's>,
+    motions: Motions<'w>,
+    pane: PaneCounts<'w, 's>,
     main: Query<'w, 's, &'static Camera, With<MainCamera>>,
     physics: Query<'w, 's, &'static Camera, With<PhysicsCamera>>,
 }
@@ -191,7 +195,31 @@ impl ShotInfo<'_, '_> {
             c.physical_viewport_rect().filter(|_| c.is_active).map(|r| [r.min.x, r.min.y, r.max.x, r.max.y])
         };
         let a = pipeline.analysis.as_ref();
+        let threshold = match state.mode {
+            crate::viz::DiagramMode::Friction { threshold } => threshold,
+            _ => crate::viz::DiagramMode::DEFAULT_THRESHOLD,
+        };
+        // Each interface's friction band, as the friction diagram colours it.
+        let bands: Vec<Value> = a.map_or(Vec::new(), |a| {
+            let s = &a.statics;
+            s.interfaces
+                .iter()
+                .map(|r| {
+                    let band = crate::viz::friction_band(r, s.friction_coefficient, s.friction_model, threshold);
+                    json!({ "interface": format!("{} | {}", r.a, r.b), "use": r.friction_utilization,
+                            "band": band.name(), "colour": band.colour(threshold) })
+                })
+                .collect()
+        });
+        let headline = self.shown.headline();
         json!({
+            "headline": headline.text,
+            "disagrees": headline.disagrees,
+            "panel": self.panel.describe(&self.shown),
+            "caption": self.motions.caption(),
+            "pane": self.pane.describe(),
+            "friction_bands": bands,
+            "max_friction_use": a.map(|a| a.statics.max_friction_utilization),
             "path": path.display().to_string(),
             "size": [size.0, size.1],
             "mode": format!("{:?}", state.mode),

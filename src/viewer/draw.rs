@@ -1,16 +1,15 @@
-//! What is drawn: block meshes (world coordinates, flat shaded; translucent or opaque, supports
-//! dark, the selection highlighted), the ground, interface polygons coloured per force point
-//! (unlit, so the colours of [`crate::viz::colors`] reach the screen unchanged), the drop-test
-//! view's moving copies of the blocks, and the gizmos: force arrows, mass centres, the cut
-//! being edited.
+//! What is drawn in the design's view: block meshes (world coordinates, flat shaded;
+//! translucent or opaque, supports dark — translucent too, so that what they carry shows — the
+//! selection highlighted), the ground, interface polygons coloured per force point (unlit, so
+//! the colours of [`crate::viz::colors`] reach the screen unchanged), and the gizmos: force
+//! arrows, mass centres, the cut being edited. The motion pane is [`super::motion`]'s.
 
+use super::ViewerState;
 use super::camera::PHYSICS_LAYER;
-use super::{Overlay, ViewerState};
-use crate::ecs::{BlockMesh, BlockName, BlockPose, InterfaceColors, InterfaceForces, MassCentre, PipelineState};
-use crate::ecs::{DropStatus, KinematicStatus, Placed, RobustnessStatus, SequenceStatus, Support, VoussoirSet};
-use crate::stability::{BlockMotion, Mechanism};
+use crate::ecs::{BlockMesh, BlockName, InterfaceColors, InterfaceForces, MassCentre, PipelineState};
+use crate::ecs::{Placed, SequenceStatus, Support, VoussoirSet};
 use crate::statics::InterfaceResult;
-use crate::viz::{ColouredTriangle, DiagramMode};
+use crate::viz::{ColouredTriangle, DiagramMode, colors};
 use bevy::asset::RenderAssetUsages;
 use bevy::camera::visibility::RenderLayers;
 use bevy::mesh::PrimitiveTopology;
@@ -22,7 +21,7 @@ impl Plugin for DrawPlugin {
     fn build(&self, app: &mut App) {
         app.add_systems(Startup, setup).add_systems(
             Update,
-            (mesh_blocks, style_blocks, mesh_interfaces, show_interfaces, step_interfaces, ground, ghosts, gizmos)
+            (mesh_blocks, style_blocks, mesh_interfaces, show_interfaces, step_interfaces, ground, gizmos)
                 .chain()
                 .after(VoussoirSet::Write)
                 .after(crate::ecs::diagram::DiagramSystems),
@@ -35,18 +34,20 @@ impl Plugin for DrawPlugin {
 pub struct Palette {
     block: Handle<StandardMaterial>,
     block_translucent: Handle<StandardMaterial>,
-    support: Handle<StandardMaterial>,
+    pub(super) support: Handle<StandardMaterial>,
+    pub(super) support_translucent: Handle<StandardMaterial>,
     selected: Handle<StandardMaterial>,
-    ghost: Handle<StandardMaterial>,
-    interface: Handle<StandardMaterial>,
+    /// The motion pane's moved blocks: violet, a colour no diagram legend uses.
+    pub(super) moved: Handle<StandardMaterial>,
+    /// The motion pane's blocks that do not move.
+    pub(super) still: Handle<StandardMaterial>,
+    /// The motion pane's rest-state ghosts.
+    pub(super) rest: Handle<StandardMaterial>,
+    pub(super) interface: Handle<StandardMaterial>,
 }
 
 #[derive(Component)]
 struct Ground;
-
-/// A block's copy in the drop-test view.
-#[derive(Component)]
-struct Ghost(Entity);
 
 /// An interface polygon of the sequence step shown.
 #[derive(Component)]
@@ -57,10 +58,13 @@ fn setup(mut commands: Commands, mut materials: ResMut<Assets<StandardMaterial>>
     let translucent = |c: Color| StandardMaterial { alpha_mode: AlphaMode::Blend, ..lit(c) };
     commands.insert_resource(Palette {
         block: materials.add(lit(Color::srgb(0.80, 0.78, 0.74))),
-        block_translucent: materials.add(translucent(Color::srgba(0.85, 0.84, 0.82, 0.12))),
+        block_translucent: materials.add(translucent(Color::srgba(0.88, 0.87, 0.85, 0.2))),
         support: materials.add(lit(Color::srgb(0.28, 0.28, 0.30))),
+        support_translucent: materials.add(translucent(Color::srgba(0.30, 0.30, 0.34, 0.4))),
         selected: materials.add(translucent(Color::srgba(0.25, 0.85, 0.85, 0.5))),
-        ghost: materials.add(lit(Color::srgb(0.85, 0.65, 0.40))),
+        moved: materials.add(lit(Color::srgb(colors::MOVED[0], colors::MOVED[1], colors::MOVED[2]))),
+        still: materials.add(lit(Color::srgb(0.72, 0.70, 0.66))),
+        rest: materials.add(StandardMaterial { unlit: true, ..translucent(Color::srgba(0.9, 0.9, 0.9, 0.14)) }),
         // Vertex colours times white, unlit, both sides; pulled towards the camera so that it
         // wins over the block faces it lies on.
         interface: materials.add(StandardMaterial {
@@ -105,7 +109,7 @@ fn block_mesh(m: &crate::geometry::Mesh) -> Mesh {
 }
 
 /// Unlit triangles with a colour per corner (linear RGB).
-fn coloured_mesh(triangles: &[ColouredTriangle], normal: [f64; 3]) -> Mesh {
+pub(super) fn coloured_mesh(triangles: &[ColouredTriangle], normal: [f64; 3]) -> Mesh {
     let positions: Vec<[f32; 3]> = triangles.iter().flat_map(|t| t.map(|(p, _)| v3(p))).collect();
     let colours: Vec<[f32; 4]> = triangles.iter().flat_map(|t| t.map(|(_, c)| [c[0], c[1], c[2], 1.0])).collect();
     let normals = vec![v3(normal); positions.len()];
@@ -136,10 +140,12 @@ type BlockStyle<'a> =
     (&'a BlockName, Has<Support>, Has<Placed>, &'a mut MeshMaterial3d<StandardMaterial>, &'a mut Visibility);
 
 /// Material and visibility of every block from the state (set only where they differ).
-fn style_blocks(state: Res<ViewerState>, palette: Res<Palette>, mut blocks: Query<BlockStyle, Without<Ghost>>) {
+fn style_blocks(state: Res<ViewerState>, palette: Res<Palette>, mut blocks: Query<BlockStyle>) {
     for (name, support, placed, mut material, mut visibility) in &mut blocks {
         let want = if state.selected.as_deref() == Some(name.0.as_str()) {
             &palette.selected
+        } else if support && state.translucent {
+            &palette.support_translucent
         } else if support {
             &palette.support
         } else if state.translucent {
@@ -234,7 +240,7 @@ fn ground(
     commands.spawn((
         Mesh3d(meshes.add(Plane3d::new(Vec3::Z, Vec2::splat(2.0 * d)).mesh())),
         MeshMaterial3d(materials.add(StandardMaterial {
-            base_color: Color::srgb(0.21, 0.21, 0.20),
+            base_color: Color::srgb(0.09, 0.09, 0.09),
             perceptual_roughness: 1.0,
             ..default()
         })),
@@ -242,106 +248,6 @@ fn ground(
         RenderLayers::from_layers(&[0, PHYSICS_LAYER]),
         Ground,
     ));
-}
-
-/// A block as its drop-test copy needs it.
-type GhostSource<'a> = (Entity, &'a Mesh3d, &'a MassCentre, Option<&'a BlockPose>, &'a BlockName, Has<Support>);
-
-/// The largest drawn motion of the mechanism view, as a fraction of the model size.
-const MECHANISM_EXAGGERATION: f64 = 0.08;
-
-/// The drop-test view: a copy of every block, moved by its [`BlockPose`] (a pose is the
-/// rotation about the centroid since the start and the centroid now); or the mechanism view:
-/// the copies moved along the collapse mechanism, exaggerated so that the largest motion is
-/// [`MECHANISM_EXAGGERATION`] of the model size. The mechanism is the kinematic check's while
-/// it is on (initial accelerations), else the load factor's (a virtual displacement): drawn
-/// the same way.
-#[allow(clippy::too_many_arguments)]
-fn ghosts(
-    mut commands: Commands,
-    state: Res<ViewerState>,
-    drop: Res<DropStatus>,
-    robustness: Res<RobustnessStatus>,
-    kinematic: Res<KinematicStatus>,
-    pipeline: Res<PipelineState>,
-    palette: Res<Palette>,
-    blocks: Query<GhostSource, Without<Ghost>>,
-    mut ghosts: Query<(Entity, &Ghost, &mut Transform)>,
-) {
-    let dropping = state.drop_view && (drop.running.is_some() || drop.result.is_some());
-    let mechanism = shown_mechanism(&state, &robustness, &kinematic);
-    let scale = match (mechanism, &pipeline.analysis) {
-        (Some(m), Some(a)) if !dropping => {
-            let largest = m.largest_motion(&a.assembly);
-            (largest > 0.0).then(|| MECHANISM_EXAGGERATION * a.assembly.scale / largest)
-        }
-        _ => None,
-    };
-    let show = dropping || scale.is_some();
-    if !show {
-        ghosts.iter().for_each(|(e, _, _)| commands.entity(e).despawn());
-        return;
-    }
-    let motions: std::collections::HashMap<&str, &BlockMotion> =
-        mechanism.iter().flat_map(|m| &m.blocks).map(|b| (b.block.as_str(), b)).collect();
-    let mut have = std::collections::HashSet::new();
-    for (e, ghost, mut transform) in &mut ghosts {
-        let Ok((_, _, mass, pose, name, _)) = blocks.get(ghost.0) else {
-            commands.entity(e).despawn();
-            continue;
-        };
-        have.insert(ghost.0);
-        let pose = match (scale, motions.get(name.0.as_str())) {
-            (Some(s), Some(m)) => Some(mechanism_pose(mass, m, s)),
-            (Some(_), None) => None,
-            (None, _) => pose.copied(),
-        };
-        let t = pose.map_or(Transform::IDENTITY, |p| pose_transform(mass.centroid.coords.into(), &p));
-        if *transform != t {
-            *transform = t;
-        }
-    }
-    for (e, mesh, _, _, _, support) in &blocks {
-        if !have.contains(&e) {
-            let material = if support { palette.support.clone() } else { palette.ghost.clone() };
-            commands.spawn((
-                Mesh3d(mesh.0.clone()),
-                MeshMaterial3d(material),
-                Transform::IDENTITY,
-                RenderLayers::layer(PHYSICS_LAYER),
-                Ghost(e),
-            ));
-        }
-    }
-}
-
-/// The mechanism drawn: the kinematic check's or the load factor's, as the overlay says.
-fn shown_mechanism<'a>(
-    state: &ViewerState,
-    robustness: &'a RobustnessStatus,
-    kinematic: &'a KinematicStatus,
-) -> Option<&'a Mechanism> {
-    match state.overlay {
-        Overlay::None => None,
-        Overlay::Mechanism => robustness.result.as_ref().and_then(|r| r.mechanism.as_ref()),
-        Overlay::Kinematic => kinematic.result.as_ref().and_then(|k| k.mechanism.as_ref()),
-    }
-}
-
-/// A block's pose `scale` × along its mechanism motion: centroid moved by the translation,
-/// turned by the rotation vector.
-fn mechanism_pose(mass: &MassCentre, m: &BlockMotion, scale: f64) -> BlockPose {
-    let t = crate::geometry::Vector3::from(m.translation) * scale;
-    let q = Quat::from_scaled_axis(vec(m.rotation) * scale as f32);
-    BlockPose { centroid: mass.centroid + t, rotation: [q.w, q.x, q.y, q.z].map(f64::from) }
-}
-
-/// x ↦ c + R (x − c₀): the mesh is in world coordinates at rest.
-fn pose_transform(c0: [f64; 3], pose: &BlockPose) -> Transform {
-    let [w, x, y, z] = pose.rotation.map(|v| v as f32);
-    let r = Quat::from_xyzw(x, y, z, w).normalize();
-    let c = vec(pose.centroid.coords.into());
-    Transform { translation: c - r * vec(c0), rotation: r, scale: Vec3::ONE }
 }
 
 /// The resultant force on b at its point of application, and every force point's force.
@@ -384,13 +290,13 @@ fn gizmos(
         }
     }
     if state.mass_centres {
-        // Sized by the block (a vault of 400 stones would drown in scene-sized markers).
+        // A small three-axis cross, sized by the block (a vault of 400 stones would drown in
+        // scene-sized markers).
         for (m, mesh, visibility) in &masses {
             if *visibility != Visibility::Hidden {
                 let p = vec(m.centroid.coords.into());
-                let r = (0.04 * mesh.0.aabb().diagonal() as f32).min(0.01 * size);
-                gizmos.sphere(Isometry3d::from_translation(p), r, Color::WHITE);
-                gizmos.cross(Isometry3d::from_translation(p), 2.0 * r, Color::BLACK);
+                let r = (0.05 * mesh.0.aabb().diagonal() as f32).min(0.012 * size);
+                gizmos.cross(Isometry3d::from_translation(p), r, Color::srgb(1.0, 1.0, 1.0));
             }
         }
     }

@@ -41,6 +41,7 @@ fn keys(keys: Res<ButtonInput<KeyCode>>, mut actions: MessageWriter<ViewerAction
             (KeyCode::KeyM, _) => send(ViewerAction::ToggleMassCentres),
             (KeyCode::KeyV, _) => send(ViewerAction::ToggleVertexArrows),
             (KeyCode::KeyL, _) => send(ViewerAction::ToggleLabels),
+            (KeyCode::KeyH, _) => send(ViewerAction::ToggleKeys),
             (KeyCode::KeyK, _) => send(ViewerAction::ToggleMechanism),
             (KeyCode::KeyJ, _) => send(ViewerAction::ToggleKinematic),
             (KeyCode::KeyF, _) => send(ViewerAction::Frame),

@@ -3,11 +3,14 @@
 //! buttons into [`ViewerAction`]s; every answer comes from the core through the plugins.
 //!
 //! - [`camera`]: orbit / pan / zoom camera, z up (the model's axes, SI metres), split view
-//!   while a drop test is shown.
+//!   while a motion pane is shown.
 //! - [`draw`]: blocks (opaque or translucent; supports dark), the ground, interface polygons
 //!   coloured per force point ([`crate::ecs::InterfaceColors`], the colours of
 //!   [`crate::viz::colors`]), force arrows, mass centres, the cut being edited.
-//! - [`hud`]: the side panel: verdict, graded numbers, timings, counts, legend, buttons, keys.
+//! - [`motion`]: the motion pane beside the design — the drop test, the load factor's or the
+//!   kinematic check's mechanism — with rest-state ghosts, joint states, the load and a caption.
+//! - [`hud`]: the side panel: headline, graded numbers, the checks that ran, legend, buttons
+//!   that show their state, the edit state, the keys.
 //! - [`actions`]: the actions and what they do (edits with undo/redo, save, drop test,
 //!   sequence stepper); [`input`] maps keys and mouse to them.
 //! - [`capture`]: scripted runs (actions, then screenshots written atomically, then exit):
@@ -19,6 +22,7 @@ pub mod capture;
 pub mod draw;
 pub mod hud;
 pub mod input;
+pub mod motion;
 
 pub use actions::{Overlay, ViewerAction, ViewerState};
 pub use capture::{Script, ScriptStep};
@@ -105,6 +109,7 @@ impl Plugin for ViewerPlugin {
             .insert_resource(Settings::editing(o.settings.clone()))
             .insert_resource(ClearColor(Color::srgb(0.11, 0.11, 0.11)))
             .add_plugins((camera::CameraPlugin, draw::DrawPlugin, hud::HudPlugin, actions::ActionsPlugin))
+            .add_plugins(motion::MotionPlugin)
             .add_plugins((input::InputPlugin, capture::CapturePlugin(o.script.clone())));
         // The bundled font replaces bevy's default (a subset without μ, ·, —).
         let font = bevy::text::Font::from_bytes(crate::viz::plot::FONT.to_vec());

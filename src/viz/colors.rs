@@ -5,9 +5,10 @@
 //! - Compression–tension: per interface vertex, the net normal force normalised by the largest
 //!   |net normal force| on the same face; blue for compression (light → deep with the share),
 //!   red for tension, grey where the vertex carries nothing.
-//! - Friction: per vertex, the friction utilisation u = |f_t| / (μ · compression); grey without
-//!   friction, yellow up to a user threshold, orange shades from the threshold up to the allowed
-//!   maximum (u = 1), red beyond it (and where friction acts without compression).
+//! - Friction (the seed paper's "solid colours between yellow and red"): one colour per
+//!   interface from its friction resultant's use u = |F_t| / (μ · compression) — grey without
+//!   friction, yellow up to a user threshold, orange shades from the threshold up to μ (deeper
+//!   nearer μ), red where the friction model is exceeded (or friction acts without compression).
 //! - Verdicts and joint states: the colour of what an analysis says (the viewer's panel, the
 //!   plots' strips and text, the mechanism's moving interfaces).
 
@@ -22,8 +23,8 @@ pub const RED: Rgb = [0.85, 0.05, 0.05];
 const BLUE_LIGHT: Rgb = [0.72, 0.82, 1.0];
 const BLUE_DEEP: Rgb = [0.02, 0.15, 0.75];
 const RED_LIGHT: Rgb = [1.0, 0.72, 0.72];
-const ORANGE_LIGHT: Rgb = [1.0, 0.72, 0.25];
-const ORANGE_DEEP: Rgb = [0.9, 0.38, 0.0];
+const ORANGE_LIGHT: Rgb = [1.0, 0.45, 0.05];
+const ORANGE_DEEP: Rgb = [0.85, 0.17, 0.0];
 
 /// sRGB as displayed, in [0, 1]: text and plot marks, which are not shaded.
 pub type Srgb = [f32; 3];
@@ -43,6 +44,10 @@ pub const NO_VERDICT: Srgb = [0.7, 0.7, 0.7];
 // Verdicts on a plot's white: deep shades of the same hues, legible as text.
 pub const STANDS_ON_WHITE: Srgb = srgb8(30, 120, 50);
 pub const FAILS_ON_WHITE: Srgb = srgb8(190, 20, 20);
+
+/// A moved block in a motion picture (the viewer's motion pane, the mechanism PNG): violet,
+/// a colour no diagram legend uses.
+pub const MOVED: Srgb = [0.60, 0.45, 0.88];
 
 /// The colour of `verdict` on the viewer's dark panel (`None`: no analysis yet).
 pub fn verdict(verdict: Option<Verdict>) -> Srgb {
@@ -90,28 +95,57 @@ pub fn compression_tension(normal: f64, face_max: f64) -> Rgb {
     if normal > 0.0 { lerp(BLUE_LIGHT, BLUE_DEEP, share) } else { lerp(RED_LIGHT, RED, share) }
 }
 
-/// Friction colour of a vertex with friction magnitude `friction` (N) and capacity
-/// `capacity` = μ · compression (N); `threshold` in (0, 1] is the user's "low friction" limit
-/// as a fraction of the capacity.
-pub fn friction(friction: f64, capacity: f64, threshold: f64) -> Rgb {
-    let scale = friction.abs().max(capacity.abs());
-    let acts = scale > 0.0 && friction.abs() > ZERO_SHARE * scale;
-    if !acts {
-        return GREY;
+/// What an interface's friction does, by the friction diagram's bands.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum FrictionBand {
+    /// No friction acts (below the solver's resolution).
+    None,
+    /// Use u ≤ the threshold.
+    Low(f64),
+    /// Use above the threshold, within what the model allows.
+    High(f64),
+    /// Beyond what the friction model allows, or friction without compression.
+    Exceeded,
+}
+
+impl FrictionBand {
+    /// The band of a friction use `u` (|F_t| / μN, infinite without compression) whose model is
+    /// `exceeded` or not, against `threshold` in [0, 1].
+    pub fn of(u: f64, exceeded: bool, threshold: f64) -> Self {
+        if exceeded || u.is_infinite() || u.is_nan() {
+            Self::Exceeded
+        } else if u <= 0.0 {
+            Self::None
+        } else if u <= threshold.clamp(0.0, 1.0) {
+            Self::Low(u)
+        } else {
+            Self::High(u)
+        }
     }
-    let allowed = capacity > 0.0;
-    if !allowed {
-        return RED; // friction without compression: nothing allows it
+
+    /// Its colour: orange from light just above `threshold` to deep at μ (and beyond, where
+    /// the 8-sided pyramid allows up to 1.08 μ on its diagonals).
+    pub fn colour(self, threshold: f64) -> Rgb {
+        match self {
+            Self::None => GREY,
+            Self::Low(_) => YELLOW,
+            Self::High(u) => {
+                let threshold = threshold.clamp(0.0, 1.0);
+                let t = if threshold < 1.0 { (u - threshold) / (1.0 - threshold) } else { 1.0 };
+                lerp(ORANGE_LIGHT, ORANGE_DEEP, t)
+            }
+            Self::Exceeded => RED,
+        }
     }
-    let u = friction.abs() / capacity;
-    let threshold = threshold.clamp(0.0, 1.0);
-    if u <= threshold {
-        YELLOW
-    } else if u <= 1.0 + 1e-9 {
-        let t = if threshold < 1.0 { (u - threshold) / (1.0 - threshold) } else { 1.0 };
-        lerp(ORANGE_LIGHT, ORANGE_DEEP, t)
-    } else {
-        RED
+
+    /// The band's name in the legend and the panel.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::None => "no friction",
+            Self::Low(_) => "yellow",
+            Self::High(_) => "orange",
+            Self::Exceeded => "red",
+        }
     }
 }
 
@@ -142,19 +176,21 @@ mod tests {
     }
 
     #[test]
-    fn friction_grey_yellow_orange_red() {
+    fn friction_bands_grey_yellow_orange_red() {
         let t = 0.5;
-        assert_eq!(friction(0.0, 10.0, t), GREY);
-        assert_eq!(friction(0.0, 0.0, t), GREY);
-        assert_eq!(friction(2.0, 10.0, t), YELLOW);
-        assert_eq!(friction(5.0, 10.0, t), YELLOW, "the threshold itself is still low");
-        assert_eq!(friction(10.0, 10.0, t), ORANGE_DEEP, "the allowed maximum");
-        let just_above = friction(5.0001, 10.0, t);
+        assert_eq!(FrictionBand::of(0.0, false, t), FrictionBand::None);
+        assert_eq!(FrictionBand::of(0.2, false, t).colour(t), YELLOW);
+        assert_eq!(FrictionBand::of(0.5, false, t).colour(t), YELLOW, "the threshold itself is still low");
+        assert_eq!(FrictionBand::of(1.0, false, t).colour(t), ORANGE_DEEP, "μ itself");
+        let just_above = FrictionBand::of(0.5001, false, t).colour(t);
         assert!((just_above[1] - ORANGE_LIGHT[1]).abs() < 1e-3, "orange starts light: {just_above:?}");
-        assert_eq!(friction(10.5, 10.0, t), RED);
-        assert_eq!(friction(1.0, 0.0, t), RED, "friction without compression");
+        // Deeper (less green) nearer μ.
+        assert!(FrictionBand::of(0.9, false, t).colour(t)[1] < FrictionBand::of(0.6, false, t).colour(t)[1]);
+        // The pyramid's diagonal allows 1.08 μ: deep orange, not red, unless the model is exceeded.
+        assert_eq!(FrictionBand::of(1.05, false, t).colour(t), ORANGE_DEEP);
+        assert_eq!(FrictionBand::of(0.3, true, t).colour(t), RED);
+        assert_eq!(FrictionBand::of(f64::INFINITY, false, t).colour(t), RED, "friction without compression");
         // Threshold 1: everything allowed is yellow.
-        assert_eq!(friction(9.9, 10.0, 1.0), YELLOW);
-        assert_eq!(friction(10.1, 10.0, 1.0), RED);
+        assert_eq!(FrictionBand::of(0.99, false, 1.0).colour(1.0), YELLOW);
     }
 }

@@ -46,7 +46,9 @@ fn render(spec: &str, mode: DiagramMode) -> Counts {
         if r > b + 50 && r > g + 50 {
             c.red += 1;
         }
-        if r > 230 && g > 210 && b < 60 {
+        // Yellow (255, 243, 89) and the oranges (255, 179, 63) … (237, 115, 0): the linear
+        // colours of viz::colors encoded as sRGB, as the viewer shows them.
+        if r > 230 && g > 210 && b < 110 {
             c.yellow += 1;
         }
         if r > 220 && (90..190).contains(&g) && b < 80 {

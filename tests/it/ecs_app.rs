@@ -260,11 +260,12 @@ fn interfaces_are_coloured_by_the_diagram_mode() {
     app.update();
     let after = colours(&mut app);
     let mu = 40f64.to_radians().tan();
+    // One colour per interface: its resultant's use tan 35° / tan 40° = 0.83, orange.
     for (r, cs) in &after {
         assert_eq!(cs.len(), r.vertices.len());
-        for (v, c) in r.vertices.iter().zip(cs) {
-            assert_eq!(*c, colors::friction(v.friction_u.hypot(v.friction_v), mu * v.compression, 0.5));
-        }
+        let expected = 35f64.to_radians().tan() / mu;
+        assert!((r.friction_utilization - expected).abs() < 1e-6, "{} vs {expected}", r.friction_utilization);
+        assert!(cs.iter().all(|c| *c == colors::FrictionBand::High(r.friction_utilization).colour(0.5)), "{cs:?}");
     }
     assert_ne!(before[0].1, after[0].1, "the mode switch recoloured the interface");
 }

@@ -10,6 +10,7 @@
 
 use super::{Drawing, PlotError, rgb};
 use crate::pipeline::Analysis;
+use crate::report::words::share_of_weight;
 use crate::viz::colors::{self, Rgb};
 use crate::viz::{DiagramMode, interface_triangles};
 use nalgebra::{Point3, Vector3};
@@ -47,13 +48,14 @@ struct Prim {
     outline: Option<RGBAColor>,
 }
 
+/// A linear colour as the sRGB bytes a PNG holds: what the viewer shows of the same colour.
 pub(super) fn rgba(c: Rgb, alpha: f64) -> RGBAColor {
-    RGBAColor(
-        (c[0].clamp(0.0, 1.0) * 255.0) as u8,
-        (c[1].clamp(0.0, 1.0) * 255.0) as u8,
-        (c[2].clamp(0.0, 1.0) * 255.0) as u8,
-        alpha,
-    )
+    let encode = |l: f32| {
+        let l = l.clamp(0.0, 1.0);
+        let v = if l <= 0.003_130_8 { 12.92 * l } else { 1.055 * l.powf(1.0 / 2.4) - 0.055 };
+        (v * 255.0).round() as u8
+    };
+    RGBAColor(encode(c[0]), encode(c[1]), encode(c[2]), alpha)
 }
 
 pub(super) struct View {
@@ -117,7 +119,7 @@ impl DiagramPicture<'_> {
                     depth: view.depth(&centre),
                     points: pts.iter().map(|p| view.xy(p)).collect(),
                     fill: rgba(fill, alpha),
-                    outline: Some(rgba([0.25, 0.25, 0.25], 0.45)),
+                    outline: Some(rgb([0.25, 0.25, 0.25]).mix(0.45)),
                 });
             }
         }
@@ -214,9 +216,10 @@ impl DiagramPicture<'_> {
             mode,
             String::new(),
             verdict.to_string(),
-            format!("tension   {:.3e} W", s.tension_ratio),
-            format!("friction+ {:.3e} W", s.friction_excess_ratio),
-            format!("max use   {:.1} % of μ", 100.0 * s.max_friction_utilization),
+            format!("tension needed     {}", share_of_weight(s.tension_ratio)),
+            format!("friction beyond μ  {}", share_of_weight(s.friction_excess_ratio)),
+            format!("W = free weight    {}", crate::report::words::force(s.free_weight)),
+            format!("largest use        {:.2} μN", s.max_friction_utilization),
             format!("{} blocks, {} interfaces", self.analysis.assembly.blocks.len(), s.interfaces.len()),
             format!("solve {:.1} ms", 1e3 * self.analysis.timings.solve),
         ];

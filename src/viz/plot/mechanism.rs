@@ -14,9 +14,6 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 use std::path::Path;
 
-/// The largest displacement drawn, as a fraction of the model size.
-const EXAGGERATION: f64 = 0.08;
-
 /// A mechanism picture (same view as the diagrams).
 pub struct MechanismPicture<'a> {
     pub analysis: &'a Analysis,
@@ -52,8 +49,7 @@ impl MechanismPicture<'_> {
     fn faces(&self, view: &View) -> Vec<Face> {
         let asm = &self.analysis.assembly;
         let mech = self.robustness.mechanism.as_ref();
-        let largest = mech.map_or(0.0, |m| m.largest_motion(asm));
-        let scale = if largest > 0.0 { EXAGGERATION * asm.scale / largest } else { 0.0 };
+        let scale = mech.and_then(|m| crate::viz::mechanism_scale(m, asm)).unwrap_or(0.0);
         let mut ghosts = Vec::new();
         let mut moved = Vec::new();
         for (i, block) in asm.blocks.iter().enumerate() {
@@ -70,21 +66,22 @@ impl MechanismPicture<'_> {
                     moved.push(Face {
                         depth,
                         points,
-                        fill: rgba([0.85, 0.78, 0.62], 0.55),
-                        outline: rgba([0.2, 0.2, 0.2], 0.8),
+                        fill: super::rgb(colors::MOVED).mix(0.55),
+                        outline: super::rgb([0.2, 0.2, 0.2]).mix(0.8),
                     });
                     let (depth, points) = polygon(rest);
                     ghosts.push(Face {
                         depth,
                         points,
-                        fill: rgba([0.8, 0.8, 0.8], 0.08),
-                        outline: rgba([0.5, 0.5, 0.5], 0.35),
+                        fill: super::rgb([0.8, 0.8, 0.8]).mix(0.08),
+                        outline: super::rgb([0.5, 0.5, 0.5]).mix(0.35),
                     });
                 } else {
                     let (fill, alpha) =
                         if block.support { ([0.4, 0.4, 0.43], 0.45) } else { ([0.85, 0.82, 0.76], 0.3) };
                     let (depth, points) = polygon(rest);
-                    moved.push(Face { depth, points, fill: rgba(fill, alpha), outline: rgba([0.25, 0.25, 0.25], 0.5) });
+                    let (fill, outline) = (super::rgb(fill).mix(alpha), super::rgb([0.25, 0.25, 0.25]).mix(0.5));
+                    moved.push(Face { depth, points, fill, outline });
                 }
             }
         }
@@ -124,7 +121,7 @@ impl MechanismPicture<'_> {
                 let n = m.interfaces.iter().filter(|i| i.state == state).count();
                 lines.push(format!("{n} {}", format!("{state:?}").to_lowercase()));
             }
-            lines.push(format!("motion × {:.0}% of size", 100.0 * EXAGGERATION));
+            lines.push(format!("motion × {:.0}% of size", 100.0 * crate::viz::EXAGGERATION));
         } else {
             lines.push("no mechanism".into());
         }
