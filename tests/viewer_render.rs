@@ -196,6 +196,10 @@ fn main() {
         Act(A::ToggleMechanism),
         Settle(5),
         Shot(path("mechanism")),
+        // compas_cra's H as its file has it, with no support: the panel says so, no solver numbers.
+        Load(Box::new(letter_h_unsupported())),
+        Settle(3),
+        Shot(path("unsupported")),
         // The kinematic check of compas_cra's letter H on its lowest blocks (`--supports
         // lowest`): RBE holds the bar, released from rest it falls; its mechanism is drawn
         // beside the design (the load factor's pane closes).
@@ -262,6 +266,11 @@ fn fig4a() -> voussoir::model::Scene {
     voussoir::io::load_scene(&Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/cases/fig4a_m_cut.json")).unwrap()
 }
 
+/// compas_cra's letter H as its file has it: nothing marked as a support.
+fn letter_h_unsupported() -> voussoir::model::Scene {
+    voussoir::io::load_scene(&Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/compas/compas_cra/H.json")).unwrap()
+}
+
 /// compas_cra's letter H on its two posts, as `view H.json --supports lowest --mu 0.84` opens it.
 fn letter_h() -> voussoir::model::Scene {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/compas/compas_cra/H.json");
@@ -310,6 +319,7 @@ fn check(report: &Value, saved: &Path, logical_width: u32) {
     println!("default, compression: {c:?}");
     assert!(c.blue > c.total / 200, "blue compression is shown: {c:?}");
     assert!(c.red < c.blue / 50, "no tension on a standing arch: {c:?}");
+    assert_eq!(s["view_caption"], "the design · compression (blue) and tension (red)", "{s}");
     // Friction: at most 45 % of μ everywhere, below the 50 % threshold: yellow, nothing red.
     let s = shot(report, "default_friction");
     assert!(bands(&s).iter().all(|b| b == "yellow" || b == "no friction"), "{s}");
@@ -448,6 +458,15 @@ fn check(report: &Value, saved: &Path, logical_width: u32) {
     println!("mechanism view: {c:?}");
     assert!(c.violet > c.total / 100, "the moved blocks are drawn: {c:?}");
     assert!(c.orange > 20, "the hinges are marked: {c:?}");
+    // H without supports: UNSUPPORTED, what touches nothing named, no solver numbers.
+    let s = shot(report, "unsupported");
+    assert_eq!((s["verdict"].as_str(), s["headline"].as_str()), (Some("Unsupported"), Some("UNSUPPORTED")), "{s}");
+    let numbers = s["panel"].as_array().unwrap().iter().find(|p| p["section"] == "Numbers").unwrap();
+    let text = numbers["text"].as_str().unwrap();
+    assert!(text.contains("touch no support") && text.contains("--supports lowest"), "{text}");
+    assert!(!text.contains("solved in") && !text.contains("tension needed"), "no solver numbers: {text}");
+    // The mechanism pane (K is still on) says why it is empty.
+    assert_eq!(s["caption"], "no collapse mechanism:\nit does not stand under its own weight", "{s}");
     // The kinematic view: the core's verdicts on H (statics stands, the bar falls), one block
     // moving, drawn in the second view.
     let s = shot(report, "kinematic");

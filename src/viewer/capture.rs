@@ -217,6 +217,7 @@ impl ShotInfo<'_, '_> {
             "disagrees": headline.disagrees,
             "panel": self.panel.describe(&self.shown),
             "caption": self.motions.caption(),
+            "view_caption": self.shown.view_caption(),
             "pane": self.pane.describe(),
             "friction_bands": bands,
             "max_friction_use": a.map(|a| a.statics.max_friction_utilization),

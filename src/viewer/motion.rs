@@ -106,7 +106,7 @@ impl Motions<'_> {
     /// The caption: what is shown, how much it is exaggerated, what the colours mean.
     pub(super) fn caption(&self) -> String {
         match self.pane() {
-            Pane::Hidden => String::new(),
+            Pane::Hidden => self.nothing_moves().into(),
             Pane::Drop => {
                 let (t, total) = match (&self.drop.running, &self.drop.result) {
                     (Some(run), _) => (run.steps_done() as f64 * run.dt(), run.total_steps() as f64 * run.dt()),
@@ -137,6 +137,26 @@ impl Motions<'_> {
                     if states.is_empty() { "no joint opens".into() } else { states.join(" · ") }
                 )
             }
+        }
+    }
+
+    /// Why a mechanism pane that is open shows nothing moving (empty when none is open).
+    fn nothing_moves(&self) -> &'static str {
+        use crate::stability::kinematic::KinematicVerdict;
+        match self.state.overlay {
+            Overlay::None => "",
+            Overlay::Mechanism => match self.robustness.result.as_ref().map(|r| r.safety) {
+                None => "collapse mechanism: computing…",
+                Some(crate::stability::Safety::DoesNotStand { .. }) => {
+                    "no collapse mechanism:\nit does not stand under its own weight"
+                }
+                Some(_) => "no collapse mechanism to show",
+            },
+            Overlay::Kinematic => match self.kinematic.result.as_ref().map(|k| k.verdict) {
+                None => "kinematic check: running…",
+                Some(KinematicVerdict::Stands) => "kinematic check: it stands,\nnothing moves",
+                Some(_) => "kinematic check: no motion to show",
+            },
         }
     }
 

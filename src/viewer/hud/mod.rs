@@ -26,7 +26,7 @@ impl Plugin for HudPlugin {
     fn build(&self, app: &mut App) {
         app.add_systems(Startup, spawn_panel)
             .add_systems(Update, press_buttons.before(super::actions::ActionSystems))
-            .add_systems(Update, (write_texts, style_buttons, legend, labels));
+            .add_systems(Update, (write_texts, style_buttons, legend, labels, view_caption));
     }
 }
 
@@ -62,6 +62,10 @@ impl Line {
 
 #[derive(Component)]
 struct Legend;
+
+/// The caption over the design's view: what it shows.
+#[derive(Component)]
+struct ViewCaption;
 
 #[derive(Component)]
 struct Label;
@@ -100,6 +104,20 @@ fn row() -> Node {
 }
 
 fn spawn_panel(mut commands: Commands) {
+    commands.spawn((
+        Text::new(""),
+        font(11.0),
+        TextColor(Color::srgb(0.92, 0.92, 0.92)),
+        BackgroundColor(Color::srgba(0.0, 0.0, 0.0, 0.55)),
+        Node {
+            position_type: PositionType::Absolute,
+            left: px(PANEL_WIDTH + 6.0),
+            top: px(6),
+            padding: UiRect::all(px(4)),
+            ..default()
+        },
+        ViewCaption,
+    ));
     let text = |line: Line, size: f32, colour: Color| (Text::new(""), font(size), TextColor(colour), line);
     let friction = DiagramMode::Friction { threshold: DiagramMode::DEFAULT_THRESHOLD };
     commands
@@ -332,6 +350,15 @@ fn legend(
             ));
         }
     });
+}
+
+/// What the design's view shows: the diagram (and the sequence step, when one is shown).
+fn view_caption(shown: Shown, mut caption: Query<&mut Text, With<ViewCaption>>) {
+    let Ok(mut text) = caption.single_mut() else { return };
+    let words = shown.view_caption();
+    if text.0 != words {
+        text.0 = words;
+    }
 }
 
 /// Force labels (kN or N) at the resultant points of the largest interface forces.

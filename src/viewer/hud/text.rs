@@ -8,6 +8,7 @@ use crate::ecs::{DropStatus, KinematicStatus, RobustnessStatus};
 use crate::report::words::{count, duration, force, share_of_weight};
 use crate::stability::kinematic::KinematicVerdict;
 use crate::statics::Verdict;
+use crate::viz::DiagramMode;
 use crate::viz::colors::{self, Srgb};
 
 /// The verdict in capitals (the headline) and its colour.
@@ -68,6 +69,20 @@ impl Shown<'_> {
             text += &format!("\n{} ({check})", if *s { "STANDS" } else { "FALLS" });
         }
         Headline { text, colour: colors::FAILS, disagrees: true }
+    }
+
+    /// The caption of the design's view: what it is and which diagram colours it.
+    pub(in crate::viewer) fn view_caption(&self) -> String {
+        let diagram = match self.state.mode {
+            DiagramMode::Compression => "compression (blue) and tension (red)".to_string(),
+            DiagramMode::Friction { threshold } => format!("friction use per interface (yellow ≤ {threshold:.2} μN)"),
+            DiagramMode::Vectors => "resultant forces (green arrows)".to_string(),
+        };
+        let what = match (self.state.sequence_view, &self.sequence.report) {
+            (true, Some(r)) => format!("sequence step {} of {}", self.sequence.current + 1, r.steps.len()),
+            _ => "the design".to_string(),
+        };
+        format!("{what} · {diagram}")
     }
 
     /// The design's name (marked when edited) and its counts.
@@ -188,7 +203,7 @@ fn robustness_text(state: &ViewerState, r: &RobustnessStatus) -> String {
     let head = match result.safety {
         Safety::Collapses { load_factor } => format!("load factor λ* = {load_factor:.4}"),
         Safety::Unlimited => "load factor λ* = ∞ (never collapses)".into(),
-        Safety::DoesNotStand { .. } => "load factor: it does not stand".into(),
+        Safety::DoesNotStand { .. } => return "load factor: none, it does not\n  stand under its own weight".into(),
         Safety::SolverFailed { status, .. } => format!("load factor: solver stopped ({status:?})"),
     };
     match r.worst_azimuth {
