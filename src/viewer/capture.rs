@@ -6,7 +6,7 @@
 use super::actions::{ViewerAction, ViewerState};
 use super::camera::{MainCamera, PhysicsCamera};
 use super::hud::{PanelLayout, Shown};
-use super::motion::{Motions, PaneCounts};
+use super::motion::PaneCounts;
 use crate::ecs::{DropStatus, EditDesign, InterfaceColors, PipelineState, RepairStatus, SequenceStatus};
 use crate::model::Scene;
 use crate::model::edit::Edit;
@@ -182,7 +182,6 @@ fn run_script(
 struct ShotInfo<'w, 's> {
     shown: Shown<'w>,
     panel: PanelLayout<'w, 's>,
-    motions: Motions<'w>,
     pane: PaneCounts<'w, 's>,
     main: Query<'w, 's, &'static Camera, With<MainCamera>>,
     physics: Query<'w, 's, &'static Camera, With<PhysicsCamera>>,
@@ -216,7 +215,7 @@ impl ShotInfo<'_, '_> {
             "headline": headline.text,
             "disagrees": headline.disagrees,
             "panel": self.panel.describe(&self.shown),
-            "caption": self.motions.caption(),
+            "caption": self.shown.caption(),
             "view_caption": self.shown.view_caption(),
             "pane": self.pane.describe(),
             "friction_bands": bands,

@@ -5,11 +5,12 @@
 //! export), the load as an arrow, and a caption saying what is shown and how much it is
 //! exaggerated. A mechanism is seen square to its plane (the plane its blocks turn in).
 
+use super::Overlay;
 use super::camera::{PHYSICS_LAYER, PaneView};
 use super::draw::{Palette, coloured_mesh};
-use super::{Overlay, ViewerState};
-use crate::ecs::{BlockName, BlockPose, DropStatus, KinematicStatus, MassCentre, PipelineState};
-use crate::ecs::{RobustnessStatus, Support, VoussoirSet};
+use super::hud::Shown;
+use crate::ecs::{BlockName, BlockPose, MassCentre};
+use crate::ecs::{Support, VoussoirSet};
 use crate::model::{Load, LoadKind};
 use crate::stability::{BlockMotion, JointState, Mechanism};
 use crate::viz::colors;
@@ -72,17 +73,8 @@ pub(super) enum Pane<'a> {
     },
 }
 
-/// What the motion pane reads.
-#[derive(bevy::ecs::system::SystemParam)]
-pub(super) struct Motions<'w> {
-    pub state: Res<'w, ViewerState>,
-    pub drop: Res<'w, DropStatus>,
-    pub robustness: Res<'w, RobustnessStatus>,
-    pub kinematic: Res<'w, KinematicStatus>,
-    pub pipeline: Res<'w, PipelineState>,
-}
-
-impl Motions<'_> {
+// The pane reads what the panel shows ([`Shown`]).
+impl Shown<'_> {
     pub(super) fn pane(&self) -> Pane<'_> {
         if self.state.drop_view && (self.drop.running.is_some() || self.drop.result.is_some()) {
             return Pane::Drop;
@@ -205,12 +197,12 @@ type Source<'a> = (Entity, &'a Mesh3d, &'a MassCentre, Option<&'a BlockPose>, &'
 /// mechanism; a mechanism's still blocks in stone, its moving ones violet.
 fn copies(
     mut commands: Commands,
-    motions: Motions,
+    shown: Shown,
     palette: Res<Palette>,
     blocks: Query<Source, Without<Moved>>,
     mut moved: Query<(Entity, &Moved, &mut Transform, &mut MeshMaterial3d<StandardMaterial>)>,
 ) {
-    let pane = motions.pane();
+    let pane = shown.pane();
     if matches!(pane, Pane::Hidden) {
         moved.iter().for_each(|(e, ..)| commands.entity(e).despawn());
         return;
@@ -302,20 +294,20 @@ fn rest_ghosts(
 /// The mechanism's moving joints, on side b's moved face, coloured by what they do.
 fn joints(
     mut commands: Commands,
-    motions: Motions,
+    shown: Shown,
     palette: Res<Palette>,
     mut meshes: ResMut<Assets<Mesh>>,
     marks: Query<Entity, With<JointMark>>,
     mut drawn: Local<Option<(usize, f64)>>,
 ) {
-    let (Pane::Mechanism { mechanism, scale, .. }, Some(a)) = (motions.pane(), &motions.pipeline.analysis) else {
+    let (Pane::Mechanism { mechanism, scale, .. }, Some(a)) = (shown.pane(), &shown.pipeline.analysis) else {
         marks.iter().for_each(|e| commands.entity(e).despawn());
         *drawn = None;
         return;
     };
     // Redrawn when the mechanism changes (its address and scale identify it between edits).
     let key = (mechanism as *const Mechanism as usize, scale);
-    if *drawn == Some(key) && !motions.pipeline.is_changed() {
+    if *drawn == Some(key) && !shown.pipeline.is_changed() {
         return;
     }
     *drawn = Some(key);
@@ -357,13 +349,13 @@ fn spawn_caption(mut commands: Commands) {
 
 /// The caption at the pane's top-left corner.
 fn caption(
-    motions: Motions,
+    shown: Shown,
     pane: Query<&Camera, With<super::camera::PhysicsCamera>>,
     window: Query<&Window, With<bevy::window::PrimaryWindow>>,
     mut text: Query<(&mut Text, &mut Node), With<Caption>>,
 ) {
     let Ok((mut text, mut node)) = text.single_mut() else { return };
-    let words = motions.caption();
+    let words = shown.caption();
     let at = pane.single().ok().filter(|c| c.is_active).and_then(|c| c.physical_viewport_rect());
     let scale = window.single().map_or(1.0, |w| w.scale_factor());
     let (display, left) = match at {
@@ -386,12 +378,11 @@ fn caption(
 /// a ring at every moving joint's contact — a hinge where its contact stays closed — in the
 /// joint's colour, facing the pane's camera (a joint seen edge-on shows as a ring).
 fn gizmo_marks(
-    motions: Motions,
+    shown: Shown,
     camera: Query<&GlobalTransform, With<super::camera::PhysicsCamera>>,
     mut gizmos: Gizmos<MotionGizmos>,
 ) {
-    let (Pane::Mechanism { mechanism, scale, kinematic }, Some(a)) = (motions.pane(), &motions.pipeline.analysis)
-    else {
+    let (Pane::Mechanism { mechanism, scale, kinematic }, Some(a)) = (shown.pane(), &shown.pipeline.analysis) else {
         return;
     };
     let bb = a.assembly.aabb();
@@ -410,7 +401,7 @@ fn gizmo_marks(
         gizmos.arrow(top + Vec3::Z * length, top, colour);
         return;
     }
-    for d in load_directions(&motions.state.design.loads, motions.robustness.worst_azimuth) {
+    for d in load_directions(&shown.state.design.loads, shown.robustness.worst_azimuth) {
         let start = top - d * (0.5 * length);
         gizmos.arrow(start, start + d * length, colour);
     }
@@ -456,8 +447,8 @@ fn load_directions(loads: &[Load], worst_azimuth: Option<f64>) -> Vec<Vec3> {
 }
 
 /// Sets the pane's own view square to a mechanism's plane (none: the design's view).
-fn pane_view(motions: Motions, mut view: ResMut<PaneView>) {
-    let want = match (motions.pane(), &motions.pipeline.analysis) {
+fn pane_view(shown: Shown, mut view: ResMut<PaneView>) {
+    let want = match (shown.pane(), &shown.pipeline.analysis) {
         (Pane::Mechanism { mechanism, .. }, Some(a)) => crate::viz::mechanism_plane(mechanism, &a.assembly).map(|n| {
             let yaw = n.y.atan2(n.x) as f32;
             PaneView::Square { yaw }

@@ -85,6 +85,36 @@ const TEXT: Color = Color::srgb(0.9, 0.9, 0.9);
 const BUTTON: Color = Color::srgb(0.22, 0.22, 0.24);
 const BUTTON_ON: Color = Color::srgb(0.16, 0.42, 0.62);
 
+/// The buttons under the legend, a row each: views, checks, edits.
+const ACTION_ROWS: [&[(&str, ViewerAction)]; 3] = [
+    &[
+        ("T Translucent", ViewerAction::ToggleTranslucent),
+        ("M Centres", ViewerAction::ToggleMassCentres),
+        ("V Points", ViewerAction::ToggleVertexArrows),
+        ("L Labels", ViewerAction::ToggleLabels),
+    ],
+    &[
+        ("D Drop test", ViewerAction::DropTest),
+        ("K Mechanism", ViewerAction::ToggleMechanism),
+        ("J Kinematic", ViewerAction::ToggleKinematic),
+        ("Q Sequence", ViewerAction::StartSequence),
+        ("<", ViewerAction::Step(-1)),
+        (">", ViewerAction::Step(1)),
+        ("Esc", ViewerAction::ResetDrop),
+    ],
+    &[
+        ("C Cut", ViewerAction::AddCut),
+        ("O Repair", ViewerAction::Repair),
+        ("G Support", ViewerAction::ToggleSupport),
+        ("X Remove", ViewerAction::RemoveBlock),
+        ("R Restore", ViewerAction::RestoreBlock),
+        ("Undo", ViewerAction::Undo),
+        ("Redo", ViewerAction::Redo),
+        ("Save", ViewerAction::Save),
+        ("H Keys", ViewerAction::ToggleKeys),
+    ],
+];
+
 fn font(size: f32) -> TextFont {
     TextFont { font_size: FontSize::Px(size), ..default() }
 }
@@ -147,41 +177,13 @@ fn spawn_panel(mut commands: Commands) {
                 ],
             ));
             p.spawn((Node { flex_direction: FlexDirection::Column, row_gap: px(1), ..default() }, Legend));
-            p.spawn((
-                row(),
-                children![
-                    button("T Translucent", ViewerAction::ToggleTranslucent),
-                    button("M Centres", ViewerAction::ToggleMassCentres),
-                    button("V Points", ViewerAction::ToggleVertexArrows),
-                    button("L Labels", ViewerAction::ToggleLabels),
-                ],
-            ));
-            p.spawn((
-                row(),
-                children![
-                    button("D Drop test", ViewerAction::DropTest),
-                    button("K Mechanism", ViewerAction::ToggleMechanism),
-                    button("J Kinematic", ViewerAction::ToggleKinematic),
-                    button("Q Sequence", ViewerAction::StartSequence),
-                    button("<", ViewerAction::Step(-1)),
-                    button(">", ViewerAction::Step(1)),
-                    button("Esc", ViewerAction::ResetDrop),
-                ],
-            ));
-            p.spawn((
-                row(),
-                children![
-                    button("C Cut", ViewerAction::AddCut),
-                    button("O Repair", ViewerAction::Repair),
-                    button("G Support", ViewerAction::ToggleSupport),
-                    button("X Remove", ViewerAction::RemoveBlock),
-                    button("R Restore", ViewerAction::RestoreBlock),
-                    button("Undo", ViewerAction::Undo),
-                    button("Redo", ViewerAction::Redo),
-                    button("Save", ViewerAction::Save),
-                    button("H Keys", ViewerAction::ToggleKeys),
-                ],
-            ));
+            for buttons in ACTION_ROWS {
+                p.spawn(row()).with_children(|r| {
+                    for (label, action) in buttons {
+                        r.spawn(button(label, action.clone()));
+                    }
+                });
+            }
             p.spawn(text(Line::Edit, 12.0, TEXT));
             p.spawn(text(Line::Keys, 10.0, Color::srgb(0.65, 0.65, 0.65)));
         });
