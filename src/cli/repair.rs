@@ -8,7 +8,6 @@ use super::options::SolverOptions;
 use super::{BadInput, load, refuse_overwrite, scene_name, write_output};
 use crate::io::scene_json;
 use crate::model::CutShape;
-use crate::statics::Verdict;
 use crate::synthesis::{self, RepairOutcome, RepairReport, RepairSettings, Score};
 use clap::Args;
 use std::path::PathBuf;
@@ -96,23 +95,23 @@ pub fn text(r: &RepairReport) -> String {
         }
     };
     s += &format!("{headline}\n");
-    s += &format!("  {:<22} {:>14} {:>14}\n", "", "before", "after");
-    s += &format!("  {:<22} {:>14} {:>14}\n", "verdict", verdict(&r.before), verdict(&r.after));
+    s += &format!("  {:<22} {:>26} {:>26}\n", "", "before", "after");
+    s += &format!("  {:<22} {:>26} {:>26}\n", "verdict", verdict(&r.before), verdict(&r.after));
     s += &format!(
-        "  {:<22} {:>14.3e} {:>14.3e}\n",
+        "  {:<22} {:>26.3e} {:>26.3e}\n",
         "minimum tension / W", r.before.tension_ratio, r.after.tension_ratio
     );
     s += &format!(
-        "  {:<22} {:>14.3e} {:>14.3e}\n",
+        "  {:<22} {:>26.3e} {:>26.3e}\n",
         "friction excess / W", r.before.friction_excess_ratio, r.after.friction_excess_ratio
     );
     s += &format!(
-        "  {:<22} {:>14} {:>14}\n",
+        "  {:<22} {:>26} {:>26}\n",
         "λ* (worst direction)",
         lambda(r.load_factor_before),
         lambda(r.load_factor_after)
     );
-    s += &format!("  {:<22} {:>14} {:>14}\n", "pieces", r.before.pieces, r.after.pieces);
+    s += &format!("  {:<22} {:>26} {:>26}\n", "pieces", r.before.pieces, r.after.pieces);
     for c in &r.changed {
         s += &format!("  cut {}: {} → {}\n", c.index, shape(&c.before.shape), shape(&c.after.shape));
     }
@@ -143,15 +142,7 @@ pub fn text(r: &RepairReport) -> String {
 fn verdict(score: &Score) -> String {
     match (&score.verdict, &score.invalid) {
         (_, Some(_)) => "cannot cut".into(),
-        (Some(v), None) => match v {
-            Verdict::Stands => "stands",
-            Verdict::NeedsTension => "needs tension",
-            Verdict::NeedsFriction => "needs friction",
-            Verdict::NeedsTensionAndFriction => "needs both",
-            Verdict::Unsupported => "unsupported",
-            Verdict::Unresolved => "unresolved",
-        }
-        .into(),
+        (Some(v), None) => v.words().into(),
         (None, None) => "-".into(),
     }
 }

@@ -298,19 +298,22 @@ fn joints(
     palette: Res<Palette>,
     mut meshes: ResMut<Assets<Mesh>>,
     marks: Query<Entity, With<JointMark>>,
-    mut drawn: Local<Option<(usize, f64)>>,
+    mut drawn: Local<bool>,
 ) {
     let (Pane::Mechanism { mechanism, scale, .. }, Some(a)) = (shown.pane(), &shown.pipeline.analysis) else {
         marks.iter().for_each(|e| commands.entity(e).despawn());
-        *drawn = None;
+        *drawn = false;
         return;
     };
-    // Redrawn when the mechanism changes (its address and scale identify it between edits).
-    let key = (mechanism as *const Mechanism as usize, scale);
-    if *drawn == Some(key) && !shown.pipeline.is_changed() {
+    // Redrawn when what the mechanism comes from (or which one is shown) changed.
+    let changed = shown.pipeline.is_changed()
+        || shown.robustness.is_changed()
+        || shown.kinematic.is_changed()
+        || shown.state.is_changed();
+    if *drawn && !changed {
         return;
     }
-    *drawn = Some(key);
+    *drawn = true;
     marks.iter().for_each(|e| commands.entity(e).despawn());
     for im in mechanism.interfaces.iter().filter(|im| im.state != JointState::Closed) {
         let Some(itf) = a.interfaces.get(im.index) else { continue };
