@@ -91,8 +91,11 @@ pub fn run(args: &AnalyzeArgs) -> Result<i32, BadInput> {
         println!("  {live} live load(s) not applied: `voussoir robustness` gives their load factor");
     }
     let dynamic = if args.dynamic {
-        let d = crate::dynamics::drop_test(&analysis.assembly, &args.drop.settings(args.solver.mu))
-            .map_err(|e| BadInput(e.to_string()))?;
+        let d = crate::dynamics::drop_test(
+            &analysis.assembly,
+            &args.drop.settings(args.solver.mu, args.solver.friction_model),
+        )
+        .map_err(|e| BadInput(e.to_string()))?;
         print!("{}", text_report::side_by_side(&analysis, &d));
         Some(d)
     } else {

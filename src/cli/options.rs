@@ -4,7 +4,7 @@
 
 use super::BadInput;
 use super::choice::Choice;
-use crate::dynamics::DropSettings;
+use crate::dynamics::{Coulomb, DropSettings, Engine, ExactSettings};
 use crate::geometry::{Point3, Tolerances, Vector3};
 use crate::model::{Load, LoadKind, Scene, SupportChoice};
 use crate::pipeline::AnalysisSettings;
@@ -60,6 +60,14 @@ impl SolverOptions {
 /// How the drop test runs (`analyze --dynamic`, `drop`, `sequence --dynamic`, `sweep`).
 #[derive(Args, Debug, Clone, PartialEq)]
 pub struct DropOptions {
+    /// Drop test: the engine — rapier (soft contacts, the default) or exact (hard contacts,
+    /// one interior-point solve per step: converges to the rigid-block answer).
+    #[arg(long, value_parser = Choice::<Engine>::new(), default_value_t = DropSettings::default().engine)]
+    pub engine: Engine,
+    /// Exact engine: Coulomb's law by a fixed point per step (exact) or Anitescu's convex
+    /// relaxation (relaxed: one solve per step, sliding contacts separate).
+    #[arg(long, value_parser = Choice::<Coulomb>::new(), default_value_t = ExactSettings::default().coulomb)]
+    pub coulomb: Coulomb,
     /// Drop test: simulated seconds (per evaluation in a sweep).
     #[arg(long, default_value_t = DropSettings::default().duration)]
     pub duration: f64,
@@ -69,10 +77,19 @@ pub struct DropOptions {
 }
 
 impl DropOptions {
-    /// The drop-test settings: the library's defaults with these options and the friction
-    /// coefficient `friction` (`--mu`, the same as the statics'; `None`: the scene's).
-    pub fn settings(&self, friction: Option<f64>) -> DropSettings {
-        DropSettings { duration: self.duration, dt: self.dt, friction, ..Default::default() }
+    /// The drop-test settings: the library's defaults with these options, the friction
+    /// coefficient `friction` (`--mu`, the same as the statics'; `None`: the scene's) and the
+    /// statics' friction model (the exact engine's contacts take it).
+    pub fn settings(&self, friction: Option<f64>, friction_model: FrictionModel) -> DropSettings {
+        let exact = ExactSettings { coulomb: self.coulomb, friction_model, ..Default::default() };
+        DropSettings {
+            engine: self.engine,
+            exact,
+            duration: self.duration,
+            dt: self.dt,
+            friction,
+            ..Default::default()
+        }
     }
 }
 

@@ -69,7 +69,7 @@ pub fn run(args: &SequenceArgs) -> Result<i32, BadInput> {
     };
     let settings = args.solver.settings();
     let per_step = StepChecks {
-        dynamic: args.dynamic.then(|| args.drop.settings(args.solver.mu)),
+        dynamic: args.dynamic.then(|| args.drop.settings(args.solver.mu, args.solver.friction_model)),
         kinematic: args.kinematic.then(Default::default),
     };
     let search_settings = SearchSettings { max_checks: args.max_checks, ..Default::default() };

@@ -4,7 +4,7 @@
 use super::choice::Choice;
 use super::options::DropOptions;
 use super::{BadInput, load, refuse_overwrite, write_output};
-use crate::model::Material;
+use crate::model::{FrictionModel, Material};
 use crate::studies::threshold::{Family, bisect_thresholds, scan};
 use clap::{Args, ValueEnum};
 use std::path::PathBuf;
@@ -117,7 +117,7 @@ pub fn run(args: &SweepArgs) -> Result<i32, BadInput> {
     if range.0.partial_cmp(&range.1) != Some(std::cmp::Ordering::Less) {
         return Err(BadInput(format!("--lo {} must be below --hi {}", range.0, range.1)));
     }
-    let drop = args.drop.settings(None);
+    let drop = args.drop.settings(None, FrictionModel::default());
     let bar = indicatif::ProgressBar::new(2 * (args.iterations as u64 + 2));
     bar.set_message(format!("sweeping {name}"));
     let result = bisect_thresholds(&family, range, args.iterations, &drop, &mut || bar.inc(1));

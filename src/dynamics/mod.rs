@@ -21,10 +21,12 @@
 //! Units SI, z up.
 
 mod colliders;
-mod settings;
+pub mod exact;
+pub(crate) mod settings;
 mod world;
 
-pub use settings::{DropError, DropSettings};
+pub use exact::{EnergyBalance, ExactStats};
+pub use settings::{Coulomb, DropError, DropSettings, Engine, ExactSettings};
 pub use world::Simulation;
 
 use crate::model::Assembly;
@@ -50,6 +52,7 @@ pub struct BlockMotion {
 /// The drop test's outcome.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct DropResult {
+    pub engine: Engine,
     pub stands: bool,
     /// Largest drift ratio and rotation over the free blocks.
     pub max_drift: f64,
@@ -73,6 +76,45 @@ pub struct DropResult {
     /// settled (soft contacts, overlapping input); one still moving is falling.
     pub at_rest: bool,
     pub blocks: Vec<BlockMotion>,
+    /// The exact engine's account (solves, status, overlap, energy balance).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub exact: Option<ExactStats>,
+}
+
+/// The engine a drop test runs on.
+enum Stepper {
+    Rapier(Box<Simulation>),
+    Exact(Box<exact::World>),
+}
+
+impl Stepper {
+    fn new(assembly: &Assembly, settings: &DropSettings) -> Self {
+        match settings.engine {
+            Engine::Rapier => Self::Rapier(Box::new(Simulation::new(assembly, settings))),
+            Engine::Exact => Self::Exact(Box::new(exact::World::new(assembly, settings))),
+        }
+    }
+
+    fn step(&mut self) {
+        match self {
+            Self::Rapier(s) => s.step(),
+            Self::Exact(w) => w.step(),
+        }
+    }
+
+    fn displacement(&self, i: usize) -> (f64, f64) {
+        match self {
+            Self::Rapier(s) => s.displacement(i),
+            Self::Exact(w) => w.displacement(i),
+        }
+    }
+
+    fn kinetic_energy(&self, i: usize) -> f64 {
+        match self {
+            Self::Rapier(s) => s.kinetic_energy(i),
+            Self::Exact(w) => w.kinetic_energy(i),
+        }
+    }
 }
 
 /// Runs the drop test of `assembly` (see the module docs).
@@ -84,7 +126,9 @@ pub fn drop_test(assembly: &Assembly, settings: &DropSettings) -> Result<DropRes
 
 /// A drop test that can be advanced step by step (the ECS plugin steps it in FixedUpdate).
 pub struct DropRun {
-    sim: Simulation,
+    sim: Stepper,
+    /// Every block's centroid at the start (a support's pose in the exact engine).
+    start: Vec<crate::geometry::Point3>,
     settings: DropSettings,
     /// Indices of the free blocks and their sizes (m).
     free: Vec<usize>,
@@ -101,7 +145,8 @@ impl DropRun {
     pub fn new(assembly: &Assembly, settings: &DropSettings) -> Result<Self, DropError> {
         settings.validate()?;
         let start = Instant::now();
-        let sim = Simulation::new(assembly, settings);
+        let sim = Stepper::new(assembly, settings);
+        let origins = assembly.blocks.iter().map(|b| b.mass.centroid).collect();
         let free: Vec<usize> = (0..assembly.blocks.len()).filter(|&i| !assembly.blocks[i].support).collect();
         let size: Vec<f64> = free.iter().map(|&i| assembly.blocks[i].aabb.diagonal()).collect();
         let mut sorted = size.clone();
@@ -121,7 +166,18 @@ impl DropRun {
             .collect();
         let total = (settings.duration / settings.dt).ceil() as usize;
         let wall = start.elapsed().as_secs_f64();
-        Ok(Self { sim, settings: settings.clone(), free, size, energy_scale, motions, steps: 0, total, wall })
+        Ok(Self {
+            sim,
+            start: origins,
+            settings: settings.clone(),
+            free,
+            size,
+            energy_scale,
+            motions,
+            steps: 0,
+            total,
+            wall,
+        })
     }
 
     pub fn total_steps(&self) -> usize {
@@ -161,13 +217,25 @@ impl DropRun {
                     m.first_motion = Some(t);
                 }
             }
+            if s.stop_when_falls
+                && self
+                    .motions
+                    .iter()
+                    .any(|m| m.max_drift_ratio > s.drift_tolerance || m.max_rotation > s.rotation_tolerance)
+            {
+                self.total = self.steps;
+                break;
+            }
         }
         self.wall += start.elapsed().as_secs_f64();
     }
 
     /// Block `i`'s centroid (m) and rotation since the start (unit quaternion [w, x, y, z]).
     pub fn pose(&self, i: usize) -> (crate::geometry::Point3, [f64; 4]) {
-        self.sim.pose(i)
+        match &self.sim {
+            Stepper::Rapier(s) => s.pose(i),
+            Stepper::Exact(w) => w.pose(i, self.start[i]),
+        }
     }
 
     /// The outcome so far (the verdict covers the steps run).
@@ -180,19 +248,27 @@ impl DropRun {
         let badness =
             |m: &BlockMotion| (m.max_drift_ratio / s.drift_tolerance).max(m.max_rotation / s.rotation_tolerance);
         let worst = motions.iter().max_by(|a, b| badness(a).total_cmp(&badness(b)));
+        let (max_volume_error, initial_overlap, exact) = match &self.sim {
+            Stepper::Rapier(s) => (s.max_volume_error, s.initial_overlap.clone(), None),
+            Stepper::Exact(w) => (0.0, None, Some(w.stats())),
+        };
+        // A failed solve leaves its step undone: no verdict of standing rests on it.
+        let solved = exact.as_ref().is_none_or(|e| e.status <= crate::statics::SolverStatus::AlmostSolved);
         DropResult {
-            stands: motions.iter().all(|m| badness(m) <= 1.0),
+            engine: s.engine,
+            stands: solved && motions.iter().all(|m| badness(m) <= 1.0),
             max_drift: motions.iter().map(|m| m.max_drift_ratio).fold(0.0, f64::max),
             max_rotation: motions.iter().map(|m| m.max_rotation).fold(0.0, f64::max),
             worst_block: worst.map(|m| m.name.clone()),
             simulated_s: self.steps as f64 * s.dt,
             wall_s: self.wall,
             steps: self.steps,
-            max_volume_error: self.sim.max_volume_error,
-            max_initial_overlap: self.sim.initial_overlap.as_ref().map_or(0.0, |o| o.0),
-            initial_overlap_blocks: self.sim.initial_overlap.as_ref().map(|o| o.1.clone()),
+            max_volume_error,
+            max_initial_overlap: initial_overlap.as_ref().map_or(0.0, |o| o.0),
+            initial_overlap_blocks: initial_overlap.map(|o| o.1),
             at_rest: motions.iter().map(|m| m.final_kinetic_energy).sum::<f64>() <= 1e-6 * self.energy_scale,
             blocks: motions,
+            exact,
         }
     }
 }

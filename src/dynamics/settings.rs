@@ -1,20 +1,138 @@
 //! Drop-test settings. Each default is written once, in `Default`, with why (the measurements
 //! that chose them: docs/benchmarks.md); the field docs say what a setting means.
 
+use crate::model::FrictionModel;
+use serde::{Deserialize, Serialize};
 use thiserror::Error;
+
+/// Which engine steps the drop test.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, Serialize, Deserialize, clap::ValueEnum)]
+#[serde(rename_all = "snake_case")]
+pub enum Engine {
+    /// rapier3d: soft contacts, an iterative solver (the physics engine the seed paper
+    /// contrasts with the statics).
+    #[default]
+    Rapier,
+    /// voussoir's exact-contact engine: hard contacts, one interior-point solve per component
+    /// and step ([`super::exact`]).
+    Exact,
+}
+
+impl std::fmt::Display for Engine {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Self::Rapier => "rapier",
+            Self::Exact => "exact",
+        })
+    }
+}
+
+/// How the exact-contact engine meets Coulomb's law at a sliding contact.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, Serialize, Deserialize, clap::ValueEnum)]
+#[serde(rename_all = "snake_case")]
+pub enum Coulomb {
+    /// Exact: friction capacities μ f_n by a fixed point within each step (Tresca rounds, as
+    /// the kinematic check), warm-started from the last step's normal forces.
+    #[default]
+    Exact,
+    /// Anitescu's convex relaxation: one solve per step, but a sliding contact separates at
+    /// μ |v_t| (associated friction).
+    Relaxed,
+}
+
+impl std::fmt::Display for Coulomb {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Self::Exact => "exact",
+            Self::Relaxed => "relaxed",
+        })
+    }
+}
+
+/// Settings of the exact-contact engine; each default written once, in `Default` (with why).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct ExactSettings {
+    pub coulomb: Coulomb,
+    /// The friction model of every contact point (the statics' three).
+    pub friction_model: FrictionModel,
+    /// Tresca rounds allowed per step before the step keeps its last round (counted as
+    /// unsettled).
+    pub max_rounds: u32,
+    /// The capacities have settled when none changed by more than this fraction of the largest.
+    pub settle: f64,
+    /// A component is at rest when no vertex moves faster than this fraction of g × dt (an
+    /// acceleration below `still` g over the step, as the kinematic check's).
+    pub still: f64,
+    /// Interior-point feasibility and gap tolerance of each solve.
+    pub solver_tolerance: f64,
+    /// Interior-point iterations allowed per solve.
+    pub max_iterations: u32,
+    /// A penetration is pushed out within one step, but no faster than this fraction of
+    /// √(g × block size) (Chrono's clamped recovery speed): no energy out of overlap.
+    pub recovery_speed: f64,
+    /// Vertices within this fraction of the median block size of the ground, or reaching it
+    /// within two steps, are ground contacts of the step.
+    pub envelope: f64,
+}
+
+impl Default for ExactSettings {
+    fn default() -> Self {
+        Self {
+            coulomb: Coulomb::Exact,
+            friction_model: FrictionModel::default(),
+            // Warm-started capacities settle in 1–3 rounds; the bound only stops a cycle.
+            max_rounds: 30,
+            // The kinematic check's: far inside what changes a verdict.
+            settle: 1e-4,
+            still: 1e-6,
+            solver_tolerance: 1e-9,
+            max_iterations: 200,
+            // Far above a hinge's O(dt² ω² r) overlap per step, far below a falling block's speed.
+            recovery_speed: 0.1,
+            envelope: 0.02,
+        }
+    }
+}
+
+impl ExactSettings {
+    fn validate(&self) -> Result<(), DropError> {
+        for (name, value) in [
+            ("exact.settle", self.settle),
+            ("exact.still", self.still),
+            ("exact.solver_tolerance", self.solver_tolerance),
+            ("exact.recovery_speed", self.recovery_speed),
+            ("exact.envelope", self.envelope),
+        ] {
+            if !(value > 0.0 && value.is_finite()) {
+                return Err(DropError::NotPositive { name, value });
+            }
+        }
+        if self.max_rounds == 0 || self.max_iterations == 0 {
+            return Err(DropError::NoIterations);
+        }
+        Ok(())
+    }
+}
 
 /// How the drop test simulates.
 #[derive(Clone, Debug, PartialEq)]
 pub struct DropSettings {
+    pub engine: Engine,
+    /// The exact-contact engine's settings (the rapier ones below do not apply to it).
+    pub exact: ExactSettings,
     /// Simulated time, s.
     pub duration: f64,
+    /// End the run as soon as a block has passed the tolerances (the verdict cannot change):
+    /// for threshold searches; off when the motion itself is wanted.
+    pub stop_when_falls: bool,
     /// Time step, s.
     pub dt: f64,
-    /// Velocity solver iterations per step.
+    /// rapier's velocity solver iterations per step.
     pub solver_iterations: usize,
-    /// Contact stiffness as a natural frequency, Hz.
+    /// rapier's contact stiffness as a natural frequency, Hz.
     pub contact_frequency: f64,
-    /// Contact damping ratio.
+    /// rapier's contact damping ratio.
     pub contact_damping: f64,
     /// Friction coefficient; `None`: the material's. Combined between two blocks with the
     /// `Min` rule (all blocks share it, so any rule gives μ).
@@ -45,7 +163,10 @@ pub struct DropSettings {
 impl Default for DropSettings {
     fn default() -> Self {
         Self {
+            engine: Engine::Rapier,
+            exact: ExactSettings::default(),
             duration: 2.0,
+            stop_when_falls: false,
             // rapier's soft contacts make stacks sink ~g·n(n+1)/ω²; small steps and stiff
             // contacts keep that far below the drift tolerance.
             dt: 1.0 / 240.0,
@@ -75,7 +196,7 @@ pub enum DropError {
     NotPositive { name: &'static str, value: f64 },
     #[error("drop test setting {name} = {value} must be a finite number ≥ 0")]
     Negative { name: &'static str, value: f64 },
-    #[error("drop test: solver_iterations must be at least 1")]
+    #[error("drop test: solver_iterations (and the exact engine's max_rounds, max_iterations) must be at least 1")]
     NoIterations,
     #[error("drop test: {steps} steps (duration / dt) is more than the limit of 10 000 000")]
     TooManySteps { steps: f64 },
@@ -109,6 +230,7 @@ impl DropSettings {
         if self.solver_iterations == 0 {
             return Err(DropError::NoIterations);
         }
+        self.exact.validate()?;
         let steps = (self.duration / self.dt).ceil();
         if steps > 1e7 {
             return Err(DropError::TooManySteps { steps });

@@ -108,8 +108,9 @@ pub fn side_by_side(analysis: &Analysis, d: &DropResult) -> String {
     let s = &analysis.statics;
     let word = |b: bool| if b { "stands" } else { "falls" };
     let mut o = format!(
-        "drop test (rapier, {:.2} s simulated in {:.2} s, {} steps): {}\n  largest drift {:.3e} of the block size, \
+        "drop test ({}, {:.2} s simulated in {:.2} s, {} steps): {}\n  largest drift {:.3e} of the block size, \
          largest rotation {:.3e} rad{}\n",
+        d.engine,
         d.simulated_s,
         d.wall_s,
         d.steps,
@@ -118,6 +119,9 @@ pub fn side_by_side(analysis: &Analysis, d: &DropResult) -> String {
         d.max_rotation,
         d.worst_block.as_ref().map(|b| format!(" (worst: {b})")).unwrap_or_default()
     );
+    if let Some(e) = &d.exact {
+        o += &exact_engine(e);
+    }
     if d.max_volume_error > 0.0 {
         o += &format!(
             "  colliders differ from the blocks by up to {:.2} % of a block's volume (hulls of curved or notched blocks, decompositions)\n",
@@ -138,6 +142,28 @@ pub fn side_by_side(analysis: &Analysis, d: &DropResult) -> String {
         s.max_friction_utilization,
         word(d.stands),
         disagreement(s.stands, d)
+    );
+    o
+}
+
+/// The exact engine's account: its solves, their status, the deepest overlap and the energy
+/// balance.
+fn exact_engine(e: &crate::dynamics::ExactStats) -> String {
+    let b = &e.energy;
+    let mut o = format!(
+        "  exact contacts ({} Coulomb, {}): {} solves, {} iterations, up to {} round(s) a step{}; {:?}, residual {:.1e} N\n",
+        e.coulomb,
+        e.friction_model,
+        e.solves,
+        e.iterations,
+        e.max_rounds,
+        if e.unsettled_steps > 0 { format!(" ({} steps unsettled)", e.unsettled_steps) } else { String::new() },
+        e.status,
+        e.residual
+    );
+    o += &format!(
+        "  deepest overlap {:.2e} of the block size; energy: loads' work {:.4e} J = kinetic {:.4e} + contacts {:.4e} + impacts {:.4e} (error {:.1e})\n",
+        e.max_penetration, b.load_work, b.kinetic, b.contact, b.impact, b.error
     );
     o
 }
@@ -190,8 +216,12 @@ pub fn kinematic(analysis: &Analysis, k: &crate::stability::kinematic::Kinematic
 
 /// AGREE, or DISAGREE with what the drop test's motion suggests.
 fn disagreement(statics_stand: bool, d: &DropResult) -> &'static str {
+    use crate::dynamics::Engine;
     match (statics_stand == d.stands, statics_stand, d.at_rest) {
         (true, _, _) => "AGREE",
+        (false, _, _) if d.engine == Engine::Exact => {
+            "DISAGREE (hard contacts: a squeeze the statics count on that nothing applies, a motion that arrests itself, or a solver status above)"
+        }
         (false, false, _) => {
             "DISAGREE (the drop test held what the statics cannot: a margin within rapier's tolerances, or too short a run)"
         }

@@ -68,14 +68,14 @@ mod result;
 mod settings;
 mod stages;
 
-pub use backend::Backend;
+pub use backend::{Backend, ConicOutcome, solve_conic};
 pub(crate) use cache::component_key;
 pub use cache::{SolveStats, StaticsCache, solve_cached};
 pub use components::{Component, components};
 pub use error::StaticsError;
 pub use load_factor::{FactorOutcome, Motion, component_load_factor, failure_mechanism, standing_load_factor};
 pub use mechanism::{BlockMotion, InterfaceMotion, JointState, Mechanism};
-pub use problem::{FrictionModel, SolverStatus};
+pub use problem::{Accuracy, Cone, ConicProblem, FrictionModel, SolverStatus};
 pub use rate::{KinematicSettings, RateOutcome, RateState, rate_problem};
 pub use result::{InterfaceResult, SolverReport, StaticsResult, VertexForce};
 pub use settings::{FirstStage, StaticsSettings};

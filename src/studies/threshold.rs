@@ -124,6 +124,8 @@ pub fn bisect_thresholds(
         Ok(a.statics.stands)
     };
     let s = bisect("statics", family, range, iterations, &mut statics, tick)?;
+    // Only the verdict is wanted: a run ends once a block has fallen.
+    let drop = &DropSettings { stop_when_falls: true, ..drop.clone() };
     let mut dynamic = |p: f64| -> Result<bool, ThresholdError> {
         evaluations += 1;
         let asm = Assembly::new(&family.scene(p)?, &settings.tolerances)

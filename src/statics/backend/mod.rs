@@ -11,7 +11,7 @@ mod clarabel;
 mod outcome;
 pub(crate) mod structured;
 
-pub use clarabel::solve_conic;
+pub use clarabel::{ConicOutcome, solve_conic};
 pub use outcome::{Backend, QpOutcome};
 pub use structured::{Warm, WarmStart};
 

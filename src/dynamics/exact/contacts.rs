@@ -1,0 +1,176 @@
+//! Contact points and their geometry at the current poses.
+//!
+//! - Interface contacts: every vertex of every detected interface polygon (the statics' force
+//!   points) is a pair of material points, one on each block, coincident at the start. Its
+//!   normal turns with block a (the interface's `a`, whose face normal points into b); its gap
+//!   is the distance of b's point from a's face plane (> 0 open), so a hinge's far vertices
+//!   open and its near ones stay closed. Once the two points have slipped apart by more than the
+//!   interface's diameter the faces no longer overlap, and once the faces have turned more than
+//!   60° apart or overlap by more than a fifth of the median block size they are not these
+//!   faces' contact any more: the contact is released.
+//! - Ground contacts: every vertex of a free block against the plane z = 0 (when the scene has
+//!   a ground), so a block falling onto it lands.
+
+use super::bodies::Body;
+use crate::geometry::{Point3, Vector3};
+use crate::interfaces::{Body as Side0, Interface};
+use crate::model::Assembly;
+
+/// One side of a contact: a fixed body (support or ground) or a free one (index into the
+/// engine's bodies).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum Side {
+    Fixed,
+    Free(usize),
+}
+
+/// Where a contact comes from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum Origin {
+    /// Vertex `vertex` of interface `interface`.
+    Interface { interface: usize, vertex: usize },
+    /// Vertex `vertex` of the free block's mesh, on the ground.
+    Ground { vertex: usize },
+}
+
+#[derive(Clone, Debug)]
+pub(super) struct Contact {
+    pub a: Side,
+    pub b: Side,
+    pub origin: Origin,
+    /// The material points on a and on b: offsets from the body's start centroid (a fixed
+    /// side's: the world point).
+    pub ra: Vector3,
+    pub rb: Vector3,
+    /// The frame at the start: n from a into b, then u, v (right-handed).
+    pub frame: [Vector3; 3],
+    /// Slip (m) beyond which the faces no longer overlap (∞ on the ground).
+    pub reach: f64,
+    /// The normal force of the last step that solved it, N (warms the friction capacity).
+    pub last_normal: f64,
+}
+
+/// A contact's geometry at the current poses.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Geometry {
+    /// Where the force acts (midway between the two material points), m.
+    pub point: Point3,
+    /// n (from a into b), u, v now.
+    pub frame: [Vector3; 3],
+    /// Signed distance of b's point from a's face plane, m (< 0 overlapping).
+    pub gap: f64,
+    /// Tangential distance between the two material points, m.
+    pub slip: f64,
+    /// The cosine between a's normal and b's face normal reversed (1 while the faces are
+    /// parallel; on the ground, 1).
+    pub facing: f64,
+}
+
+/// All contacts of a scene, in a fixed order: interfaces (detection's order, vertices in
+/// polygon order), then ground vertices by block and vertex.
+pub(super) fn build(
+    assembly: &Assembly,
+    interfaces: &[Interface],
+    body_of: &[Option<usize>],
+    bodies: &[Body],
+) -> Vec<Contact> {
+    let side = |b: Side0| match b {
+        Side0::Block(id) => body_of[id.0].map_or(Side::Fixed, Side::Free),
+        Side0::Ground => Side::Fixed,
+    };
+    let offset = |s: Side, p: Point3| match s {
+        Side::Fixed => p.coords,
+        Side::Free(k) => p - bodies[k].start,
+    };
+    let mut out = Vec::new();
+    for (k, itf) in interfaces.iter().enumerate() {
+        // The ground is met vertex by vertex below; fixed–fixed pairs never move.
+        if itf.a == Side0::Ground || itf.b == Side0::Ground {
+            continue;
+        }
+        let (a, b) = (side(itf.a), side(itf.b));
+        if a == Side::Fixed && b == Side::Fixed {
+            continue;
+        }
+        let reach = diameter(&itf.polygon);
+        for (vertex, &p) in itf.polygon.iter().enumerate() {
+            out.push(Contact {
+                a,
+                b,
+                origin: Origin::Interface { interface: k, vertex },
+                ra: offset(a, p),
+                rb: offset(b, p),
+                frame: [itf.frame.n, itf.frame.u, itf.frame.v],
+                reach,
+                last_normal: 0.0,
+            });
+        }
+    }
+    if assembly.ground {
+        for (k, body) in bodies.iter().enumerate() {
+            for (vertex, p) in assembly.blocks[body.block].mesh.vertices.iter().enumerate() {
+                out.push(Contact {
+                    a: Side::Fixed,
+                    b: Side::Free(k),
+                    origin: Origin::Ground { vertex },
+                    ra: Vector3::new(p.x, p.y, 0.0),
+                    rb: p - body.start,
+                    frame: [Vector3::z(), Vector3::x(), Vector3::y()],
+                    reach: f64::INFINITY,
+                    last_normal: 0.0,
+                });
+            }
+        }
+    }
+    out
+}
+
+fn diameter(polygon: &[Point3]) -> f64 {
+    let mut d = 0.0f64;
+    for (i, p) in polygon.iter().enumerate() {
+        for q in &polygon[i + 1..] {
+            d = d.max((p - q).norm());
+        }
+    }
+    d
+}
+
+impl Contact {
+    pub fn geometry(&self, bodies: &[Body]) -> Geometry {
+        let at = |s: Side, r: &Vector3| match s {
+            Side::Fixed => Point3::from(*r),
+            Side::Free(k) => bodies[k].point(r),
+        };
+        let pb = at(self.b, &self.rb);
+        let frame = match (self.origin, self.a) {
+            (_, Side::Free(k)) => self.frame.map(|d| bodies[k].q * d),
+            _ => self.frame,
+        };
+        // On the ground, a's point is b's vertex projected onto the plane.
+        let pa = match self.origin {
+            Origin::Ground { .. } => Point3::new(pb.x, pb.y, 0.0),
+            Origin::Interface { .. } => at(self.a, &self.ra),
+        };
+        let d = pb - pa;
+        let gap = frame[0].dot(&d);
+        let slip = (d - frame[0] * gap).norm();
+        let facing = match self.b {
+            Side::Free(k) => frame[0].dot(&(bodies[k].q * self.frame[0])),
+            Side::Fixed => frame[0].dot(&self.frame[0]),
+        };
+        Geometry { point: pa + d * 0.5, frame, gap, slip, facing }
+    }
+
+    /// The velocity of b's point relative to a's at `point`, m/s.
+    pub fn relative_velocity(&self, bodies: &[Body], point: &Point3) -> Vector3 {
+        let vel = |s: Side| match s {
+            Side::Fixed => Vector3::zeros(),
+            Side::Free(k) => bodies[k].velocity_at(point),
+        };
+        vel(self.b) - vel(self.a)
+    }
+
+    pub fn touches(&self, body: usize) -> bool {
+        self.a == Side::Free(body) || self.b == Side::Free(body)
+    }
+}

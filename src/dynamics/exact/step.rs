@@ -1,0 +1,110 @@
+//! One component's step: the rounds of solves, then its new velocities, forces and account.
+
+use super::World;
+use super::problem::{self, Active, Solution};
+use crate::dynamics::settings::Coulomb;
+use crate::geometry::Vector3;
+use crate::statics::{SolverStatus, solve_conic};
+
+/// A normal force (relative to the free weight) below this multiple of the solver tolerance
+/// is the interior point's round-off, not a contact force (as in the kinematic check).
+const NOISE: f64 = 1e2;
+
+impl World {
+    /// Solves `comp`'s step (module docs of [`super`]) and sets its velocities.
+    pub(super) fn step_component(&mut self, comp: &[usize], near: &[Active]) {
+        let mut local = vec![usize::MAX; self.bodies.len()];
+        comp.iter().enumerate().for_each(|(j, &k)| local[k] = j);
+        let mu = self.ctx.mu;
+        let force = self.ctx.units.force;
+        let mut active: Vec<Active> = near
+            .iter()
+            .filter(|a| comp.iter().any(|&k| self.contacts[a.contact].touches(k)))
+            .map(|a| Active { capacity: mu * self.contacts[a.contact].last_normal / force, ..*a })
+            .collect();
+        let exact = self.ctx.coulomb == Coulomb::Exact;
+        let mut rounds = 0;
+        let accepted = loop {
+            rounds += 1;
+            let p = problem::build(&self.ctx, &self.bodies, comp, &local, &self.contacts, &active);
+            let out = solve_conic(&p.conic, self.acc, self.settings.max_iterations);
+            self.stats.solves += 1;
+            self.stats.iterations += u64::from(out.iterations);
+            self.stats.status = self.stats.status.max(out.status);
+            if !matches!(out.status, SolverStatus::Solved | SolverStatus::AlmostSolved) {
+                break None;
+            }
+            let sol = p.read(&self.ctx, &self.bodies, comp, &active, &out.x);
+            let rest = self.peak_speed(comp, &sol) <= self.settings.still * self.ctx.units.g * self.ctx.h;
+            if rest || !exact {
+                break Some((sol, rest));
+            }
+            let next = capacities(&sol.normal, mu, self.settings.solver_tolerance);
+            let largest =
+                next.iter().chain(active.iter().map(|a| &a.capacity)).fold(f64::MIN_POSITIVE, |m, c| m.max(*c));
+            let change = next.iter().zip(&active).fold(0.0f64, |m, (c, a)| m.max((c - a.capacity).abs()));
+            if change <= self.settings.settle * largest {
+                break Some((sol, false));
+            }
+            if rounds >= self.settings.max_rounds {
+                self.stats.unsettled_steps += 1;
+                break Some((sol, false));
+            }
+            active.iter_mut().zip(next).for_each(|(a, c)| a.capacity = c);
+        };
+        self.stats.max_rounds = self.stats.max_rounds.max(rounds);
+        // A failed solve leaves the component as it was (its status is the run's answer).
+        if let Some((sol, rest)) = accepted {
+            self.accept(comp, &active, sol, rest);
+        }
+    }
+
+    /// The fastest vertex of the component after the step, m/s (bounded by |v| + |ω| r).
+    fn peak_speed(&self, comp: &[usize], sol: &Solution) -> f64 {
+        comp.iter()
+            .zip(&sol.velocities)
+            .map(|(&k, (v, w))| v.norm() + w.norm() * self.bodies[k].radius)
+            .fold(0.0, f64::max)
+    }
+
+    /// Takes a solve's velocities (zero at rest; a component at rest that stays at rest
+    /// sleeps), its forces for the next step's capacities, and its energy and overlap account.
+    fn accept(&mut self, comp: &[usize], active: &[Active], sol: Solution, rest: bool) {
+        let h = self.ctx.h;
+        let e = &mut self.stats.energy;
+        for (&k, &(v, w)) in comp.iter().zip(&sol.velocities) {
+            let b = &mut self.bodies[k];
+            let (v, w) = if rest { (Vector3::zeros(), Vector3::zeros()) } else { (v, w) };
+            if rest && b.at_rest() {
+                b.asleep = true;
+            }
+            let (dv, dw) = (v - b.v, w - b.w);
+            e.impact += 0.5 * (b.mass * dv.norm_squared() + dw.dot(&(b.inertia_now() * dw)));
+            let l = &b.load;
+            e.load_work += h * (l[0] * v.x + l[1] * v.y + l[2] * v.z + l[3] * w.x + l[4] * w.y + l[5] * w.z);
+            b.v = v;
+            b.w = w;
+        }
+        for c in self.contacts.iter_mut().filter(|c| comp.iter().any(|&k| c.touches(k))) {
+            c.last_normal = 0.0;
+        }
+        for ((a, &n), impulse) in active.iter().zip(&sol.normal).zip(&sol.impulses) {
+            let c = &self.contacts[a.contact];
+            let relative = c.relative_velocity(&self.bodies, &a.geometry.point);
+            self.stats.energy.contact -= impulse.dot(&relative);
+            if n > 0.0 {
+                self.stats.max_penetration = self.stats.max_penetration.max(-a.geometry.gap / self.size);
+            }
+            self.contacts[a.contact].last_normal = n * self.ctx.units.force;
+        }
+        self.stats.residual = self.stats.residual.max(sol.residual);
+    }
+}
+
+/// The next round's capacities μ f_n, a normal force within the solver's noise counted as none
+/// (non-dimensional).
+fn capacities(normal: &[f64], mu: f64, tolerance: f64) -> Vec<f64> {
+    let sum_sq: f64 = normal.iter().map(|f| f * f).sum();
+    let noise = (NOISE * tolerance).max((tolerance * sum_sq).sqrt());
+    normal.iter().map(|&f| if f > noise { mu * f } else { 0.0 }).collect()
+}
