@@ -13,8 +13,8 @@ pub enum Engine {
     /// contrasts with the statics).
     #[default]
     Rapier,
-    /// voussoir's exact-contact engine: hard contacts, one interior-point solve per component
-    /// and step ([`super::exact`]).
+    /// voussoir's exact-contact engine: hard contacts, one interior-point solve per moving component
+    /// and step (dynamics::exact).
     Exact,
 }
 
@@ -86,7 +86,8 @@ impl Default for ExactSettings {
             // The kinematic check's: far inside what changes a verdict.
             settle: 1e-4,
             still: 1e-6,
-            solver_tolerance: 1e-9,
+            // The kinematic check's: its first step is that check's rate problem.
+            solver_tolerance: 1e-10,
             max_iterations: 200,
             // Far above a hinge's O(dt² ω² r) overlap per step, far below a falling block's speed.
             recovery_speed: 0.1,

@@ -41,7 +41,7 @@ fn compas_cra_with(name: &str, supports: usize) -> Scene {
 }
 
 /// The letters and wedges: supports 0 and 1.
-fn compas_cra(name: &str) -> Scene {
+pub(crate) fn compas_cra(name: &str) -> Scene {
     compas_cra_with(name, 2)
 }
 
@@ -60,7 +60,7 @@ fn prism(name: &str, xz: &[[f64; 2]]) -> Block {
 
 /// A block of width 2w between two support posts whose inner faces run from x = ±`bottom` at
 /// z = 0 to x = ±`top` at z = 1.
-fn seated(name: &str, bottom: f64, top: f64, mu: f64) -> Scene {
+pub(crate) fn seated(name: &str, bottom: f64, top: f64, mu: f64) -> Scene {
     let mut scene = Scene::new(
         name,
         vec![

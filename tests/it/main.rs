@@ -22,6 +22,7 @@ mod drop_real_vault;
 mod drop_test;
 #[cfg(feature = "ecs")]
 mod ecs_app;
+mod exact_dynamics;
 mod fuzz_corpora;
 mod gltf_export;
 mod incremental;

@@ -242,6 +242,11 @@ impl World {
         })
     }
 
+    /// Block `i`'s velocity (m/s) and angular velocity (rad/s); zero for a support.
+    pub fn velocity(&self, i: usize) -> (crate::geometry::Vector3, crate::geometry::Vector3) {
+        self.body_of[i].map_or((Default::default(), Default::default()), |k| (self.bodies[k].v, self.bodies[k].w))
+    }
+
     pub fn kinetic_energy(&self, i: usize) -> f64 {
         self.body_of[i].map_or(0.0, |k| self.bodies[k].kinetic_energy())
     }
@@ -256,6 +261,3 @@ impl World {
         s
     }
 }
-
-#[cfg(test)]
-mod tests;

@@ -195,7 +195,48 @@ pub(super) struct Solution {
     pub residual: f64,
 }
 
+/// The stiffness η of the force-selection solve's pin: its velocities differ from the first
+/// solve's by ~η × the forces, far below `still`.
+const PIN: f64 = 1e-8;
+
 impl StepProblem {
+    /// Turns the problem into its force selection (as the kinematic check's second QP): the
+    /// velocities are unique but the forces are not — opposite faces can squeeze a sliding bar
+    /// by any amount, a face's corners share a load any way — and an interior point returns
+    /// some squeeze that would become friction capacity. So: the smallest forces (Σ f²) that
+    /// keep the first solve's velocities, pinned by (1/η) ½ |r − r*|² (r − r* the new residual
+    /// columns, the block rows' right-hand side taking in S r*).
+    pub fn select_forces(&mut self, first: &[f64]) {
+        let (p, residual) = (&mut self.conic, self.cols.residual);
+        let block_rows = p.cones.first().map_or(0, |c| match c {
+            Cone::Zero(n) => *n,
+            _ => 0,
+        });
+        for &(row, col, v) in p.a.iter().filter(|e| e.0 < block_rows && e.1 >= residual) {
+            p.b[row] -= v * first[col];
+        }
+        for j in 0..p.n {
+            p.p_diag[j] = if j < residual { 1.0 } else { 1.0 / PIN };
+            p.q[j] = 0.0;
+        }
+    }
+
+    /// Reads the forces of the force-selection solve `x` with the velocities of the first
+    /// solve `first`.
+    pub fn read_selected(
+        &self,
+        ctx: &StepContext,
+        bodies: &[Body],
+        comp: &[usize],
+        active: &[Active],
+        first: &[f64],
+        x: &[f64],
+    ) -> Solution {
+        let mut sol = self.read(ctx, bodies, comp, active, x);
+        sol.velocities = self.read(ctx, bodies, comp, active, first).velocities;
+        sol
+    }
+
     pub fn read(&self, ctx: &StepContext, bodies: &[Body], comp: &[usize], active: &[Active], x: &[f64]) -> Solution {
         let u = &ctx.units;
         let h = ctx.h();

@@ -6,10 +6,6 @@ use crate::dynamics::settings::Coulomb;
 use crate::geometry::Vector3;
 use crate::statics::{SolverStatus, solve_conic};
 
-/// A normal force (relative to the free weight) below this multiple of the solver tolerance
-/// is the interior point's round-off, not a contact force (as in the kinematic check).
-const NOISE: f64 = 1e2;
-
 impl World {
     /// Solves `comp`'s step (module docs of [`super`]) and sets its velocities.
     pub(super) fn step_component(&mut self, comp: &[usize], near: &[Active]) {
@@ -39,9 +35,24 @@ impl World {
             if rest || !exact {
                 break Some((sol, rest));
             }
+            let mut selection = p;
+            selection.select_forces(&out.x);
+            let forces = solve_conic(&selection.conic, self.acc, self.settings.max_iterations);
+            self.stats.solves += 1;
+            self.stats.iterations += u64::from(forces.iterations);
+            self.stats.status = self.stats.status.max(forces.status);
+            if !matches!(forces.status, SolverStatus::Solved | SolverStatus::AlmostSolved) {
+                break None;
+            }
+            let sol = selection.read_selected(&self.ctx, &self.bodies, comp, &active, &out.x, &forces.x);
             let next = capacities(&sol.normal, mu, self.settings.solver_tolerance);
-            let largest =
-                next.iter().chain(active.iter().map(|a| &a.capacity)).fold(f64::MIN_POSITIVE, |m, c| m.max(*c));
+            // Against the mean capacity per point at the least: capacities of ~0 that merely
+            // wobble have settled.
+            let mean = mu / active.len().max(1) as f64;
+            let largest = next
+                .iter()
+                .chain(active.iter().map(|a| &a.capacity))
+                .fold(mean.max(f64::MIN_POSITIVE), |m, c| m.max(*c));
             let change = next.iter().zip(&active).fold(0.0f64, |m, (c, a)| m.max((c - a.capacity).abs()));
             if change <= self.settings.settle * largest {
                 break Some((sol, false));
@@ -102,9 +113,11 @@ impl World {
 }
 
 /// The next round's capacities μ f_n, a normal force within the solver's noise counted as none
-/// (non-dimensional).
+/// (non-dimensional). The force selection resolves Σ f² to the tolerance, so a force with f²
+/// below tol × max(1, Σ f²) is invisible to it: where no force is needed (a bar sliding down
+/// between posts) the barrier leaves ~√tol on every contact, which would become friction.
 fn capacities(normal: &[f64], mu: f64, tolerance: f64) -> Vec<f64> {
     let sum_sq: f64 = normal.iter().map(|f| f * f).sum();
-    let noise = (NOISE * tolerance).max((tolerance * sum_sq).sqrt());
+    let noise = (tolerance * sum_sq.max(1.0)).sqrt();
     normal.iter().map(|&f| if f > noise { mu * f } else { 0.0 }).collect()
 }
