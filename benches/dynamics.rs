@@ -1,16 +1,19 @@
-//! The rapier drop test: 2 s simulated at the default dt (1/240 s) for a 15-voussoir arch and
-//! a 10 × 10 running-bond wall, and the goal of issue #7: the Armadillo (399 bodies), 10 s
-//! simulated (2400 steps). The cost per body-step is the median / (steps × bodies).
+//! The drop test: 2 s simulated at the default dt (1/240 s) for a 15-voussoir arch and a
+//! 10 × 10 running-bond wall on both engines; the goal of issue #7: the Armadillo (399 bodies),
+//! 10 s simulated (2400 steps) on rapier, and 2 s on both engines; and the exact engine on a
+//! collapsing arch (t/R 0.08, 2 s: every step solved). The cost per body-step is the median /
+//! (steps × bodies).
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use std::hint::black_box;
 use std::time::Duration;
-use voussoir::dynamics::{DropSettings, drop_test};
+use voussoir::dynamics::{DropSettings, Engine, drop_test};
 use voussoir::model::{Assembly, builtin};
 
 fn drops(c: &mut Criterion) {
     let mut g = c.benchmark_group("dynamics/drop_2s");
     g.sample_size(10).measurement_time(Duration::from_secs(8));
+    let exact = DropSettings { engine: Engine::Exact, ..Default::default() };
     for spec in ["arch?n=15&t=0.15", "wall?courses=10&bricks=10"] {
         let mut scene = builtin(spec).unwrap();
         if spec.starts_with("wall") {
@@ -18,12 +21,20 @@ fn drops(c: &mut Criterion) {
         }
         let asm = Assembly::new(&scene, &Default::default()).unwrap();
         g.bench_function(spec, |b| b.iter(|| black_box(drop_test(&asm, &DropSettings::default()).unwrap())));
+        g.bench_function(format!("exact/{spec}"), |b| b.iter(|| black_box(drop_test(&asm, &exact).unwrap())));
     }
+    let asm = Assembly::new(&builtin("arch?n=15&t=0.08").unwrap(), &Default::default()).unwrap();
+    g.bench_function("exact/collapsing arch?n=15&t=0.08", |b| b.iter(|| black_box(drop_test(&asm, &exact).unwrap())));
     g.finish();
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/compas/compas_cra/armadillo_cra.json");
     let mut scene = voussoir::io::load_scene(&path).unwrap();
     scene.material.friction = 0.84;
     let asm = Assembly::new(&scene, &Default::default()).unwrap();
+    let mut g = c.benchmark_group("dynamics/armadillo_2s");
+    g.sample_size(10).measurement_time(Duration::from_secs(60));
+    g.bench_function("rapier", |b| b.iter(|| black_box(drop_test(&asm, &DropSettings::default()).unwrap())));
+    g.bench_function("exact", |b| b.iter(|| black_box(drop_test(&asm, &exact).unwrap())));
+    g.finish();
     let settings = DropSettings { duration: 10.0, ..Default::default() };
     let mut g = c.benchmark_group("dynamics/drop_10s");
     g.sample_size(10).measurement_time(Duration::from_secs(45));

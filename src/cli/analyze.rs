@@ -36,9 +36,13 @@ pub struct AnalyzeArgs {
     /// How many of the worst interfaces to list.
     #[arg(long, default_value_t = 5)]
     pub worst: usize,
-    /// Also run the rapier drop test and compare the verdicts.
+    /// Also run the drop test (`--engine`) and compare the verdicts.
     #[arg(long)]
     pub dynamic: bool,
+    /// With the drop test: write its motion as a glTF animation (.glb, 30 frames per simulated
+    /// second; any glTF viewer plays it) — a collapse seen in motion.
+    #[arg(long, value_name = "OUT.glb")]
+    pub frames: Option<PathBuf>,
     /// Also run the kinematic check (released from rest with no squeeze: do the forces RBE
     /// found actually arise?) and compare the verdicts.
     #[arg(long)]
@@ -72,9 +76,18 @@ impl AnalyzeArgs {
     }
 }
 
+/// The frame rate of `--frames` (per simulated second).
+const FRAMES_PER_SECOND: f64 = 30.0;
+
 pub fn run(args: &AnalyzeArgs) -> Result<i32, BadInput> {
     if let Some(out) = &args.compas_out {
         refuse_overwrite(args.scene.as_deref(), out, "--compas-out")?;
+    }
+    if let Some(out) = &args.frames {
+        refuse_overwrite(args.scene.as_deref(), out, "--frames")?;
+        if !args.dynamic {
+            return Err(BadInput("--frames: the motion is the drop test's (use `drop` or `analyze --dynamic`)".into()));
+        }
     }
     if let Some(out) = &args.json {
         refuse_overwrite(args.scene.as_deref(), out, "--json")?;
@@ -91,11 +104,17 @@ pub fn run(args: &AnalyzeArgs) -> Result<i32, BadInput> {
         println!("  {live} live load(s) not applied: `voussoir robustness` gives their load factor");
     }
     let dynamic = if args.dynamic {
-        let d = crate::dynamics::drop_test(
-            &analysis.assembly,
-            &args.drop.settings(args.solver.mu, args.solver.friction_model),
-        )
-        .map_err(|e| BadInput(e.to_string()))?;
+        let settings = args.drop.settings(args.solver.mu, args.solver.friction_model);
+        let d = match &args.frames {
+            Some(out) => {
+                let (d, motion) = crate::dynamics::record(&analysis.assembly, &settings, FRAMES_PER_SECOND)
+                    .map_err(|e| BadInput(e.to_string()))?;
+                write_output(out, &crate::viz::gltf::animation_glb(&analysis.assembly, &motion))?;
+                println!("motion written to {} ({} frames)", out.display(), motion.times.len());
+                d
+            }
+            None => crate::dynamics::drop_test(&analysis.assembly, &settings).map_err(|e| BadInput(e.to_string()))?,
+        };
         print!("{}", text_report::side_by_side(&analysis, &d));
         Some(d)
     } else {

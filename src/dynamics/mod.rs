@@ -124,6 +124,34 @@ pub fn drop_test(assembly: &Assembly, settings: &DropSettings) -> Result<DropRes
     Ok(run.result())
 }
 
+/// A drop test's motion sampled for playback: the times (s) and, per frame, every block's
+/// centroid (m) and rotation since the start ([w, x, y, z]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Trajectory {
+    pub engine: Engine,
+    pub times: Vec<f64>,
+    pub poses: Vec<Vec<(crate::geometry::Point3, [f64; 4])>>,
+}
+
+/// Runs the drop test of `assembly`, recording every block's pose about `fps` times per
+/// simulated second (the start and the end included): the motion behind the verdict, for
+/// [`crate::viz::gltf::animation_glb`].
+pub fn record(assembly: &Assembly, settings: &DropSettings, fps: f64) -> Result<(DropResult, Trajectory), DropError> {
+    if !(fps > 0.0 && fps.is_finite()) {
+        return Err(DropError::NotPositive { name: "frames per second", value: fps });
+    }
+    let mut run = DropRun::new(assembly, settings)?;
+    let every = ((1.0 / (fps * settings.dt)).round() as usize).max(1);
+    let frame = |run: &DropRun| (0..assembly.blocks.len()).map(|i| run.pose(i)).collect();
+    let mut motion = Trajectory { engine: settings.engine, times: vec![0.0], poses: vec![frame(&run)] };
+    while !run.finished() {
+        run.advance(every);
+        motion.times.push(run.steps_done() as f64 * settings.dt);
+        motion.poses.push(frame(&run));
+    }
+    Ok((run.result(), motion))
+}
+
 /// A drop test that can be advanced step by step (the ECS plugin steps it in FixedUpdate).
 pub struct DropRun {
     sim: Stepper,

@@ -52,6 +52,22 @@ impl Builder {
         self.accessors.len() - 1
     }
 
+    /// A float accessor of `kind` ("SCALAR", "VEC4") over `data`, with min/max when asked
+    /// (glTF requires them on an animation's input).
+    fn floats(&mut self, data: &[f32], kind: &str, bounds: bool) -> usize {
+        let offset = self.bin.len();
+        data.iter().for_each(|c| self.bin.extend_from_slice(&c.to_le_bytes()));
+        self.views.push(json!({"buffer": 0, "byteOffset": offset, "byteLength": data.len() * 4}));
+        let width = if kind == "VEC4" { 4 } else { 1 };
+        let mut acc = json!({"bufferView": self.views.len() - 1, "componentType": 5126, "count": data.len() / width, "type": kind});
+        if bounds {
+            acc["min"] = json!([data.iter().copied().fold(f32::INFINITY, f32::min)]);
+            acc["max"] = json!([data.iter().copied().fold(f32::NEG_INFINITY, f32::max)]);
+        }
+        self.accessors.push(acc);
+        self.accessors.len() - 1
+    }
+
     /// One mesh node of flat triangles (`positions` in threes).
     fn mesh(&mut self, name: &str, positions: Vec<[f32; 3]>, colors: Option<Vec<Rgb>>, material: usize) {
         if positions.is_empty() {
@@ -100,14 +116,19 @@ pub fn glb(analysis: &Analysis, mode: DiagramMode) -> Vec<u8> {
         {"name": "support", "pbrMetallicRoughness": {"baseColorFactor": [0.35, 0.35, 0.38, 0.6], "metallicFactor": 0.0, "roughnessFactor": 0.9}, "alphaMode": "BLEND"},
         {"name": "interface", "pbrMetallicRoughness": {"baseColorFactor": [1.0, 1.0, 1.0, 1.0], "metallicFactor": 0.0, "roughnessFactor": 1.0}, "doubleSided": true}
     ]);
+    write(b, &analysis.assembly.name, materials, None)
+}
+
+/// The .glb bytes of the built nodes with `materials`, and an animation if given.
+fn write(mut b: Builder, name: &str, materials: Value, animation: Option<Value>) -> Vec<u8> {
     while !b.bin.len().is_multiple_of(4) {
         b.bin.push(0);
     }
     let nodes: Vec<usize> = (0..b.nodes.len()).collect();
-    let doc = json!({
+    let mut doc = json!({
         "asset": {"version": "2.0", "generator": concat!("voussoir ", env!("CARGO_PKG_VERSION"))},
         "scene": 0,
-        "scenes": [{"name": analysis.assembly.name.clone(), "nodes": nodes}],
+        "scenes": [{"name": name, "nodes": nodes}],
         "nodes": b.nodes,
         "meshes": b.meshes,
         "materials": materials,
@@ -115,6 +136,9 @@ pub fn glb(analysis: &Analysis, mode: DiagramMode) -> Vec<u8> {
         "bufferViews": b.views,
         "buffers": [{"byteLength": b.bin.len()}],
     });
+    if let Some(a) = animation {
+        doc["animations"] = json!([a]);
+    }
     let mut text = serde_json::to_vec(&doc).expect("a JSON value always serialises");
     while !text.len().is_multiple_of(4) {
         text.push(b' ');
@@ -131,4 +155,50 @@ pub fn glb(analysis: &Analysis, mode: DiagramMode) -> Vec<u8> {
     out.extend_from_slice(b"BIN\0");
     out.extend_from_slice(&b.bin);
     out
+}
+
+/// The .glb bytes of a drop test's motion: every block a node at its centroid (its mesh
+/// relative to it), the free blocks animated by the recorded poses (linear translation,
+/// spherical rotation between frames), supports still. glTF players loop it.
+pub fn animation_glb(assembly: &crate::model::Assembly, motion: &crate::dynamics::Trajectory) -> Vec<u8> {
+    let mut b = Builder::default();
+    for block in &assembly.blocks {
+        let m = &block.mesh;
+        let c = block.mass.centroid;
+        let pos: Vec<[f32; 3]> =
+            m.triangles().into_iter().flat_map(|(t, _)| t.map(|k| y_up((m.vertices[k] - c).into()))).collect();
+        b.mesh(&block.name, pos, None, if block.support { 1 } else { 0 });
+        if let Some(node) = b.nodes.last_mut() {
+            node["translation"] = json!(y_up(c.coords.into()));
+        }
+    }
+    let times: Vec<f32> = motion.times.iter().map(|&t| t as f32).collect();
+    let input = b.floats(&times, "SCALAR", true);
+    let (mut samplers, mut channels) = (Vec::new(), Vec::new());
+    for (i, block) in assembly.blocks.iter().enumerate().filter(|(_, b)| !b.support) {
+        let translation: Vec<[f32; 3]> = motion.poses.iter().map(|f| y_up(f[i].0.coords.into())).collect();
+        let rotation: Vec<f32> = motion
+            .poses
+            .iter()
+            .flat_map(|f| {
+                let [w, x, y, z] = f[i].1;
+                let v = y_up([x, y, z]);
+                [v[0], v[1], v[2], w as f32]
+            })
+            .collect();
+        let t = b.vec3(&translation, false);
+        let r = b.floats(&rotation, "VEC4", false);
+        let node = b.nodes.iter().position(|n| n["name"] == json!(block.name)).unwrap_or(i);
+        for (path, output) in [("translation", t), ("rotation", r)] {
+            samplers.push(json!({"input": input, "output": output, "interpolation": "LINEAR"}));
+            channels.push(json!({"sampler": samplers.len() - 1, "target": {"node": node, "path": path}}));
+        }
+    }
+    let materials = json!([
+        {"name": "block", "pbrMetallicRoughness": {"baseColorFactor": [0.85, 0.82, 0.76, 1.0], "metallicFactor": 0.0, "roughnessFactor": 0.9}},
+        {"name": "support", "pbrMetallicRoughness": {"baseColorFactor": [0.35, 0.35, 0.38, 1.0], "metallicFactor": 0.0, "roughnessFactor": 0.9}}
+    ]);
+    let animation =
+        json!({"name": format!("drop test ({})", motion.engine), "samplers": samplers, "channels": channels});
+    write(b, &assembly.name, materials, Some(animation))
 }

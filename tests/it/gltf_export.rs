@@ -96,3 +96,48 @@ fn tension_is_red_and_friction_follows_utilisation() {
     assert!(!at30.contains(&"red") && at30.contains(&"orange"), "{at30:?}");
     assert!(colors_at(45.0, 0.5).contains(&"red"));
 }
+
+/// Invariant: a drop test's motion exported as a glTF animation reads back with the `gltf`
+/// crate: one translation and one rotation channel per free block (none for the supports),
+/// times from 0 to the duration at 30 frames per simulated second, and the last keyframe is the
+/// run's final pose in y-up axes (a collapsing arch, exact engine).
+#[test]
+fn a_collapse_exports_as_an_animation() {
+    use gltf::animation::util::ReadOutputs;
+    use voussoir::dynamics::{DropSettings, Engine, record};
+    let scene = builtin("arch?n=7&t=0.06").unwrap();
+    let asm = voussoir::model::Assembly::new(&scene, &Default::default()).unwrap();
+    let settings = DropSettings { engine: Engine::Exact, duration: 0.5, ..Default::default() };
+    let (result, motion) = record(&asm, &settings, 30.0).unwrap();
+    assert!(!result.stands);
+    let bytes = voussoir::viz::gltf::animation_glb(&asm, &motion);
+    let (doc, buffers, _) = gltf::import_slice(&bytes).expect("a valid glb");
+    let animation = doc.animations().next().expect("an animation");
+    let free: Vec<usize> = (0..asm.blocks.len()).filter(|&i| !asm.blocks[i].support).collect();
+    assert_eq!(animation.channels().count(), 2 * free.len());
+    let last = motion.poses.last().unwrap();
+    for channel in animation.channels() {
+        let node = channel.target().node();
+        let i = asm.blocks.iter().position(|b| Some(b.name.as_str()) == node.name()).expect("a block's node");
+        assert!(!asm.blocks[i].support);
+        let reader = channel.reader(|b| Some(&buffers[b.index()]));
+        let times: Vec<f32> = reader.read_inputs().unwrap().collect();
+        assert_eq!(times.len(), 16, "0.5 s at 30 frames per second, and the start");
+        assert!(times[0] == 0.0 && (times[15] - 0.5).abs() < 1e-6);
+        match reader.read_outputs().unwrap() {
+            ReadOutputs::Translations(t) => {
+                let end = t.last().unwrap();
+                let p = last[i].0;
+                let expected = [p.x as f32, p.z as f32, -p.y as f32];
+                assert!(end.iter().zip(expected).all(|(a, b)| (a - b).abs() < 1e-5), "{end:?} vs {expected:?}");
+            }
+            ReadOutputs::Rotations(r) => {
+                let end = r.into_f32().last().unwrap();
+                let [w, x, y, z] = last[i].1;
+                let expected = [x as f32, z as f32, -y as f32, w as f32];
+                assert!(end.iter().zip(expected).all(|(a, b)| (a - b).abs() < 1e-6), "{end:?} vs {expected:?}");
+            }
+            _ => panic!("only translations and rotations"),
+        }
+    }
+}
