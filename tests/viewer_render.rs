@@ -9,6 +9,7 @@
 use image::RgbImage;
 use serde_json::Value;
 use std::path::Path;
+use voussoir::dynamics::Engine;
 use voussoir::model::builtin;
 use voussoir::viewer::{Script, ScriptStep, ViewerAction, ViewerOptions};
 use voussoir::viz::DiagramMode;
@@ -182,9 +183,12 @@ fn main() {
         Shot(path("restored")),
         // The drop test beside the statics, then the sequence stepper, on the default arch.
         Load(Box::new(default_scene.clone())),
-        Act(A::DropTest),
+        Act(A::DropTest(Engine::Rapier)),
         Settle(3),
         Shot(path("drop")),
+        Act(A::DropTest(Engine::Exact)),
+        Settle(3),
+        Shot(path("drop_exact")),
         Act(A::ResetDrop),
         Act(A::StartSequence),
         Settle(3),

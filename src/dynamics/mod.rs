@@ -212,6 +212,10 @@ impl DropRun {
         self.total
     }
 
+    pub fn engine(&self) -> Engine {
+        self.settings.engine
+    }
+
     /// The time step, s.
     pub fn dt(&self) -> f64 {
         self.settings.dt

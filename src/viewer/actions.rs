@@ -4,7 +4,7 @@
 //! several actions in one frame build on each other.
 
 use super::ViewerOptions;
-use crate::dynamics::DropSettings;
+use crate::dynamics::{DropSettings, Engine};
 use crate::ecs::{
     Design, DropStatus, EditDesign, KinematicRequest, PipelineState, RepairStatus, RobustnessRequest, RunDropTest,
     RunRepair, SequenceStatus, SetDiagram, StartSequence, StepSequence, VoussoirSet,
@@ -76,7 +76,8 @@ pub enum ViewerAction {
     Undo,
     Redo,
     Save,
-    DropTest,
+    /// Drop-test the design on an engine (D rapier, E exact contacts).
+    DropTest(Engine),
     /// Leave the drop-test view (the static diagram alone again).
     ResetDrop,
     /// Check the design's order (its `order`, else bottom-up) and show its first step.
@@ -138,6 +139,8 @@ pub struct ViewerState {
     /// The last note for the user (saved, nothing selected, …).
     pub message: Option<String>,
     pub drop_view: bool,
+    /// The engine of the drop test shown.
+    pub drop_engine: Engine,
     pub sequence_view: bool,
     /// The mechanism drawn beside the design, if any.
     pub overlay: Overlay,
@@ -164,6 +167,7 @@ impl ViewerState {
             save_over_input: o.save_over_input,
             message: None,
             drop_view: false,
+            drop_engine: Engine::default(),
             sequence_view: false,
             overlay: Overlay::None,
             frame_pending: true,
@@ -285,9 +289,10 @@ impl Effects<'_> {
             A::Undo => self.travel(true),
             A::Redo => self.travel(false),
             A::Save => s.save(),
-            A::DropTest => {
+            A::DropTest(engine) => {
                 s.drop_view = true;
-                self.studies.drops.write(RunDropTest(DropSettings::default()));
+                s.drop_engine = *engine;
+                self.studies.drops.write(RunDropTest(DropSettings { engine: *engine, ..Default::default() }));
             }
             A::ResetDrop => self.reset_drop(),
             A::StartSequence => self.start_sequence(),

@@ -3,6 +3,7 @@
 use super::PANEL_WIDTH;
 use super::actions::{ViewerAction, ViewerState};
 use super::camera::{MainCamera, OrbitCamera};
+use crate::dynamics::Engine;
 use crate::ecs::BlockName;
 use crate::viz::DiagramMode;
 use bevy::input::mouse::{AccumulatedMouseMotion, AccumulatedMouseScroll, MouseScrollUnit};
@@ -57,7 +58,8 @@ fn keys(keys: Res<ButtonInput<KeyCode>>, mut actions: MessageWriter<ViewerAction
             (KeyCode::KeyG, _) => send(ViewerAction::ToggleSupport),
             (KeyCode::KeyX | KeyCode::Delete, _) => send(ViewerAction::RemoveBlock),
             (KeyCode::KeyR, _) => send(ViewerAction::RestoreBlock),
-            (KeyCode::KeyD, _) => send(ViewerAction::DropTest),
+            (KeyCode::KeyD, _) => send(ViewerAction::DropTest(Engine::Rapier)),
+            (KeyCode::KeyE, _) => send(ViewerAction::DropTest(Engine::Exact)),
             (KeyCode::KeyQ, _) => send(ViewerAction::StartSequence),
             (KeyCode::Comma, _) => send(ViewerAction::Step(-1)),
             (KeyCode::Period, _) => send(ViewerAction::Step(1)),

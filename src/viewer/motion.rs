@@ -106,8 +106,13 @@ impl Shown<'_> {
                     _ => (0.0, 0.0),
                 };
                 let verdict = self.drop.result.as_ref().map_or("", |r| if r.stands { ": stands" } else { ": falls" });
+                let engine = match (&self.drop.running, &self.drop.result) {
+                    (Some(run), _) => run.engine(),
+                    (None, Some(r)) => r.engine,
+                    _ => Default::default(),
+                };
                 format!(
-                    "drop test (rapier), true scale\nt = {t:.2} of {total:.2} s{verdict}\nviolet: the blocks now · ghost: at the start"
+                    "drop test ({engine}), true scale\nt = {t:.2} of {total:.2} s{verdict}\nviolet: the blocks now · ghost: at the start"
                 )
             }
             Pane::Mechanism { mechanism, kinematic, .. } => {

@@ -49,7 +49,7 @@ pub struct SolveOptions {
 
 /// A value of one of the library's named choices (`friction_model="pyramid8"`), by the names
 /// the command line takes.
-fn choice<T: ValueEnum>(what: &str, name: &str) -> PyResult<T> {
+pub(crate) fn choice<T: ValueEnum>(what: &str, name: &str) -> PyResult<T> {
     T::from_str(name, true).map_err(|_| {
         let names: Vec<String> = T::value_variants()
             .iter()

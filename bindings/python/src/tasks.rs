@@ -7,7 +7,7 @@ use crate::errors;
 use crate::settings::solve_function;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
-use voussoir::dynamics::DropSettings;
+use voussoir::dynamics::{DropSettings, Engine, ExactSettings};
 use voussoir::interfaces::Body;
 use voussoir::model::Assembly;
 use voussoir::pipeline::{AnalysisSettings, analyze};
@@ -138,16 +138,21 @@ solve_function! {
 }
 
 solve_function! {
-    /// The rapier drop test (`voussoir drop --json`'s `dynamic` part as a dict): the blocks
-    /// released under gravity for `duration` s with step `dt` (the library's defaults when None).
+    /// The drop test (`voussoir drop --json`'s `dynamic` part as a dict): the blocks released
+    /// under gravity for `duration` s with step `dt` (the library's defaults when None), on
+    /// `engine` "rapier" (the default) or "exact" (hard contacts with the statics' friction
+    /// model; its account under "exact": solves, status, overlap, energy balance).
     pub fn drop<'py>(
         py, scene,
-        duration: Option<f64> = None, dt: Option<f64> = None,
-        ..options(mu, supports, ground, density)
+        duration: Option<f64> = None, dt: Option<f64> = None, engine: Option<String> = None,
+        ..options(mu, friction_model, supports, ground, density)
     ) -> PyResult<Bound<'py, PyAny>> {
         let (design, settings) = options.apply(scene)?;
         let defaults = DropSettings::default();
+        let engine = engine.as_deref().map(|n| crate::settings::choice::<Engine>("engine", n)).transpose()?;
         let drop_settings = DropSettings {
+            engine: engine.unwrap_or(defaults.engine),
+            exact: ExactSettings { friction_model: settings.statics.friction_model, ..defaults.exact.clone() },
             duration: duration.unwrap_or(defaults.duration),
             dt: dt.unwrap_or(defaults.dt),
             friction: options.mu,

@@ -11,6 +11,7 @@ pub use text::{Headline, verdict_text};
 use super::PANEL_WIDTH;
 use super::actions::{Overlay, ViewerAction, ViewerState};
 use super::camera::MainCamera;
+use crate::dynamics::Engine;
 use crate::ecs::SequenceStatus;
 use crate::ecs::{DropStatus, InterfaceForces, KinematicStatus, PipelineState, RobustnessStatus, SceneStatus};
 use crate::viz::DiagramMode;
@@ -78,7 +79,8 @@ C cut selected · PgUp/PgDn move cut\n\
 arrows turn cut · Backspace drop cut\n\
 O repair · G support · X remove · R restore\n\
 Ctrl+Z/Y undo/redo · Ctrl+S save\n\
-D drop test · Q sequence · , . step\n\
+D drop test (rapier) · E (exact contacts)\n\
+Q sequence · , . step\n\
 K mechanism · J kinematic · Esc close";
 
 const TEXT: Color = Color::srgb(0.9, 0.9, 0.9);
@@ -94,7 +96,8 @@ const ACTION_ROWS: [&[(&str, ViewerAction)]; 3] = [
         ("L Labels", ViewerAction::ToggleLabels),
     ],
     &[
-        ("D Drop test", ViewerAction::DropTest),
+        ("D Drop (rapier)", ViewerAction::DropTest(Engine::Rapier)),
+        ("E Drop (exact)", ViewerAction::DropTest(Engine::Exact)),
         ("K Mechanism", ViewerAction::ToggleMechanism),
         ("J Kinematic", ViewerAction::ToggleKinematic),
         ("Q Sequence", ViewerAction::StartSequence),
@@ -215,7 +218,7 @@ fn is_on(action: &ViewerAction, state: &ViewerState) -> bool {
         A::ToggleLabels => state.labels,
         A::ToggleMechanism => state.overlay == Overlay::Mechanism,
         A::ToggleKinematic => state.overlay == Overlay::Kinematic,
-        A::DropTest => state.drop_view,
+        A::DropTest(engine) => state.drop_view && state.drop_engine == *engine,
         A::StartSequence => state.sequence_view,
         A::ToggleKeys => state.keys,
         _ => false,

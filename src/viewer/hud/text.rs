@@ -171,12 +171,14 @@ impl Shown<'_> {
 fn drop_text(drop: &DropStatus) -> String {
     match (&drop.running, &drop.result) {
         (Some(run), _) => format!(
-            "drop test: {:.2} of {:.2} s simulated",
+            "drop test ({}): {:.2} of {:.2} s simulated",
+            run.engine(),
             run.steps_done() as f64 * run.dt(),
             run.total_steps() as f64 * run.dt()
         ),
         (None, Some(r)) => format!(
-            "drop test: {}{}\n  drift {:.1e} of size · turn {:.2}°",
+            "drop test ({}): {}{}\n  drift {:.1e} of size · turn {:.2}°",
+            r.engine,
             if r.stands { "stands" } else { "falls" },
             match drop.agree {
                 Some(true) => ", agrees",
