@@ -17,7 +17,7 @@ const LAYERS: [(u8, &[&str], &str); 16] = [
     (3, &["history"], "replaying a design's cut history"),
     (4, &["interfaces"], "contact detection"),
     (5, &["statics"], "equilibrium, load factor, mechanisms, the rate problem"),
-    (6, &["dynamics"], "the rapier drop test"),
+    (6, &["dynamics"], "the drop test: rapier, and the exact-contact engine"),
     (7, &["pipeline"], "cuts → blocks → interfaces → statics, with memory between runs"),
     (8, &["stability"], "load factor and worst direction, the kinematic verdict"),
     (9, &["studies"], "thresholds by bisection, assembly sequences"),
