@@ -14,14 +14,9 @@ use voussoir::model::{Assembly, builtin};
 use voussoir::pipeline::{AnalysisSettings, analyze};
 use voussoir::studies::threshold::Family;
 
-/// Bisection between a standing `ok` and a failing `fail` parameter, `halvings` times.
-fn bisect(mut ok: f64, mut fail: f64, halvings: usize, stands: &mut dyn FnMut(f64) -> bool) -> f64 {
-    for _ in 0..halvings {
-        let mid = 0.5 * (ok + fail);
-        if stands(mid) { ok = mid } else { fail = mid }
-    }
-    0.5 * (ok + fail)
-}
+mod common;
+
+use common::bisect;
 
 fn main() {
     if !std::env::args().any(|a| a == "--bench") {

@@ -4,7 +4,7 @@ use super::World;
 use super::problem::{self, Active, Solution};
 use crate::dynamics::settings::Coulomb;
 use crate::geometry::Vector3;
-use crate::statics::{SolverStatus, solve_conic};
+use crate::statics::{ConicOutcome, ConicProblem, SolverStatus, solve_conic};
 
 impl World {
     /// Solves `comp`'s step (module docs of [`super`]) and sets its velocities.
@@ -23,13 +23,7 @@ impl World {
         let accepted = loop {
             rounds += 1;
             let p = problem::build(&self.ctx, &self.bodies, comp, &local, &self.contacts, &active);
-            let out = solve_conic(&p.conic, self.acc, self.settings.max_iterations);
-            self.stats.solves += 1;
-            self.stats.iterations += u64::from(out.iterations);
-            self.stats.status = self.stats.status.max(out.status);
-            if !matches!(out.status, SolverStatus::Solved | SolverStatus::AlmostSolved) {
-                break None;
-            }
+            let Some(out) = self.solve(&p.conic) else { break None };
             let sol = p.read(&self.ctx, &self.bodies, comp, &active, &out.x);
             let rest = self.peak_speed(comp, &sol) <= self.settings.still * self.ctx.units.g * self.ctx.h;
             if rest || !exact {
@@ -37,13 +31,7 @@ impl World {
             }
             let mut selection = p;
             selection.select_forces(&out.x);
-            let forces = solve_conic(&selection.conic, self.acc, self.settings.max_iterations);
-            self.stats.solves += 1;
-            self.stats.iterations += u64::from(forces.iterations);
-            self.stats.status = self.stats.status.max(forces.status);
-            if !matches!(forces.status, SolverStatus::Solved | SolverStatus::AlmostSolved) {
-                break None;
-            }
+            let Some(forces) = self.solve(&selection.conic) else { break None };
             let sol = selection.read_selected(&self.ctx, &self.bodies, comp, &active, &out.x, &forces.x);
             let next = capacities(&sol.normal, mu, self.settings.solver_tolerance);
             // Against the mean capacity per point at the least: capacities of ~0 that merely
@@ -68,6 +56,15 @@ impl World {
         if let Some((sol, rest)) = accepted {
             self.accept(comp, &active, sol, rest);
         }
+    }
+
+    /// One solve, counted in the run's account; `None` when it did not reach an answer.
+    fn solve(&mut self, conic: &ConicProblem) -> Option<ConicOutcome> {
+        let out = solve_conic(conic, self.acc, self.settings.max_iterations);
+        self.stats.solves += 1;
+        self.stats.iterations += u64::from(out.iterations);
+        self.stats.status = self.stats.status.max(out.status);
+        matches!(out.status, SolverStatus::Solved | SolverStatus::AlmostSolved).then_some(out)
     }
 
     /// The fastest vertex of the component after the step, m/s (bounded by |v| + |ω| r).
