@@ -31,6 +31,11 @@ pub struct SolverOptions {
     /// Friction coefficient μ (default: the scene's).
     #[arg(long)]
     pub mu: Option<f64>,
+    /// Compressive strength of the stone, Pa (default: the scene's `strength`, or none: it
+    /// does not crush). A design that stands by compression and friction then also needs
+    /// every joint's resultant carried by a rectangular stress block within this strength.
+    #[arg(long, value_name = "PA")]
+    pub strength: Option<f64>,
     /// Coplanarity tolerance relative to the model size.
     #[arg(long, default_value_t = Tolerances::default().coplanar)]
     pub coplanar: f64,
@@ -50,6 +55,7 @@ impl SolverOptions {
         settings.statics.friction_model = self.friction_model;
         settings.statics.backend = self.solver;
         settings.statics.friction = self.mu;
+        settings.statics.strength = self.strength;
         settings.tolerances.coplanar = self.coplanar;
         settings.tolerances.angle_deg = self.angle;
         settings.strict = self.strict;

@@ -7,6 +7,7 @@
 //!  "density": 600, "friction": 0.839, "gravity": [0, 0, -9.81], "ground": false}
 //! ```
 //! `schema` (default 1), `name`, `density` and `friction` (default [`Material::default`]),
+//! `strength` (the compressive strength in Pa, default none: the stone does not crush),
 //! `gravity` (default [`Scene::new`]'s), `ground` (false), `cuts` (a cut history: `[{"point": [x,y,z], "normal":
 //! [nx,ny,nz], "target": "name"?}` or `{"apex": [x,y,z], "segments": [[[x,y,z],[x,y,z]], …],
 //! "target": "name"?}`, …], default none: then `blocks` are the source shapes), `removed`
@@ -45,6 +46,8 @@ struct SceneFile {
     density: Option<f64>,
     #[serde(default)]
     friction: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    strength: Option<f64>,
     #[serde(default)]
     gravity: Option<[f64; 3]>,
     #[serde(default)]
@@ -141,7 +144,7 @@ pub fn scene_from_str(path: &Path, text: &str) -> Result<Scene, IoError> {
 
 /// Keys of the format at each level.
 const SCENE_KEYS: &[&str] = &[
-    "schema", "name", "blocks", "density", "friction", "gravity", "ground", "cuts", "removed", "supports", "order",
+    "schema", "name", "blocks", "density", "friction", "strength", "gravity", "ground", "cuts", "removed", "supports", "order",
     "loads",
 ];
 const BLOCK_KEYS: &[&str] = &["name", "vertices", "faces", "support", "density"];
@@ -244,6 +247,7 @@ pub(crate) fn scene_from_value(path: &Path, mut value: serde_json::Value) -> Res
     scene.material = Material {
         density: file.density.unwrap_or(defaults.density),
         friction: file.friction.unwrap_or(defaults.friction),
+        strength: file.strength,
     };
     if let Some(g) = file.gravity {
         scene.gravity = Vector3::new(g[0], g[1], g[2]);
@@ -286,6 +290,7 @@ pub fn scene_to_string(scene: &Scene) -> String {
             .collect(),
         density: Some(scene.material.density),
         friction: Some(scene.material.friction),
+        strength: scene.material.strength,
         gravity: Some([scene.gravity.x, scene.gravity.y, scene.gravity.z]),
         ground: scene.ground,
         cuts: scene.cuts.clone(),

@@ -28,6 +28,8 @@ pub enum ModelError {
     BadDensity { block: String, density: f64 },
     #[error("friction coefficient {0} is not a finite number ≥ 0")]
     BadFriction(f64),
+    #[error("compressive strength {0} is not a finite number > 0 (Pa)")]
+    BadStrength(f64),
     #[error("gravity {0:?} is not a finite vector")]
     BadGravity([f64; 3]),
     #[error(transparent)]
@@ -203,6 +205,11 @@ impl Assembly {
         }
         if !Material::valid_friction(scene.material.friction) {
             return Err(ModelError::BadFriction(scene.material.friction));
+        }
+        if let Some(s) = scene.material.strength
+            && !Material::valid_strength(s)
+        {
+            return Err(ModelError::BadStrength(s));
         }
         if !scene.gravity.iter().all(|g| g.is_finite()) {
             let g = scene.gravity;

@@ -146,7 +146,7 @@ pub fn builtin(spec: &str) -> Result<Scene, BuiltinError> {
         other => return Err(BuiltinError::Unknown(other.to_string())),
     };
     let defaults = Material::default();
-    scene.material = Material { density: p.num("density", defaults.density)?, friction: defaults.friction };
+    scene.material = Material { density: p.num("density", defaults.density)?, ..defaults };
     if p.values.contains_key("mu") {
         let v = p.values["mu"].clone();
         scene.material.friction = v

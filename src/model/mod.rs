@@ -70,12 +70,14 @@ pub struct Material {
     pub density: f64,
     /// Coulomb friction coefficient μ.
     pub friction: f64,
+    /// Compressive strength σ_c, Pa (README: typical values); `None`: the stone does not crush.
+    pub strength: Option<f64>,
 }
 
 impl Default for Material {
     /// The seed paper's case studies: 600 kg/m³, μ = tan 40° ≈ 0.839.
     fn default() -> Self {
-        Self { density: 600.0, friction: 40f64.to_radians().tan() }
+        Self { density: 600.0, friction: 40f64.to_radians().tan(), strength: None }
     }
 }
 
@@ -84,6 +86,11 @@ impl Material {
     /// scene's material (`Assembly::new`), an edit, a statics override — is checked by it once.
     pub fn valid_friction(mu: f64) -> bool {
         mu >= 0.0 && mu.is_finite()
+    }
+
+    /// The one rule for a compressive strength: a finite number > 0 (Pa).
+    pub fn valid_strength(sigma: f64) -> bool {
+        sigma > 0.0 && sigma.is_finite()
     }
 }
 

@@ -16,6 +16,7 @@ pub fn headline(verdict: Verdict) -> &'static str {
         Verdict::NeedsTension => "DOES NOT STAND: needs tension",
         Verdict::NeedsFriction => "DOES NOT STAND: needs more friction",
         Verdict::NeedsTensionAndFriction => "DOES NOT STAND: needs tension and more friction",
+        Verdict::Crushes => "DOES NOT STAND: the stone crushes",
         Verdict::Unsupported => "DOES NOT STAND: something touches no support",
         Verdict::Unresolved => "UNRESOLVED: the solver did not converge",
     }
@@ -52,6 +53,17 @@ pub fn summary(analysis: &Analysis, worst: usize) -> String {
         FrictionModel::Cone => writeln!(o),
         m => writeln!(o, " (|f_t| as a circle; {m} allows up to {:.1} %)", 100.0 * m.max_utilization()),
     };
+    if let Some(c) = &s.crushing {
+        let _ = writeln!(
+            o,
+            "  crushing: needs {:.4e} Pa of σ_c = {:.4e} Pa ({:.1} %), at {} → {} (rectangular stress block)",
+            c.needed,
+            c.strength,
+            100.0 * c.utilization,
+            c.a,
+            c.b
+        );
+    }
     let _ = writeln!(
         o,
         "  solver: {} — {:?}, {} iterations, residual {:.2e} W",

@@ -139,6 +139,8 @@ pub fn assess_cached(
     mut cache: Option<(&[u64], &mut FactorCache)>,
 ) -> Result<Robustness, RobustnessError> {
     settings.validate()?;
+    let resolved = settings.resolved(assembly);
+    let settings = &resolved;
     let mut reused = 0;
     let mu = settings.friction.unwrap_or(assembly.material.friction);
     let comps = statics::components(assembly, interfaces);

@@ -3,7 +3,9 @@
 //! form), in the row and variable order documented in the statics module. No solver types here.
 
 use super::components::Component;
-use super::problem::{Budget, Contact, ContactProblem, FrictionModel, Geometry, Side, Var, motion_at, wrench};
+use super::problem::{
+    Budget, Contact, ContactProblem, Crushing, FrictionModel, Geometry, Side, Strength, StressBlock, Var, motion_at, wrench,
+};
 use super::settings::StaticsSettings;
 use crate::geometry::{Point3, Vector3};
 use crate::interfaces::{Body, Interface};
@@ -61,6 +63,8 @@ pub struct System {
     pub force_scale: f64,
     /// The same rows in contact form (what the stages' problems are made of).
     pub geometry: Geometry,
+    /// Each interface's stress block, when crushing is checked ([`Self::with_stress`]).
+    pub stress: Vec<StressBlock>,
 }
 
 impl System {
@@ -103,7 +107,38 @@ impl System {
         }
         let eq_rhs = dead_load_rhs(assembly, comp, force_scale);
         let geometry = contact_geometry(assembly, interfaces, comp, &local, eq_rhs.clone());
-        Self { points, layout, mu, model, eq_rhs, force_scale, geometry }
+        Self { points, layout, mu, model, eq_rhs, force_scale, geometry, stress: Vec::new() }
+    }
+
+    /// The system with its interfaces' stress blocks, for the crushing rows.
+    pub fn with_stress(mut self) -> Self {
+        self.stress = self.geometry.stress_blocks();
+        self
+    }
+
+    /// A compressive strength σ_c (Pa) in the problems' units: forces by the component's free
+    /// weight, areas by the model size squared.
+    pub fn strength_scale(&self, length_scale: f64) -> f64 {
+        length_scale * length_scale / self.force_scale
+    }
+
+    /// The strength (non-dimensional) the normal forces in `x` need at each of `blocks` (this
+    /// system's stress blocks, [`StressBlock::demand`]).
+    pub fn stress_demands(&self, blocks: &[StressBlock], x: &[f64]) -> Vec<f64> {
+        let g = &self.geometry;
+        blocks
+            .iter()
+            .map(|block| {
+                let at: Vec<[f64; 2]> = g.rho[block.points.clone()].iter().map(|r| [r[1], r[2]]).collect();
+                let cn: Vec<f64> = block.points.clone().map(|p| self.frame_force(x, p)[0]).collect();
+                block.demand(&at, &cn)
+            })
+            .collect()
+    }
+
+    /// The crushing rows at `strength` over this system's stress blocks.
+    pub fn crushing(&self, strength: Strength) -> Crushing<'_> {
+        Crushing { blocks: &self.stress, strength }
     }
 
     /// `x` of a stage's problem (its own variables) in this system's layout (the variables a
@@ -398,6 +433,12 @@ pub enum Stage {
     FrictionExcess { tension: f64, penalty: f64 },
     /// Relaxed: the weighted quadratic with both budgets.
     Distribution { tension: f64, excess: f64 },
+    /// Strict system with the crushing rows: the least strength σ (non-dimensional) its
+    /// equilibria need, minimised.
+    Strength,
+    /// Strict system with the crushing rows at `strength` (non-dimensional): the weighted
+    /// quadratic over the equilibria the stone can carry.
+    Capped { strength: f64 },
 }
 
 /// The tension budget of the later stages for a minimum tension `t` (relative): loosened by
@@ -440,7 +481,8 @@ pub fn contact_problem<'a>(sys: &'a System, stage: Stage, settings: &StaticsSett
                 Var::CnNeg => (0.0, penalty),
                 _ => (0.0, 0.0),
             },
-            Stage::Strict | Stage::Distribution { .. } => (weight(v), 0.0),
+            Stage::Strength => (0.0, 0.0),
+            Stage::Strict | Stage::Distribution { .. } | Stage::Capped { .. } => (weight(v), 0.0),
         })
         .unzip();
     let mut budgets = Vec::new();
@@ -454,5 +496,21 @@ pub fn contact_problem<'a>(sys: &'a System, stage: Stage, settings: &StaticsSett
         budgets.push(Budget { var: Var::Slack, limit: tension_budget(excess) });
     }
     let threads = if settings.parallel { 2 } else { 1 };
-    ContactProblem { geometry: &sys.geometry, vars, model: sys.model, mu: sys.mu, p, q, budgets, factor: None, threads }
+    let crushing = match stage {
+        Stage::Strength => Some(sys.crushing(Strength::Least)),
+        Stage::Capped { strength } => Some(sys.crushing(Strength::Fixed(strength))),
+        _ => None,
+    };
+    ContactProblem {
+        geometry: &sys.geometry,
+        vars,
+        model: sys.model,
+        mu: sys.mu,
+        p,
+        q,
+        budgets,
+        factor: None,
+        threads,
+        crushing,
+    }
 }

@@ -90,6 +90,10 @@ pub fn solve_cached(
     // Both sources of μ are validated where they enter: the override in `validate`, the
     // scene's material in `Assembly::new`.
     let mu = settings.friction.unwrap_or(assembly.material.friction);
+    // The strength, like μ, from the override or the material, once: the stages, the verdict
+    // and the cache key read it from the settings.
+    let resolved = settings.resolved(assembly);
+    let settings = &resolved;
     let mut comps = components(assembly, interfaces);
     if !settings.split_components && comps.len() > 1 {
         comps = vec![merged(comps)];

@@ -8,6 +8,8 @@ use thiserror::Error;
 pub enum StaticsError {
     #[error("friction coefficient {0} must be a finite number ≥ 0")]
     BadFriction(f64),
+    #[error("compressive strength {0} Pa must be a finite number > 0")]
+    BadStrength(f64),
     #[error("objective weight {name} = {value} must be a finite number > 0")]
     BadWeight { name: &'static str, value: f64 },
     #[error("stand tolerance {0} must be a finite number > 0")]

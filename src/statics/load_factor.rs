@@ -19,6 +19,10 @@
 //! the LP that measured the failure: the minimum-tension LP when it needs tension, else the
 //! minimum-friction-excess LP, normalised so that the dead load does unit work.
 //!
+//! With a compressive strength (`StaticsSettings::strength`, resolved from the material by
+//! the caller) the crushing rows bound every joint's compression ([`super::problem`]); a
+//! crushing joint then shows in the mechanism as a hinge whose compressed zone is used up.
+//!
 //! Units: the problems are non-dimensional as every stage's (forces by the component's free
 //! weight W, lengths by the model size ℓ); motions come back in m and rad, so that the
 //! normalised load's work is 1 N·m.
@@ -26,7 +30,7 @@
 use super::assemble::{Stage, System, contact_problem, live_load};
 use super::backend::{Backend, QpOutcome, run};
 use super::components::Component;
-use super::problem::{Accuracy, ContactProblem, LoadColumn, SolverStatus};
+use super::problem::{Accuracy, ContactProblem, LoadColumn, SolverStatus, Strength};
 use super::settings::StaticsSettings;
 use super::stages::LP_TOLERANCE;
 use crate::interfaces::Interface;
@@ -147,11 +151,16 @@ fn load_factor(
     bounded: bool,
 ) -> FactorOutcome {
     let t = std::time::Instant::now();
-    let sys = System::new(assembly, interfaces, comp, mu, settings.friction_model, false);
+    let mut sys = System::new(assembly, interfaces, comp, mu, settings.friction_model, false);
+    if settings.strength.is_some() {
+        sys = sys.with_stress();
+    }
     let mut cp = contact_problem(&sys, Stage::Strict, settings);
     cp.p.iter_mut().for_each(|v| *v = 0.0);
     cp.q.iter_mut().for_each(|v| *v = 0.0);
     cp.factor = Some(LoadColumn { column: live_load(assembly, comp, sys.force_scale), cost: -1.0, bounded });
+    // The stone's strength bounds every joint's compression (clarabel: the crushing rows).
+    cp.crushing = settings.strength.map(|s| sys.crushing(Strength::Fixed(s * sys.strength_scale(assembly.scale))));
     let out = solve_to_full_accuracy(&cp, settings);
     let (lambda, motions) = match out.status {
         SolverStatus::Solved | SolverStatus::AlmostSolved => {

@@ -23,6 +23,15 @@
 //! `s ≥ 0`; then for the pyramid models `±c_u − μc_n⁺ − s ≤ 0`, `±c_v − μc_n⁺ − s ≤ 0` (box4,
 //! pyramid8) and `±c_u ± c_v − √2(μc_n⁺ + s) ≤ 0` (pyramid8); for the cone model one
 //! second-order cone `‖(c_u, c_v)‖ ≤ μc_n⁺ + s`.
+//!
+//! ## Crushing rows per interface ([`Crushing`], when a compressive strength σ is given)
+//! The rectangular stress block: the interface's net normal force N = Σ c_n at the resultant
+//! point e (along an in-plane axis, between the polygon's extremes lo ≤ e ≤ hi) needs a
+//! compressed zone of length 2 min(e − lo, hi − e) centred on e, of the interface's width w
+//! across the axis: N ≤ σ w · 2(e − lo) and N ≤ σ w · 2(hi − e). With M = N e these are
+//! N² ≤ 2 (σ w)(M − lo N) and N² ≤ 2 (σ w)(hi N − M): rotated second-order cones, convex in
+//! the forces and in σ. Two axes per interface (its longest edge and the normal to it), so
+//! four cones; exact for a rectangle loaded eccentrically along one axis.
 
 use serde::Serialize;
 
@@ -203,6 +212,8 @@ pub struct ContactProblem<'a> {
     /// Threads the solver may give one factorisation: 2 when the statics may use both cores
     /// and nothing else runs beside this solve ([`super::StaticsSettings::parallel`]), else 1.
     pub threads: usize,
+    /// The crushing rows, when the material has a compressive strength.
+    pub crushing: Option<Crushing<'a>>,
 }
 
 /// The column of a load factor λ in the block rows, its cost in the objective, and whether
@@ -212,6 +223,90 @@ pub struct LoadColumn {
     pub column: Vec<f64>,
     pub cost: f64,
     pub bounded: bool,
+}
+
+/// One interface's stress block (module docs): its points, two orthogonal in-plane axes in
+/// the interface's (u, v) coordinates, the polygon's extent along each (lo, hi, relative to the
+/// interface origin), and its width across each (area / extent). Non-dimensional.
+#[derive(Clone, Debug, PartialEq)]
+pub struct StressBlock {
+    pub points: std::ops::Range<usize>,
+    pub axes: [[f64; 2]; 2],
+    pub lo: [f64; 2],
+    pub hi: [f64; 2],
+    pub width: [f64; 2],
+}
+
+impl StressBlock {
+    /// The strength the normal forces `cn` at in-plane points `at` ((u, v), same units as the
+    /// block) need under the stress block: max over the axes of N / (2 w min(e − lo, hi − e));
+    /// 0 without compression, ∞ when the resultant leaves the polygon's extent.
+    pub fn demand(&self, at: &[[f64; 2]], cn: &[f64]) -> f64 {
+        let total: f64 = cn.iter().sum();
+        if total <= 0.0 {
+            return 0.0;
+        }
+        (0..2)
+            .map(|k| {
+                let a = self.axes[k];
+                let moment: f64 = at.iter().zip(cn).map(|(p, f)| f * (p[0] * a[0] + p[1] * a[1])).sum();
+                let e = moment / total;
+                let half = (e - self.lo[k]).min(self.hi[k] - e);
+                if half <= 0.0 || self.width[k] <= 0.0 { f64::INFINITY } else { total / (2.0 * self.width[k] * half) }
+            })
+            .fold(0.0, f64::max)
+    }
+}
+
+/// The strength of the crushing rows: a given σ (non-dimensional), or σ as one more variable
+/// (after the points' and λ), minimised.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Strength {
+    Fixed(f64),
+    Least,
+}
+
+/// The crushing rows of a problem: a stress block per interface, at a strength.
+#[derive(Clone, Copy, Debug)]
+pub struct Crushing<'a> {
+    pub blocks: &'a [StressBlock],
+    pub strength: Strength,
+}
+
+impl Geometry {
+    /// The stress block of every contact (module docs): axes along the polygon's longest edge
+    /// and across it; the area from the polygon (shoelace in the interface plane).
+    pub fn stress_blocks(&self) -> Vec<StressBlock> {
+        self.contacts
+            .iter()
+            .map(|c| {
+                let pts: Vec<[f64; 2]> = self.rho[c.points.clone()].iter().map(|r| [r[1], r[2]]).collect();
+                stress_block(c.points.clone(), &pts)
+            })
+            .collect()
+    }
+}
+
+/// The stress block of a polygon `pts` ((u, v) about the interface origin) whose points are
+/// `points` of a problem.
+pub fn stress_block(points: std::ops::Range<usize>, pts: &[[f64; 2]]) -> StressBlock {
+    let n = pts.len();
+    let edge = |i: usize| [pts[(i + 1) % n][0] - pts[i][0], pts[(i + 1) % n][1] - pts[i][1]];
+    let longest = (0..n).map(edge).fold([0.0f64, 0.0], |best, e| if e[0].hypot(e[1]) > best[0].hypot(best[1]) { e } else { best });
+    let len = longest[0].hypot(longest[1]);
+    let a0 = if len > 0.0 { [longest[0] / len, longest[1] / len] } else { [1.0, 0.0] };
+    let axes = [a0, [-a0[1], a0[0]]];
+    let area = 0.5 * (0..n).map(|i| pts[i][0] * pts[(i + 1) % n][1] - pts[(i + 1) % n][0] * pts[i][1]).sum::<f64>().abs();
+    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+    for p in pts {
+        for (k, a) in axes.iter().enumerate() {
+            let t = p[0] * a[0] + p[1] * a[1];
+            lo[k] = lo[k].min(t);
+            hi[k] = hi[k].max(t);
+        }
+    }
+    let width = [0, 1].map(|k| if hi[k] > lo[k] { area / (hi[k] - lo[k]) } else { 0.0 });
+    StressBlock { points, axes, lo, hi, width }
 }
 
 /// The inequality rows every point shares: `rows` of the non-negative cone, then optionally
@@ -381,7 +476,66 @@ impl ContactProblem<'_> {
             p_diag.push(0.0);
             q.push(f.cost);
         }
+        if let Some(crushing) = &self.crushing {
+            let sigma = p_diag.len();
+            if crushing.strength == Strength::Least {
+                p_diag.push(0.0);
+                q.push(1.0);
+            }
+            self.crushing_rows(crushing, sigma, &mut a, &mut b, &mut cones);
+        }
         ConicProblem { n: p_diag.len(), p_diag, q, a, b, cones }
+    }
+
+    /// Column of σ (when [`Strength::Least`]) is `sigma`. Each cone `2 x y ≥ z²` (x = σ w,
+    /// y = ±(M − t N), z = N) as the second-order cone `((x + y)/√2, z, (x − y)/√2)`; its
+    /// slack s = b − A x, so each row holds minus the linear form.
+    fn crushing_rows(
+        &self,
+        crushing: &Crushing,
+        sigma: usize,
+        a: &mut Vec<(usize, usize, f64)>,
+        b: &mut Vec<f64>,
+        cones: &mut Vec<Cone>,
+    ) {
+        let c = self.per_point();
+        let normal = &self.force_map()[0];
+        let r = std::f64::consts::FRAC_1_SQRT_2;
+        for block in crushing.blocks {
+            for (k, axis) in block.axes.iter().enumerate() {
+                for (sign, edge) in [(1.0, block.lo[k]), (-1.0, block.hi[k])] {
+                    // y = sign (M − edge N), over the points' normal variables.
+                    let y: Vec<(usize, f64)> = block
+                        .points
+                        .clone()
+                        .flat_map(|p| {
+                            let along = self.geometry.rho[p][1] * axis[0] + self.geometry.rho[p][2] * axis[1];
+                            normal.iter().enumerate().filter(|e| *e.1 != 0.0).map(move |(j, nj)| (p * c + j, sign * (along - edge) * nj))
+                        })
+                        .collect();
+                    let z: Vec<(usize, f64)> = block
+                        .points
+                        .clone()
+                        .flat_map(|p| normal.iter().enumerate().filter(|e| *e.1 != 0.0).map(move |(j, nj)| (p * c + j, *nj)))
+                        .collect();
+                    let w = block.width[k];
+                    let (x_const, x_col) = match crushing.strength {
+                        Strength::Fixed(s) => (s * w, None),
+                        Strength::Least => (0.0, Some((sigma, w))),
+                    };
+                    let row0 = b.len();
+                    for (row, fy, fx) in [(row0, r, r), (row0 + 2, -r, r)] {
+                        a.extend(y.iter().map(|&(j, v)| (row, j, -fy * v)));
+                        if let Some((col, w)) = x_col {
+                            a.push((row, col, -fx * w));
+                        }
+                    }
+                    a.extend(z.iter().map(|&(j, v)| (row0 + 1, j, -v)));
+                    b.extend([r * x_const, 0.0, r * x_const]);
+                    cones.push(Cone::SecondOrder(3));
+                }
+            }
+        }
     }
 }
 

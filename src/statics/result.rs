@@ -71,6 +71,23 @@ pub struct SolverReport {
     pub backend: Backend,
 }
 
+/// The crushing check of a design that stands by compression and friction
+/// ([`super::StaticsSettings::strength`]; the rectangular stress block, module docs of
+/// [`super::problem`]).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct CrushingReport {
+    /// The material's compressive strength σ_c, Pa.
+    pub strength: f64,
+    /// The least strength any equilibrium needs (compression only, friction within μ), Pa.
+    pub needed: f64,
+    /// needed / strength: above 1 it crushes.
+    pub utilization: f64,
+    /// The interface that needs it (index, and the names of its two sides).
+    pub interface: usize,
+    pub a: String,
+    pub b: String,
+}
+
 /// The answer of [`super::solve`].
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct StaticsResult {
@@ -87,6 +104,9 @@ pub struct StaticsResult {
     pub friction_model: FrictionModel,
     pub components: usize,
     pub interfaces: Vec<InterfaceResult>,
+    /// With a compressive strength, on a design that stands by compression and friction.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub crushing: Option<CrushingReport>,
     pub solver: SolverReport,
     /// Seconds building the equilibrium problems and inside the interior-point solver that ran
     /// (structured by default), summed over components
@@ -127,6 +147,7 @@ pub(super) fn collect(
     let friction_excess_ratio = ratio(excess);
     let (status, verdict) = verdict(&outcomes, settings);
     let max_friction_utilization = results.iter().map(|r| r.friction_utilization).fold(0.0, f64::max);
+    let crushing = crushing_report(assembly, interfaces, comps, &outcomes, settings);
     StaticsResult {
         verdict,
         stands: verdict == Verdict::Stands,
@@ -138,6 +159,7 @@ pub(super) fn collect(
         friction_model: settings.friction_model,
         components: comps.len(),
         interfaces: results,
+        crushing,
         solver: SolverReport {
             status,
             iterations,
@@ -148,6 +170,33 @@ pub(super) fn collect(
         assemble_seconds: outcomes.iter().map(|o| o.assemble_seconds).sum(),
         solver_seconds: outcomes.iter().map(|o| o.solver_seconds).sum(),
     }
+}
+
+/// The governing component's needed strength, when every component was checked.
+fn crushing_report(
+    assembly: &Assembly,
+    interfaces: &[Interface],
+    comps: &[Component],
+    outcomes: &[ComponentOutcome],
+    settings: &StaticsSettings,
+) -> Option<CrushingReport> {
+    let strength = settings.strength?;
+    let checked: Option<Vec<(f64, usize)>> = comps
+        .iter()
+        .zip(outcomes)
+        .filter(|(_, o)| !o.forces.is_empty())
+        .map(|(c, o)| o.crushing.map(|(needed, local)| (needed, c.interfaces[local])))
+        .collect();
+    let (needed, interface) = checked?.into_iter().fold((0.0, usize::MAX), |best, c| if c.0 > best.0 { c } else { best });
+    let itf = interfaces.get(interface)?;
+    Some(CrushingReport {
+        strength,
+        needed,
+        utilization: needed / strength,
+        interface,
+        a: itf.a.name(assembly).to_string(),
+        b: itf.b.name(assembly).to_string(),
+    })
 }
 
 fn arr(v: &Vector3) -> [f64; 3] {

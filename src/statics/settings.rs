@@ -14,6 +14,9 @@ pub struct StaticsSettings {
     pub friction_model: FrictionModel,
     /// Friction coefficient; `None` takes the scene material's.
     pub friction: Option<f64>,
+    /// Compressive strength σ_c, Pa; `None` takes the scene material's (which may have none:
+    /// then the stone does not crush and no crushing rows are built).
+    pub strength: Option<f64>,
     /// Weight of Σ(c_n⁺)² in the distribution QP.
     pub w_compression: f64,
     /// Weight of Σ(c_n⁻)². Only shapes the distribution: the total tension is fixed at its
@@ -78,6 +81,7 @@ impl Default for StaticsSettings {
         Self {
             friction_model: FrictionModel::default(),
             friction: None,
+            strength: None,
             w_compression: 1.0,
             // compas_cra's tension weight.
             w_tension: 1e6,
@@ -98,6 +102,12 @@ impl Default for StaticsSettings {
 }
 
 impl StaticsSettings {
+    /// These settings with the strength taken from `assembly`'s material when not given: what
+    /// the stages, the load factor, the verdict and the caches' keys read.
+    pub fn resolved(&self, assembly: &crate::model::Assembly) -> Self {
+        Self { strength: self.strength.or(assembly.material.strength), ..self.clone() }
+    }
+
     pub fn validate(&self) -> Result<(), StaticsError> {
         for (name, value) in [
             ("w_compression", self.w_compression),
@@ -113,6 +123,11 @@ impl StaticsSettings {
             && !crate::model::Material::valid_friction(mu)
         {
             return Err(StaticsError::BadFriction(mu));
+        }
+        if let Some(s) = self.strength
+            && !crate::model::Material::valid_strength(s)
+        {
+            return Err(StaticsError::BadStrength(s));
         }
         for t in [self.stand_tolerance, self.solver_tolerance] {
             if !(t > 0.0 && t.is_finite()) {

@@ -52,6 +52,10 @@ pub struct ComponentOutcome {
     /// Free weight of the component and of its lightest block, N.
     pub weight: f64,
     pub lightest: f64,
+    /// With a compressive strength, on a component that stands by compression and friction:
+    /// the least strength its equilibria need (Pa) and the interface that needs it (its place
+    /// in the component's interfaces, so that a cached outcome stays valid); `None` otherwise.
+    pub crushing: Option<(f64, usize)>,
     /// Seconds building the problems (layout, rows; on the clarabel backend also its matrices)
     /// and inside the interior-point solver that ran (the structured backend by default).
     pub assemble_seconds: f64,
@@ -120,7 +124,9 @@ pub fn solve_component(
         },
     };
     let kept = std::mem::take(&mut solve.warm_out);
-    (solve.finish(solution), kept)
+    let mut solution = solution;
+    let crushing = solve.crushing(&mut solution);
+    (ComponentOutcome { crushing, ..solve.finish(solution) }, kept)
 }
 
 fn solved(status: SolverStatus) -> bool {
@@ -197,6 +203,7 @@ impl<'a> ComponentSolve<'a> {
             used_clarabel: t.used_clarabel,
             weight: self.weights.0,
             lightest: self.weights.1,
+            crushing: None,
             assemble_seconds: t.assemble_seconds,
             solver_seconds: t.solver_seconds,
         }
@@ -388,6 +395,38 @@ impl<'a> ComponentSolve<'a> {
         Ok(sys.make_feasible(&mut out.x).0)
     }
 
+    /// With a compressive strength σ_c, on a component that stands by compression and
+    /// friction: the least strength σ* its equilibria need (the `Strength` stage, on
+    /// clarabel) and its governing interface. When σ* ≤ σ_c but the forces found ask more of
+    /// some interface than σ_c, `solution` becomes the distribution over the equilibria the
+    /// stone carries (the `Capped` stage), so the forces drawn are ones it can carry.
+    fn crushing(&mut self, solution: &mut Solution) -> Option<(f64, usize)> {
+        let sigma = self.settings.strength?;
+        let (weight, lightest) = self.weights;
+        let threshold = stand_threshold(self.settings, lightest, weight) / solution.sys.force_scale;
+        if solution.tension.max(solution.excess) > threshold {
+            return None;
+        }
+        let sys = self.system(false).with_stress();
+        let unit = sys.strength_scale(self.assembly.scale);
+        let least = self.stage(&sys, Stage::Strength);
+        if !solved(least.status) {
+            return None;
+        }
+        let demands = sys.stress_demands(&sys.stress, &least.x);
+        let (governing, needed) =
+            demands.iter().enumerate().fold((0, 0.0), |best, (k, &d)| if d > best.1 { (k, d) } else { best });
+        let blocks = solution.sys.geometry.stress_blocks();
+        let own = solution.sys.stress_demands(&blocks, &solution.out.x).into_iter().fold(0.0, f64::max);
+        if needed <= sigma * unit && own > sigma * unit {
+            let capped = self.stage(&sys, Stage::Capped { strength: sigma * unit });
+            if solved(capped.status) {
+                *solution = Solution { sys, out: capped, tension: 0.0, excess: 0.0 };
+            }
+        }
+        Some((needed / unit, governing))
+    }
+
     /// Polishes the equilibrium residual and scales the solution back to N.
     fn finish(self, solution: Solution) -> ComponentOutcome {
         let Solution { sys, mut out, tension, excess } = solution;
@@ -478,6 +517,9 @@ pub enum Verdict {
     NeedsFriction,
     /// Both.
     NeedsTensionAndFriction,
+    /// Compression and friction within the limits suffice, but some interface needs more
+    /// compressive strength than the material has.
+    Crushes,
     /// Some block cannot be held at all (it touches nothing, or its group has no support).
     Unsupported,
     /// The solver did not converge: no verdict.
@@ -492,11 +534,17 @@ impl Verdict {
             Verdict::NeedsTension => "needs tension",
             Verdict::NeedsFriction => "needs more friction",
             Verdict::NeedsTensionAndFriction => "needs tension and friction",
+            Verdict::Crushes => "crushes",
             Verdict::Unsupported => "unsupported",
             Verdict::Unresolved => "solver trouble",
         }
     }
 }
+
+/// A needed strength counts as above the material's beyond this fraction of it: the strength
+/// SOCP is solved to the solver tolerance (1e-8), so a design exactly at its strength is not
+/// called crushed by round-off.
+pub const CRUSH_TOLERANCE: f64 = 1e-6;
 
 /// Below this fraction of a component's weight a minimum tension or excess is not resolved
 /// by the LPs (solved to 1e-10): it counts as zero.
@@ -513,15 +561,19 @@ pub fn stand_threshold(settings: &StaticsSettings, lightest: f64, weight: f64) -
 /// [`stand_threshold`], more friction where its minimum friction excess is.
 pub fn verdict(outcomes: &[ComponentOutcome], settings: &StaticsSettings) -> (SolverStatus, Verdict) {
     let mut status = SolverStatus::Solved;
-    let (mut needs_tension, mut needs_friction) = (false, false);
+    let (mut needs_tension, mut needs_friction, mut crushes) = (false, false, false);
     for out in outcomes {
         status = status.max(out.status);
         let threshold = stand_threshold(settings, out.lightest, out.weight);
         needs_tension |= out.min_tension > threshold;
         needs_friction |= out.min_excess > threshold;
+        if let (Some(strength), Some((needed, _))) = (settings.strength, out.crushing) {
+            crushes |= needed > strength * (1.0 + CRUSH_TOLERANCE);
+        }
     }
     let verdict = match status {
         SolverStatus::Solved | SolverStatus::AlmostSolved => match (needs_tension, needs_friction) {
+            (false, false) if crushes => Verdict::Crushes,
             (false, false) => Verdict::Stands,
             (true, false) => Verdict::NeedsTension,
             (false, true) => Verdict::NeedsFriction,

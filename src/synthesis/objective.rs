@@ -105,6 +105,8 @@ impl Evaluator {
             Verdict::NeedsTension | Verdict::NeedsFriction | Verdict::NeedsTensionAndFriction => {
                 (s.tension_ratio + s.friction_excess_ratio).max(f64::MIN_POSITIVE)
             }
+            // How far beyond its strength the stone is asked: a gradient towards standing.
+            Verdict::Crushes => s.crushing.as_ref().map_or(INVALID, |c| (c.utilization - 1.0).max(f64::MIN_POSITIVE)),
             Verdict::Unsupported => UNSUPPORTED,
             Verdict::Unresolved => INVALID,
         };

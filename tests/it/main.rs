@@ -16,6 +16,7 @@ mod bad_input;
 mod case_studies;
 mod cli;
 mod compas_formats;
+mod crushing;
 mod cut_history;
 mod diagram_png;
 mod drop_real_vault;

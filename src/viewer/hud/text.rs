@@ -18,6 +18,7 @@ pub fn verdict_text(v: Option<Verdict>) -> (&'static str, Srgb) {
         Some(Verdict::NeedsTension) => "NEEDS TENSION",
         Some(Verdict::NeedsFriction) => "FRICTION EXCEEDED",
         Some(Verdict::NeedsTensionAndFriction) => "TENSION + FRICTION",
+        Some(Verdict::Crushes) => "CRUSHES",
         Some(Verdict::Unsupported) => "UNSUPPORTED",
         Some(Verdict::Unresolved) => "SOLVER TROUBLE",
         None => "—",

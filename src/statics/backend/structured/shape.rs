@@ -52,6 +52,10 @@ impl<'a, const C: usize> Shape<'a, C> {
         if budget_vars.len() > 2 {
             return None;
         }
+        // The crushing rows have a right-hand side and cones across a whole interface: clarabel.
+        if cp.crushing.is_some() {
+            return None;
+        }
         let mut b_e = g.rhs.clone();
         b_e.extend(cp.budgets.iter().map(|b| b.limit));
         Some(Self {
