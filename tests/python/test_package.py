@@ -351,6 +351,22 @@ def test_drop_on_the_exact_engine():
         voussoir.drop(voussoir.Scene.builtin("stack?n=2"), engine="soft")
 
 
+def test_a_column_crushes_at_its_strength():
+    # Three 1 m cubes of 600 kg/m³ on a slab: the base joint carries 3 ρ g a³ on a², so the
+    # stone needs σ = 3 ρ g a = 17 658 Pa; just below, the column crushes; a strength that is
+    # not a finite number > 0 is one clear error.
+    scene = voussoir.Scene.builtin("stack?n=3&a=1")
+    needed = 3 * 600 * 9.81 * 1.0
+    standing = voussoir.analyze(scene, strength=1.001 * needed)
+    assert standing.verdict == "stands"
+    assert abs(standing.crushing["needed"] - needed) <= 1e-6 * needed
+    assert "base" in (standing.crushing["a"], standing.crushing["b"])
+    assert voussoir.analyze(scene, strength=0.999 * needed).verdict == "crushes"
+    assert voussoir.analyze(scene).crushing is None
+    with pytest.raises(voussoir.InputError, match="compressive strength -1"):
+        voussoir.analyze(scene, strength=-1.0)
+
+
 def test_cut_history_and_supports_edits():
     scene = voussoir.Scene.builtin("stack?n=1&a=1")
     cut = scene.with_cut([0.0, 0.0, 0.5], [0.0, 0.0, 1.0])

@@ -26,7 +26,7 @@ solve_function! {
     /// the kinematic check and the rapier drop test beside it.
     pub fn analyze<'py>(
         py, scene,
-        ..options(mu, friction_model, solver, supports, ground, density),
+        ..options(mu, friction_model, solver, supports, ground, density, strength),
         strict: bool = false, kinematic: bool = false, dynamic: bool = false
     ) -> PyResult<Analysis> {
         let (design, mut settings) = options.apply(scene)?;
@@ -69,7 +69,8 @@ fn name_of<T: serde::Serialize>(value: &T) -> String {
 #[pymethods]
 impl Analysis {
     /// "stands", "needs_tension", "needs_friction", "needs_tension_and_friction",
-    /// "unsupported" or "unresolved" (the solver did not converge: see `solver_status`).
+    /// "crushes" (it stands by compression and friction, but some joint needs more than
+    /// the `strength` given), "unsupported" or "unresolved" (the solver did not converge: see `solver_status`).
     #[getter]
     fn verdict(&self) -> String {
         name_of(&self.analysis.statics.verdict)
@@ -78,6 +79,22 @@ impl Analysis {
     #[getter]
     fn stands(&self) -> bool {
         self.analysis.statics.stands
+    }
+
+    /// With a compressive strength, on a design that stands by compression and friction: the
+    /// least strength its joints need (Pa), the strength, their ratio and the joint that needs it
+    /// (`interface`, `a`, `b`); else None.
+    #[getter]
+    fn crushing<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, pyo3::types::PyDict>>> {
+        let Some(c) = &self.analysis.statics.crushing else { return Ok(None) };
+        let d = pyo3::types::PyDict::new(py);
+        d.set_item("needed", c.needed)?;
+        d.set_item("strength", c.strength)?;
+        d.set_item("utilization", c.utilization)?;
+        d.set_item("interface", c.interface)?;
+        d.set_item("a", &c.a)?;
+        d.set_item("b", &c.b)?;
+        Ok(Some(d))
     }
 
     /// Minimum total tension / total free weight.

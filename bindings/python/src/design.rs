@@ -22,7 +22,7 @@ solve_function! {
         py, scene,
         cuts: Option<Vec<usize>> = None, max_turn: Option<f64> = None, robust: bool = true, seed: Option<u64> = None,
         particles: Option<usize> = None, iterations: Option<u64> = None,
-        ..options(mu, friction_model, solver, supports, ground, density)
+        ..options(mu, friction_model, solver, supports, ground, density, strength)
     ) -> PyResult<(Scene, Bound<'py, PyAny>)> {
         let (design, settings) = options.apply(scene)?;
         let d = RepairSettings::default();
@@ -55,7 +55,7 @@ solve_function! {
         py, scene,
         blocks: Option<usize> = None, max_size: Option<f64> = None, strategy: &str = "courses",
         center: Option<[f64; 3]> = None, axis: Option<[f64; 3]> = None, stagger: bool = true,
-        ..options(mu, friction_model, solver, supports, ground, density)
+        ..options(mu, friction_model, solver, supports, ground, density, strength)
     ) -> PyResult<(Scene, Bound<'py, PyDict>)> {
         let size = match (blocks, max_size) {
             (Some(n), None) => BlockSize::Count(n),

@@ -1,5 +1,5 @@
 //! The keyword arguments the solving functions share (`mu`, `friction_model`, `solver`,
-//! `supports`, `ground`, `density`), and the one place they become the library's settings and
+//! `supports`, `ground`, `density`, `strength`: the compressive strength in Pa), and the one place they become the library's settings and
 //! amend the scene (as the command line's options do). `None` keeps the library's default
 //! (each written once, in its `Default`).
 //!
@@ -45,6 +45,7 @@ pub struct SolveOptions {
     pub supports: Option<Supports>,
     pub ground: Option<bool>,
     pub density: Option<f64>,
+    pub strength: Option<f64>,
 }
 
 /// A value of one of the library's named choices (`friction_model="pyramid8"`), by the names
@@ -78,6 +79,7 @@ impl SolveOptions {
             settings.statics.backend = choice::<Backend>("solver", name)?;
         }
         settings.statics.friction = self.mu;
+        settings.statics.strength = self.strength;
         Ok(settings)
     }
 
@@ -135,5 +137,6 @@ macro_rules! solve_function {
     (@type supports) => { Option<crate::settings::Supports> };
     (@type ground) => { Option<bool> };
     (@type density) => { Option<f64> };
+    (@type strength) => { Option<f64> };
 }
 pub(crate) use solve_function;

@@ -67,7 +67,7 @@ solve_function! {
     pub fn load_factor<'py>(
         py, scene,
         direction: Option<f64> = None, directions: Option<usize> = None,
-        ..options(mu, friction_model, solver, supports, ground, density)
+        ..options(mu, friction_model, solver, supports, ground, density, strength)
     ) -> PyResult<Bound<'py, PyAny>> {
         let (design, settings) = options.apply(scene)?;
         let source = scene.source.as_str();
@@ -100,7 +100,7 @@ solve_function! {
         py, scene,
         order: Option<Order> = None, props: bool = false, search: bool = false, dynamic: bool = false,
         kinematic: bool = false,
-        ..options(mu, friction_model, solver, supports, ground, density)
+        ..options(mu, friction_model, solver, supports, ground, density, strength)
     ) -> PyResult<Bound<'py, PyAny>> {
         let (design, settings) = options.apply(scene)?;
         let spec = match order {

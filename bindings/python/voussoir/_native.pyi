@@ -86,9 +86,12 @@ class Analysis:
     """The result of analyze(): verdict, graded ratios, forces (N) on interfaces and points."""
 
     verdict: Literal[
-        "stands", "needs_tension", "needs_friction", "needs_tension_and_friction", "unsupported", "unresolved"
+        "stands", "needs_tension", "needs_friction", "needs_tension_and_friction", "crushes", "unsupported",
+        "unresolved",
     ]
     stands: bool
+    crushing: Optional[dict[str, Any]]
+    """With `strength`: needed, strength (Pa), utilization, interface, a, b; else None."""
     tension_ratio: float
     """Minimum total tension / total free weight."""
     friction_excess_ratio: float
@@ -146,6 +149,7 @@ def analyze(
     supports: Optional[Supports] = None,
     ground: Optional[bool] = None,
     density: Optional[float] = None,
+    strength: Optional[float] = None,
     strict: bool = False,
     kinematic: bool = False,
     dynamic: bool = False,
@@ -169,6 +173,7 @@ def load_factor(
     supports: Optional[Supports] = None,
     ground: Optional[bool] = None,
     density: Optional[float] = None,
+    strength: Optional[float] = None,
 ) -> dict[str, Any]:
     """`voussoir robustness --json`: λ* of the live loads, of 1 g along `direction`, or in the
     worst horizontal direction."""
@@ -187,6 +192,7 @@ def sequence(
     supports: Optional[Supports] = None,
     ground: Optional[bool] = None,
     density: Optional[float] = None,
+    strength: Optional[float] = None,
 ) -> dict[str, Any]:
     """`voussoir sequence --json`: every step of an assembly order checked."""
 
@@ -217,6 +223,7 @@ def repair(
     supports: Optional[Supports] = None,
     ground: Optional[bool] = None,
     density: Optional[float] = None,
+    strength: Optional[float] = None,
 ) -> tuple[Scene, dict[str, Any]]:
     """`voussoir repair`: the design with its cuts (all, or `cuts`) moved and turned until it
     stands, then (`robust`) stands most safely; and the report (`repair --json`). The same
@@ -237,6 +244,7 @@ def decompose(
     supports: Optional[Supports] = None,
     ground: Optional[bool] = None,
     density: Optional[float] = None,
+    strength: Optional[float] = None,
 ) -> tuple[Scene, dict[str, Any]]:
     """`voussoir decompose`: a cut history for a source shape (exactly one of `blocks` and
     `max_size`; beds through the axis `center` + s·`axis` for arches); the design and
