@@ -47,6 +47,11 @@ pub struct AnalyzeArgs {
     /// found actually arise?) and compare the verdicts.
     #[arg(long)]
     pub kinematic: bool,
+    /// Also find how precisely it must be cut: the largest shrink of every joint (chipped
+    /// arrises) and tilt of every joint plane for which it still stands, each with the joint
+    /// that governs (bisection on the statics).
+    #[arg(long)]
+    pub tolerance: bool,
     #[command(flatten)]
     pub drop: DropOptions,
 }
@@ -128,6 +133,14 @@ pub fn run(args: &AnalyzeArgs) -> Result<i32, BadInput> {
     } else {
         None
     };
+    let tolerance = if args.tolerance {
+        let t = crate::stability::tolerance::margins(&analysis, &settings.statics, &Default::default())
+            .map_err(|e| BadInput(format!("--tolerance: {e}")))?;
+        print!("{}", text_report::tolerance(&t));
+        Some(t)
+    } else {
+        None
+    };
     if let Some(out) = &args.compas_out {
         let format = args.compas_format.unwrap_or_else(|| CompasFormat::of_input(args.scene.as_deref()));
         let text = match format {
@@ -137,7 +150,12 @@ pub fn run(args: &AnalyzeArgs) -> Result<i32, BadInput> {
         write_output(out, text.as_bytes())?;
     }
     if let Some(out) = &args.json {
-        write_output(out, report::json::to_json_with(&analysis, dynamic.as_ref(), kinematic.as_ref()).as_bytes())?;
+        let extras = report::json::Extras {
+            dynamic: dynamic.as_ref(),
+            kinematic: kinematic.as_ref(),
+            tolerance: tolerance.as_ref(),
+        };
+        write_output(out, report::json::to_json_with(&analysis, &extras).as_bytes())?;
         println!("report written to {}", out.display());
     }
     // Exit 0 only when it stands by every test that ran.

@@ -40,6 +40,11 @@ pub struct RobustnessArgs {
     /// Picture of the collapse mechanism (.png or .svg).
     #[arg(long)]
     pub mechanism: Option<PathBuf>,
+    /// A fabrication tolerance: every joint shrunk by this much (model units) from its edges
+    /// before the load factor — λ* of the design as it may be built (`analyze --tolerance`
+    /// gives the largest shrink it survives).
+    #[arg(long, value_name = "LENGTH")]
+    pub chip: Option<f64>,
 }
 
 pub fn run(args: &RobustnessArgs) -> Result<i32, BadInput> {
@@ -50,7 +55,12 @@ pub fn run(args: &RobustnessArgs) -> Result<i32, BadInput> {
     let mut scene = load(args.scene.as_deref())?;
     scene.loads.extend(args.loads.loads()?);
     let settings = args.solver.settings();
-    let analysis = analyze(&scene, &settings).map_err(|e| BadInput(format!("{name}: {e}")))?;
+    let mut analysis = analyze(&scene, &settings).map_err(|e| BadInput(format!("{name}: {e}")))?;
+    if let Some(delta) = args.chip {
+        analysis = crate::stability::tolerance::chipped(&analysis, delta, &settings.statics)
+            .map_err(|e| BadInput(format!("{name}: --chip: {e}")))?;
+        println!("every joint shrunk by {delta} from its edges (--chip): {}", analysis.statics.verdict.words());
+    }
     let question = Question::choose(&analysis, args.direction, args.directions);
     if args.plot.is_some() && !matches!(question, Question::Worst(_)) {
         return Err(BadInput("--plot draws a direction sweep: give --directions N (or no live load)".into()));

@@ -78,6 +78,34 @@ impl Interface {
         self.frame.origin
     }
 
+    /// The interface with its contact polygon shrunk by `delta` (m) from every edge — chipped
+    /// or rounded arrises ([`crate::geometry::overlap::shrink`]): one interface per piece that
+    /// remains (same bodies, frame and faces), none when nothing does.
+    pub fn shrunk(&self, delta: f64) -> Vec<Interface> {
+        let f = &self.frame;
+        let flat: Vec<[f64; 2]> =
+            self.polygon.iter().map(|p| [(p - f.origin).dot(&f.u), (p - f.origin).dot(&f.v)]).collect();
+        let lift = |q: &[f64; 2]| f.origin + f.u * q[0] + f.v * q[1];
+        let ring_area = |r: &[[f64; 2]]| {
+            0.5 * (0..r.len())
+                .map(|i| r[i][0] * r[(i + 1) % r.len()][1] - r[(i + 1) % r.len()][0] * r[i][1])
+                .sum::<f64>()
+        };
+        crate::geometry::overlap::shrink(&flat, delta)
+            .into_iter()
+            .filter_map(|piece| {
+                let (outer, holes) = piece.split_first()?;
+                let area = ring_area(outer).abs() - holes.iter().map(|h| ring_area(h).abs()).sum::<f64>();
+                Some(Interface {
+                    polygon: outer.iter().map(lift).collect(),
+                    holes: holes.iter().map(|h| h.iter().map(lift).collect()).collect(),
+                    area,
+                    ..self.clone()
+                })
+            })
+            .collect()
+    }
+
     /// Whether the interface touches `block`.
     pub fn touches(&self, block: BlockId) -> bool {
         self.a == Body::Block(block) || self.b == Body::Block(block)

@@ -144,8 +144,8 @@ pub fn scene_from_str(path: &Path, text: &str) -> Result<Scene, IoError> {
 
 /// Keys of the format at each level.
 const SCENE_KEYS: &[&str] = &[
-    "schema", "name", "blocks", "density", "friction", "strength", "gravity", "ground", "cuts", "removed", "supports", "order",
-    "loads",
+    "schema", "name", "blocks", "density", "friction", "strength", "gravity", "ground", "cuts", "removed", "supports",
+    "order", "loads",
 ];
 const BLOCK_KEYS: &[&str] = &["name", "vertices", "faces", "support", "density"];
 const CUT_KEYS: &[&str] = &["point", "normal", "apex", "segments", "target"];

@@ -3,7 +3,8 @@
 use crate::dynamics::DropResult;
 use crate::pipeline::{Analysis, Timings};
 use crate::stability::kinematic::Kinematic;
-use crate::statics::{InterfaceResult, SolverReport, Verdict};
+use crate::stability::tolerance::Margins;
+use crate::statics::{CrushingReport, InterfaceResult, SolverReport, Verdict};
 use serde::Serialize;
 
 /// Report schema version.
@@ -35,6 +36,9 @@ struct Report<'a> {
     supports: Vec<&'a str>,
     ground: bool,
     interfaces: &'a [InterfaceResult],
+    /// With a compressive strength, on a design that stands by compression and friction.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    crushing: Option<&'a CrushingReport>,
     solver: &'a SolverReport,
     timings: Timings,
     warnings: Vec<String>,
@@ -49,6 +53,17 @@ struct Report<'a> {
     /// mechanism (initial accelerations).
     #[serde(skip_serializing_if = "Option::is_none")]
     kinematic: Option<&'a Kinematic>,
+    /// With `--tolerance`: the fabrication tolerance margins.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    tolerance: Option<&'a Margins>,
+}
+
+/// What ran beside the statics, each reported when present.
+#[derive(Clone, Copy, Default)]
+pub struct Extras<'a> {
+    pub dynamic: Option<&'a DropResult>,
+    pub kinematic: Option<&'a Kinematic>,
+    pub tolerance: Option<&'a Margins>,
 }
 
 #[derive(Serialize)]
@@ -62,12 +77,14 @@ struct StaticVerdict {
 
 /// The report as pretty JSON. Non-finite numbers (an infinite utilisation) become `null`.
 pub fn to_json(analysis: &Analysis) -> String {
-    to_json_with(analysis, None, None)
+    to_json_with(analysis, &Extras::default())
 }
 
-/// The report with a drop test beside the statics (keys `static`, `dynamic`, `agree`) and the
-/// kinematic check (key `kinematic`), each when it ran.
-pub fn to_json_with(analysis: &Analysis, dynamic: Option<&DropResult>, kinematic: Option<&Kinematic>) -> String {
+/// The report with a drop test beside the statics (keys `static`, `dynamic`, `agree`), the
+/// kinematic check (key `kinematic`) and the tolerance margins (key `tolerance`), each when it
+/// ran.
+pub fn to_json_with(analysis: &Analysis, extras: &Extras) -> String {
+    let Extras { dynamic, kinematic, tolerance } = *extras;
     let a = &analysis.assembly;
     let s = &analysis.statics;
     let report = Report {
@@ -96,6 +113,7 @@ pub fn to_json_with(analysis: &Analysis, dynamic: Option<&DropResult>, kinematic
         supports: a.blocks.iter().filter(|b| b.support).map(|b| b.name.as_str()).collect(),
         ground: a.ground,
         interfaces: &s.interfaces,
+        crushing: s.crushing.as_ref(),
         solver: &s.solver,
         timings: analysis.timings,
         warnings: a.warnings.iter().map(|w| w.to_string()).collect(),
@@ -109,6 +127,7 @@ pub fn to_json_with(analysis: &Analysis, dynamic: Option<&DropResult>, kinematic
         dynamic,
         agree: dynamic.map(|d| d.stands == s.stands),
         kinematic,
+        tolerance,
     };
     serde_json::to_string_pretty(&report).unwrap_or_else(|e| format!("{{\"error\": \"{e}\"}}"))
 }

@@ -327,3 +327,22 @@ pub fn robustness(
     }
     o
 }
+
+/// The fabrication tolerance margins, one line each with the joint that governs.
+pub fn tolerance(m: &crate::stability::tolerance::Margins) -> String {
+    let joint = |g: &Option<crate::stability::tolerance::Governing>| {
+        g.as_ref().map_or(String::from("no joint limits it"), |g| format!("governed by {} → {}", g.a, g.b))
+    };
+    format!(
+        "TOLERANCE: joints may bear short of their edges by {:.4e} m ({:.2} % of the block size {:.3e} m), {}\n  \
+         joint planes may turn by {:.3}° ({:.1} % of the friction angle), {}; {} statics solves\n",
+        m.shrink.value,
+        100.0 * m.shrink.relative,
+        m.block_size,
+        joint(&m.shrink.governing),
+        m.tilt.value,
+        100.0 * m.tilt.relative,
+        joint(&m.tilt.governing),
+        m.solves
+    )
+}

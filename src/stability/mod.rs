@@ -16,6 +16,7 @@
 pub mod directions;
 pub mod kinematic;
 mod question;
+pub mod tolerance;
 
 pub use crate::statics::{BlockMotion, InterfaceMotion, JointState, Mechanism};
 pub use directions::{DirectionSettings, DirectionSweep, worst_direction};

@@ -4,7 +4,8 @@
 
 use super::components::Component;
 use super::problem::{
-    Budget, Contact, ContactProblem, Crushing, FrictionModel, Geometry, Side, Strength, StressBlock, Var, motion_at, wrench,
+    Budget, Contact, ContactProblem, Crushing, FrictionModel, Geometry, Side, Strength, StressBlock, Var, motion_at,
+    wrench,
 };
 use super::settings::StaticsSettings;
 use crate::geometry::{Point3, Vector3};

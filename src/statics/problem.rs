@@ -292,11 +292,14 @@ impl Geometry {
 pub fn stress_block(points: std::ops::Range<usize>, pts: &[[f64; 2]]) -> StressBlock {
     let n = pts.len();
     let edge = |i: usize| [pts[(i + 1) % n][0] - pts[i][0], pts[(i + 1) % n][1] - pts[i][1]];
-    let longest = (0..n).map(edge).fold([0.0f64, 0.0], |best, e| if e[0].hypot(e[1]) > best[0].hypot(best[1]) { e } else { best });
+    let longest = (0..n)
+        .map(edge)
+        .fold([0.0f64, 0.0], |best, e| if e[0].hypot(e[1]) > best[0].hypot(best[1]) { e } else { best });
     let len = longest[0].hypot(longest[1]);
     let a0 = if len > 0.0 { [longest[0] / len, longest[1] / len] } else { [1.0, 0.0] };
     let axes = [a0, [-a0[1], a0[0]]];
-    let area = 0.5 * (0..n).map(|i| pts[i][0] * pts[(i + 1) % n][1] - pts[(i + 1) % n][0] * pts[i][1]).sum::<f64>().abs();
+    let area =
+        0.5 * (0..n).map(|i| pts[i][0] * pts[(i + 1) % n][1] - pts[(i + 1) % n][0] * pts[i][1]).sum::<f64>().abs();
     let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
     for p in pts {
         for (k, a) in axes.iter().enumerate() {
@@ -510,13 +513,19 @@ impl ContactProblem<'_> {
                         .clone()
                         .flat_map(|p| {
                             let along = self.geometry.rho[p][1] * axis[0] + self.geometry.rho[p][2] * axis[1];
-                            normal.iter().enumerate().filter(|e| *e.1 != 0.0).map(move |(j, nj)| (p * c + j, sign * (along - edge) * nj))
+                            normal
+                                .iter()
+                                .enumerate()
+                                .filter(|e| *e.1 != 0.0)
+                                .map(move |(j, nj)| (p * c + j, sign * (along - edge) * nj))
                         })
                         .collect();
                     let z: Vec<(usize, f64)> = block
                         .points
                         .clone()
-                        .flat_map(|p| normal.iter().enumerate().filter(|e| *e.1 != 0.0).map(move |(j, nj)| (p * c + j, *nj)))
+                        .flat_map(|p| {
+                            normal.iter().enumerate().filter(|e| *e.1 != 0.0).map(move |(j, nj)| (p * c + j, *nj))
+                        })
                         .collect();
                     let w = block.width[k];
                     let (x_const, x_col) = match crushing.strength {

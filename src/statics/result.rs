@@ -187,7 +187,8 @@ fn crushing_report(
         .filter(|(_, o)| !o.forces.is_empty())
         .map(|(c, o)| o.crushing.map(|(needed, local)| (needed, c.interfaces[local])))
         .collect();
-    let (needed, interface) = checked?.into_iter().fold((0.0, usize::MAX), |best, c| if c.0 > best.0 { c } else { best });
+    let (needed, interface) =
+        checked?.into_iter().fold((0.0, usize::MAX), |best, c| if c.0 > best.0 { c } else { best });
     let itf = interfaces.get(interface)?;
     Some(CrushingReport {
         strength,

@@ -53,7 +53,9 @@ pub const MOVED: Srgb = [0.60, 0.45, 0.88];
 pub fn verdict(verdict: Option<Verdict>) -> Srgb {
     match verdict {
         Some(Verdict::Stands) => STANDS,
-        Some(Verdict::NeedsTension | Verdict::NeedsTensionAndFriction | Verdict::Crushes | Verdict::Unsupported) => FAILS,
+        Some(Verdict::NeedsTension | Verdict::NeedsTensionAndFriction | Verdict::Crushes | Verdict::Unsupported) => {
+            FAILS
+        }
         Some(Verdict::NeedsFriction) => FRICTION_EXCEEDED,
         Some(Verdict::Unresolved) => UNRESOLVED,
         None => NO_VERDICT,

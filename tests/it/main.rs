@@ -51,3 +51,4 @@ mod synthesis_generate;
 mod synthesis_repair;
 mod thin_blocks_regression;
 mod thresholds;
+mod tolerance;

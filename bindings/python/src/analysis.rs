@@ -286,7 +286,14 @@ impl Analysis {
 
     /// The JSON report of `voussoir analyze --json` as a dict.
     fn to_dict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        let text = report::json::to_json_with(&self.analysis, self.dynamic.as_ref(), self.kinematic.as_ref());
+        let text = report::json::to_json_with(
+            &self.analysis,
+            &report::json::Extras {
+                dynamic: self.dynamic.as_ref(),
+                kinematic: self.kinematic.as_ref(),
+                tolerance: None,
+            },
+        );
         py.import("json")?.call_method1("loads", (text,))
     }
 
