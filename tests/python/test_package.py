@@ -367,6 +367,26 @@ def test_a_column_crushes_at_its_strength():
         voussoir.analyze(scene, strength=-1.0)
 
 
+def box(x0, y0, z0, x1, y1, z1):
+    v = [[x0, y0, z0], [x1, y0, z0], [x1, y1, z0], [x0, y1, z0]]
+    v += [[p[0], p[1], z1] for p in v]
+    faces = [[0, 3, 2, 1], [4, 5, 6, 7], [0, 1, 5, 4], [1, 2, 6, 5], [2, 3, 7, 6], [3, 0, 4, 7]]
+    return np.array(v), faces
+
+
+def test_tolerance_margins():
+    # A 1 x 1 x 0.6 block whose weight acts 0.2 inside its pier's edge survives every joint
+    # shrunk by 0.2 (to the bisection's 1e-6 of the model size); its normal force survives
+    # a tilt of the whole friction angle.
+    scene = voussoir.Scene.from_arrays([box(0.3, 0, -1, 2, 1, 0), box(0, 0, 0, 1, 1, 0.6)], supports=[0])
+    margins = voussoir.tolerance(scene)
+    assert abs(margins["shrink"]["value"] - 0.2) < 1e-5
+    assert (margins["shrink"]["governing"]["a"], margins["shrink"]["governing"]["b"]) == ("0", "1")
+    assert abs(margins["tilt"]["relative"] - 1.0) < 1e-6
+    with pytest.raises(voussoir.InputError, match="does not stand as drawn"):
+        voussoir.tolerance(voussoir.Scene.builtin("arch?n=15&t=0.09"))
+
+
 def test_cut_history_and_supports_edits():
     scene = voussoir.Scene.builtin("stack?n=1&a=1")
     cut = scene.with_cut([0.0, 0.0, 0.5], [0.0, 0.0, 1.0])

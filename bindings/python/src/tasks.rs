@@ -84,6 +84,28 @@ solve_function! {
     }
 }
 
+solve_function! {
+    /// How precisely the design must be cut (`voussoir analyze --tolerance`, its `tolerance`
+    /// object as a dict): the largest shrink of every joint (m) and tilt of every joint plane
+    /// (degrees) for which it still stands, each relative and with the joint that governs.
+    pub fn tolerance<'py>(
+        py, scene,
+        ..options(mu, friction_model, solver, supports, ground, density, strength)
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let (design, settings) = options.apply(scene)?;
+        let source = scene.source.as_str();
+        let text = py
+            .detach(|| {
+                let analysis = analyze(&design, &settings).map_err(|e| e.to_string())?;
+                let margins = stability::tolerance::margins(&analysis, &settings.statics, &Default::default())
+                    .map_err(|e| e.to_string())?;
+                serde_json::to_string(&margins).map_err(|e| e.to_string())
+            })
+            .map_err(|e: String| errors::input(source, e))?;
+        json_to_python(py, &text)
+    }
+}
+
 /// `order`: "bottom-up", "from-supports", or a list of block names.
 #[derive(FromPyObject)]
 pub enum Order {

@@ -162,6 +162,20 @@ def detect_interfaces(
 ) -> dict[str, Any]:
     """block_names, blocks (m, 2), area, centroid, normal, u, v, polygons."""
 
+def tolerance(
+    scene: Scene,
+    *,
+    mu: Optional[float] = None,
+    friction_model: Optional[FrictionModel] = None,
+    solver: Optional[Solver] = None,
+    supports: Optional[Supports] = None,
+    ground: Optional[bool] = None,
+    density: Optional[float] = None,
+    strength: Optional[float] = None,
+) -> dict[str, Any]:
+    """`voussoir analyze --tolerance`: shrink (m) and tilt (degrees) margins, each with
+    `value`, `relative`, `governing`; `block_size`, `solves`."""
+
 def load_factor(
     scene: Scene,
     *,
