@@ -16,12 +16,31 @@ use crate::geometry::{Point3, Vector3};
 use crate::interfaces::{Body as Side0, Interface};
 use crate::model::Assembly;
 
-/// One side of a contact: a fixed body (support or ground) or a free one (index into the
-/// engine's bodies).
+/// One side of a contact: a fixed body (support or ground), a free one (index into the
+/// engine's bodies), or a support on a prescribed path (index into its movers).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(super) enum Side {
     Fixed,
     Free(usize),
+    Moved(usize),
+}
+
+/// The bodies a contact's sides index: the free ones and the moved supports.
+#[derive(Clone, Copy)]
+pub(super) struct Poses<'a> {
+    pub bodies: &'a [Body],
+    pub movers: &'a [Body],
+}
+
+impl<'a> Poses<'a> {
+    /// The body of a side that moves (free or moved), None for a fixed one.
+    pub fn of(&self, side: Side) -> Option<&'a Body> {
+        match side {
+            Side::Fixed => None,
+            Side::Free(k) => Some(&self.bodies[k]),
+            Side::Moved(m) => Some(&self.movers[m]),
+        }
+    }
 }
 
 /// Where a contact comes from.
@@ -68,20 +87,13 @@ pub(super) struct Geometry {
 
 /// All contacts of a scene, in a fixed order: interfaces (detection's order, vertices in
 /// polygon order), then ground vertices by block and vertex.
-pub(super) fn build(
-    assembly: &Assembly,
-    interfaces: &[Interface],
-    body_of: &[Option<usize>],
-    bodies: &[Body],
-) -> Vec<Contact> {
+pub(super) fn build(assembly: &Assembly, interfaces: &[Interface], sides: &[Side], poses: Poses) -> Vec<Contact> {
+    let bodies = poses.bodies;
     let side = |b: Side0| match b {
-        Side0::Block(id) => body_of[id.0].map_or(Side::Fixed, Side::Free),
+        Side0::Block(id) => sides[id.0],
         Side0::Ground => Side::Fixed,
     };
-    let offset = |s: Side, p: Point3| match s {
-        Side::Fixed => p.coords,
-        Side::Free(k) => p - bodies[k].start,
-    };
+    let offset = |s: Side, p: Point3| poses.of(s).map_or(p.coords, |b| p - b.start);
     let mut out = Vec::new();
     for (k, itf) in interfaces.iter().enumerate() {
         // The ground is met vertex by vertex below; fixed–fixed pairs never move.
@@ -89,7 +101,7 @@ pub(super) fn build(
             continue;
         }
         let (a, b) = (side(itf.a), side(itf.b));
-        if a == Side::Fixed && b == Side::Fixed {
+        if !matches!(a, Side::Free(_)) && !matches!(b, Side::Free(_)) {
             continue;
         }
         let reach = diameter(&itf.polygon);
@@ -136,15 +148,12 @@ fn diameter(polygon: &[Point3]) -> f64 {
 }
 
 impl Contact {
-    pub fn geometry(&self, bodies: &[Body]) -> Geometry {
-        let at = |s: Side, r: &Vector3| match s {
-            Side::Fixed => Point3::from(*r),
-            Side::Free(k) => bodies[k].point(r),
-        };
+    pub fn geometry(&self, poses: Poses) -> Geometry {
+        let at = |s: Side, r: &Vector3| poses.of(s).map_or(Point3::from(*r), |b| b.point(r));
         let pb = at(self.b, &self.rb);
-        let frame = match (self.origin, self.a) {
-            (_, Side::Free(k)) => self.frame.map(|d| bodies[k].q * d),
-            _ => self.frame,
+        let frame = match poses.of(self.a) {
+            Some(a) => self.frame.map(|d| a.q * d),
+            None => self.frame,
         };
         // On the ground, a's point is b's vertex projected onto the plane.
         let pa = match self.origin {
@@ -154,20 +163,35 @@ impl Contact {
         let d = pb - pa;
         let gap = frame[0].dot(&d);
         let slip = (d - frame[0] * gap).norm();
-        let facing = match self.b {
-            Side::Free(k) => frame[0].dot(&(bodies[k].q * self.frame[0])),
-            Side::Fixed => frame[0].dot(&self.frame[0]),
+        let facing = match poses.of(self.b) {
+            Some(b) => frame[0].dot(&(b.q * self.frame[0])),
+            None => frame[0].dot(&self.frame[0]),
         };
         Geometry { point: pa + d * 0.5, frame, gap, slip, facing }
     }
 
     /// The velocity of b's point relative to a's at `point`, m/s.
-    pub fn relative_velocity(&self, bodies: &[Body], point: &Point3) -> Vector3 {
+    pub fn relative_velocity(&self, poses: Poses, point: &Point3) -> Vector3 {
+        let vel = |s: Side| poses.of(s).map_or(Vector3::zeros(), |b| b.velocity_at(point));
+        vel(self.b) - vel(self.a)
+    }
+
+    /// The part of [`Self::relative_velocity`] the moved supports prescribe (the free blocks'
+    /// part is what a step solves for), m/s.
+    pub fn prescribed_velocity(&self, poses: Poses, point: &Point3) -> Vector3 {
         let vel = |s: Side| match s {
-            Side::Fixed => Vector3::zeros(),
-            Side::Free(k) => bodies[k].velocity_at(point),
+            Side::Moved(m) => poses.movers[m].velocity_at(point),
+            _ => Vector3::zeros(),
         };
         vel(self.b) - vel(self.a)
+    }
+
+    /// The moved support this contact has on a side, if any.
+    pub fn mover(&self) -> Option<usize> {
+        [self.a, self.b].into_iter().find_map(|s| match s {
+            Side::Moved(m) => Some(m),
+            _ => None,
+        })
     }
 
     pub fn touches(&self, body: usize) -> bool {

@@ -45,11 +45,11 @@ mod step;
 
 use crate::dynamics::DropSettings;
 use crate::dynamics::settings::Coulomb;
-use crate::geometry::Point3;
+use crate::geometry::{Point3, Vector3};
 use crate::model::{Assembly, FrictionModel};
 use crate::statics::{Accuracy, SolverStatus};
 use bodies::{Body, Units};
-use contacts::{Contact, Side};
+use contacts::{Contact, Poses, Side};
 use problem::{Active, StepContext};
 use serde::Serialize;
 
@@ -71,7 +71,9 @@ pub struct EnergyBalance {
     pub contact: f64,
     /// Dissipated by the velocity jumps of plastic impacts (½ Δvᵀ M Δv summed).
     pub impact: f64,
-    /// |load_work − kinetic − contact − impact| relative to max(load_work, the free weight × the median block size × 1e-6).
+    /// Work of the moved supports on the blocks (0 when none moves).
+    pub support_work: f64,
+    /// |load_work + support_work − kinetic − contact − impact| relative to max(load_work, the free weight × the median block size × 1e-6).
     pub error: f64,
 }
 
@@ -96,11 +98,27 @@ pub struct ExactStats {
     pub energy: EnergyBalance,
 }
 
+/// A support moved along a prescribed path: its whole translation (m) and rotation vector
+/// (rad, about its centroid), covered in the fractions [`World::step_supports`] is given.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SupportPath {
+    /// Index of the support in the assembly.
+    pub block: usize,
+    pub translation: Vector3,
+    pub rotation: Vector3,
+}
+
 /// The engine's world: free blocks and their contacts.
 pub struct World {
     bodies: Vec<Body>,
     /// The body of each assembly block (None: a support).
     body_of: Vec<Option<usize>>,
+    /// The moved supports as bodies driven along their paths, and the paths.
+    movers: Vec<Body>,
+    paths: Vec<SupportPath>,
+    /// Per moved support, the force (N) and moment about its centroid (N·m) the blocks put on
+    /// it over the last step.
+    reactions: Vec<[Vector3; 2]>,
     contacts: Vec<Contact>,
     ctx: StepContext,
     acc: Accuracy,
@@ -112,6 +130,12 @@ pub struct World {
 
 impl World {
     pub fn new(assembly: &Assembly, settings: &DropSettings) -> Self {
+        Self::with_paths(assembly, settings, &[])
+    }
+
+    /// A world whose supports `paths` name move along them ([`Self::step_supports`]); each
+    /// path's block must be a support (the caller checks).
+    pub fn with_paths(assembly: &Assembly, settings: &DropSettings, paths: &[SupportPath]) -> Self {
         let s = &settings.exact;
         let g = assembly.gravity.norm().max(f64::MIN_POSITIVE);
         let mut body_of = vec![None; assembly.blocks.len()];
@@ -124,8 +148,17 @@ impl World {
             }
             bodies.push(body);
         }
+        let mut sides: Vec<Side> = body_of.iter().map(|b| b.map_or(Side::Fixed, Side::Free)).collect();
+        let movers: Vec<Body> = paths
+            .iter()
+            .enumerate()
+            .map(|(m, p)| {
+                sides[p.block] = Side::Moved(m);
+                Body::new(p.block, &assembly.blocks[p.block], Vector3::zeros(), [0.0; 6])
+            })
+            .collect();
         let interfaces = crate::interfaces::detect(assembly);
-        let contacts = contacts::build(assembly, &interfaces, &body_of, &bodies);
+        let contacts = contacts::build(assembly, &interfaces, &sides, Poses { bodies: &bodies, movers: &movers });
         let mut sizes: Vec<f64> = assembly.blocks.iter().map(|b| b.aabb.diagonal()).collect();
         sizes.sort_by(f64::total_cmp);
         let size = sizes.get(sizes.len() / 2).copied().unwrap_or(1.0).max(f64::MIN_POSITIVE);
@@ -153,11 +186,52 @@ impl World {
             energy: EnergyBalance::default(),
         };
         let acc = Accuracy::uniform(s.solver_tolerance);
-        Self { bodies, body_of, contacts, ctx, acc, settings: s.clone(), size, stats }
+        let reactions = vec![[Vector3::zeros(); 2]; movers.len()];
+        Self {
+            bodies,
+            body_of,
+            movers,
+            paths: paths.to_vec(),
+            reactions,
+            contacts,
+            ctx,
+            acc,
+            settings: s.clone(),
+            size,
+            stats,
+        }
     }
 
-    /// One step of every component that is awake.
+    fn poses(&self) -> Poses<'_> {
+        Poses { bodies: &self.bodies, movers: &self.movers }
+    }
+
+    /// One step of every component that is awake, the supports held still.
     pub fn step(&mut self) {
+        self.step_supports(0.0);
+    }
+
+    /// One step in which every moved support covers `fraction` of its path (at the constant
+    /// speed that takes it there within the step; 0 holds it still). A moving support wakes
+    /// every block it touches.
+    pub fn step_supports(&mut self, fraction: f64) {
+        let h = self.ctx.h;
+        for (mover, path) in self.movers.iter_mut().zip(&self.paths) {
+            mover.v = path.translation * (fraction / h);
+            mover.w = path.rotation * (fraction / h);
+        }
+        if fraction != 0.0 {
+            for c in &self.contacts {
+                if c.mover().is_some() {
+                    for side in [c.a, c.b] {
+                        if let Side::Free(k) = side {
+                            self.bodies[k].asleep = false;
+                        }
+                    }
+                }
+            }
+        }
+        self.reactions.iter_mut().for_each(|r| *r = [Vector3::zeros(); 2]);
         let near = self.near_contacts();
         for comp in self.components(&near) {
             if comp.iter().all(|&k| self.bodies[k].asleep) {
@@ -168,8 +242,58 @@ impl World {
             self.step_component(&comp, &near);
         }
         for b in self.bodies.iter_mut().filter(|b| !b.asleep) {
-            b.advance(self.ctx.h);
+            b.advance(h);
         }
+        for m in &mut self.movers {
+            m.advance(h);
+        }
+    }
+
+    /// Stops every block (a quasi-static analysis: no velocity carried from one increment to
+    /// the next).
+    pub fn stop(&mut self) {
+        for b in &mut self.bodies {
+            b.v = Vector3::zeros();
+            b.w = Vector3::zeros();
+        }
+    }
+
+    /// Whether every block is at rest (after a step that found no motion, or [`Self::stop`]).
+    pub fn at_rest(&self) -> bool {
+        self.bodies.iter().all(Body::at_rest)
+    }
+
+    /// The force (N) and moment about its centroid now (N·m) the blocks put on moved support
+    /// `m` over the last step.
+    pub fn support_reaction(&self, m: usize) -> [Vector3; 2] {
+        self.reactions[m]
+    }
+
+    /// Moved support `m`'s centroid (m) and rotation since the start.
+    pub fn support_pose(&self, m: usize) -> (Point3, [f64; 4]) {
+        let b = &self.movers[m];
+        (b.x, [b.q.w, b.q.i, b.q.j, b.q.k])
+    }
+
+    /// Per interface vertex contact now: its interface, vertex, gap (m, > 0 open) and slip (m),
+    /// in the contacts' order.
+    pub fn joint_gaps(&self) -> Vec<(usize, usize, f64, f64)> {
+        let poses = self.poses();
+        self.contacts
+            .iter()
+            .filter_map(|c| match c.origin {
+                contacts::Origin::Interface { interface, vertex } => {
+                    let g = c.geometry(poses);
+                    Some((interface, vertex, g.gap, g.slip))
+                }
+                contacts::Origin::Ground { .. } => None,
+            })
+            .collect()
+    }
+
+    /// The median block size, m (the engine's length for overlaps and tolerances).
+    pub fn block_size(&self) -> f64 {
+        self.size
     }
 
     /// The contacts that may act within the step: not slipped off, and closer than the envelope
@@ -182,12 +306,14 @@ impl World {
             .enumerate()
             .filter(|(_, c)| [c.a, c.b].iter().any(|s| matches!(s, Side::Free(k) if !self.bodies[*k].asleep)))
             .filter_map(|(i, c)| {
-                let g = c.geometry(&self.bodies);
-                let closing = -c.relative_velocity(&self.bodies, &g.point).dot(&g.frame[0]);
+                let poses = self.poses();
+                let g = c.geometry(poses);
+                let closing = -c.relative_velocity(poses, &g.point).dot(&g.frame[0]);
                 let faces = g.slip <= c.reach && g.facing >= FACING && g.gap >= -DEEP * self.size;
                 (faces && g.gap <= envelope + 2.0 * h * closing.max(0.0)).then_some(Active {
                     contact: i,
                     geometry: g,
+                    prescribed: c.prescribed_velocity(poses, &g.point),
                     capacity: 0.0,
                 })
             })
@@ -257,7 +383,7 @@ impl World {
         let e = &mut s.energy;
         e.kinetic = self.bodies.iter().map(Body::kinetic_energy).sum();
         let scale = e.load_work.abs().max(1e-6 * self.ctx.units.force * self.size);
-        e.error = (e.load_work - e.kinetic - e.contact - e.impact).abs() / scale;
+        e.error = (e.load_work + e.support_work - e.kinetic - e.contact - e.impact).abs() / scale;
         s
     }
 }

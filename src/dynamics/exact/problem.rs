@@ -33,6 +33,9 @@ impl StepContext {
 pub(super) struct Active {
     pub contact: usize,
     pub geometry: Geometry,
+    /// The relative velocity the moved supports prescribe at the contact (b's against a's),
+    /// m/s: it enters the step as a known part of the contact's velocity.
+    pub prescribed: Vector3,
     /// The friction capacity of the round (exact Coulomb), non-dimensional force.
     pub capacity: f64,
 }
@@ -55,9 +58,10 @@ pub(super) struct StepProblem {
 const CAPACITY_FLOOR: f64 = 1e-9;
 
 /// The variables are forces (impulses / dt) f and the momentum residual r = S⁻¹(M v⁺/dt):
-/// minimise ½|r|² + Σ_p (b_p / dt) f_n,p subject to G f − S r = −(M v/dt + w), f_n ≥ 0, f_t
+/// minimise ½|r|² + Σ_p (b_p / dt) f_n,p + (w_p · f_p) / dt subject to G f − S r = −(M v/dt + w), f_n ≥ 0, f_t
 /// within the round's friction set; S Sᵀ = M (S = √m I for translation, A √I for rotation, A
-/// the principal axes now), b_p the gap term max(gap/dt, −recovery).
+/// the principal axes now), b_p the gap term max(gap/dt, −recovery), w_p the relative velocity
+/// the moved supports prescribe at p (in its frame).
 pub(super) fn build(
     ctx: &StepContext,
     bodies: &[Body],
@@ -80,10 +84,13 @@ pub(super) fn build(
         let c = &contacts[act.contact];
         let g = &act.geometry;
         let gap = g.gap / ctx.units.length;
-        p.q[cols.normal[i]] = (gap / h).max(-ctx.recovery) / h;
+        let known = act.prescribed / ctx.units.speed();
+        p.q[cols.normal[i]] = ((gap / h).max(-ctx.recovery) + known.dot(&g.frame[0])) / h;
         let mut columns = vec![(cols.normal[i], g.frame[0])];
         if let Some((u, v)) = cols.friction[i] {
             columns.extend([(u, g.frame[1]), (v, g.frame[2])]);
+            p.q[u] = known.dot(&g.frame[1]) / h;
+            p.q[v] = known.dot(&g.frame[2]) / h;
         }
         for (side, sign) in [(c.a, -1.0), (c.b, 1.0)] {
             let Side::Free(k) = side else { continue };

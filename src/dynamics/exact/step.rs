@@ -98,14 +98,33 @@ impl World {
         }
         for ((a, &n), impulse) in active.iter().zip(&sol.normal).zip(&sol.impulses) {
             let c = &self.contacts[a.contact];
-            let relative = c.relative_velocity(&self.bodies, &a.geometry.point);
+            let poses = super::contacts::Poses { bodies: &self.bodies, movers: &self.movers };
+            let relative = c.relative_velocity(poses, &a.geometry.point);
             self.stats.energy.contact -= impulse.dot(&relative);
+            self.stats.energy.support_work -= impulse.dot(&a.prescribed);
+            self.add_reaction(c.a, c.b, impulse, &a.geometry.point);
             if n > 0.0 {
                 self.stats.max_penetration = self.stats.max_penetration.max(-a.geometry.gap / self.size);
             }
             self.contacts[a.contact].last_normal = n * self.ctx.units.force;
         }
         self.stats.residual = self.stats.residual.max(sol.residual);
+    }
+}
+
+impl World {
+    /// Adds a contact's impulse (on b; −impulse on a) over the step to the reaction of a moved
+    /// support on either side.
+    fn add_reaction(&mut self, a: super::Side, b: super::Side, impulse: &Vector3, point: &crate::geometry::Point3) {
+        let h = self.ctx.h;
+        for (side, sign) in [(a, -1.0), (b, 1.0)] {
+            if let super::Side::Moved(m) = side {
+                let force = impulse * (sign / h);
+                let arm = point - self.movers[m].x;
+                self.reactions[m][0] += force;
+                self.reactions[m][1] += arm.cross(&force);
+            }
+        }
     }
 }
 
