@@ -26,6 +26,7 @@ pub mod options;
 pub mod repair;
 pub mod robustness;
 pub mod sequence;
+pub mod settle;
 pub mod sweep;
 pub mod view;
 
@@ -37,6 +38,7 @@ pub use options::{Diagram, DiagramOptions, DropOptions, LoadOptions, SolverOptio
 pub use repair::RepairArgs;
 pub use robustness::RobustnessArgs;
 pub use sequence::SequenceArgs;
+pub use settle::SettleArgs;
 pub use sweep::{FamilyName, SweepArgs};
 pub use view::ViewArgs;
 
@@ -69,6 +71,9 @@ pub enum Command {
     /// How safely it stands: the load factor of the live loads (or of a horizontal
     /// acceleration, or its worst direction) and the collapse mechanism.
     Robustness(RobustnessArgs),
+    /// The design on supports that move (`--move`): followed until it collapses,
+    /// quasi-statically and in both engines; the movement at collapse, hinges, thrust.
+    Settle(SettleArgs),
     /// Check every step of an assembly order (static, and with --dynamic the drop test).
     Sequence(SequenceArgs),
     /// Static and drop-test thresholds of a parametric family, by bisection.
@@ -104,6 +109,7 @@ pub fn run(cli: Cli) -> i32 {
         Some(Command::Sweep(args)) => sweep::run(&args),
         Some(Command::Sequence(args)) => sequence::run(&args),
         Some(Command::Robustness(args)) => robustness::run(&args),
+        Some(Command::Settle(args)) => settle::run(&args),
         Some(Command::Repair(args)) => repair::run(&args),
         Some(Command::Decompose(args)) => decompose::run(&args),
         Some(Command::Export(args)) => export::run(&args),

@@ -81,6 +81,17 @@ pub struct DropResult {
     pub exact: Option<ExactStats>,
 }
 
+/// A support moved along a prescribed path: its whole translation (m) and rotation vector
+/// (rad, about its centroid), covered in the fractions each step is given
+/// (`exact::World::step_supports`, `Simulation::step_supports`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SupportPath {
+    /// Index of the support in the assembly.
+    pub block: usize,
+    pub translation: crate::geometry::Vector3,
+    pub rotation: crate::geometry::Vector3,
+}
+
 /// The engine a drop test runs on.
 enum Stepper {
     Rapier(Box<Simulation>),

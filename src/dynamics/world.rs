@@ -1,8 +1,8 @@
 //! The rapier world of the drop test (with [`super::colliders`], the only rapier touchpoint): the
 //! assembly as rigid bodies, stepped.
 
-use super::DropSettings;
 use super::colliders::{Colliders, v32};
+use super::{DropSettings, SupportPath};
 use crate::geometry::{Point3, Vector3};
 use crate::model::Assembly;
 use rapier3d::math::{Matrix, Vector};
@@ -23,10 +23,18 @@ pub struct Simulation {
     pub initial_overlap: Option<(f64, [String; 2])>,
     /// Solver contacts deeper than this (m) are dropped (see `DropSettings::max_contact_depth`).
     deep: DeepContacts,
+    /// The supports on prescribed paths (kinematic bodies), with the fraction covered.
+    paths: Vec<(SupportPath, f64)>,
 }
 
 impl Simulation {
     pub fn new(assembly: &Assembly, settings: &DropSettings) -> Self {
+        Self::with_paths(assembly, settings, &[])
+    }
+
+    /// A simulation whose supports `paths` name are kinematic bodies moved along them
+    /// ([`Self::step_supports`]).
+    pub fn with_paths(assembly: &Assembly, settings: &DropSettings, paths: &[SupportPath]) -> Self {
         let mut world = PhysicsWorld::new();
         let g = assembly.gravity;
         world.gravity = v32(g);
@@ -74,7 +82,12 @@ impl Simulation {
                 .contact_skin(0.0)
                 .active_hooks(ActiveHooks::MODIFY_SOLVER_CONTACTS)
                 .mass_properties(MassProperties::with_inertia_matrix(Vector::ZERO, mass, inertia));
-            let body = if b.support { RigidBodyBuilder::fixed() } else { RigidBodyBuilder::dynamic() };
+            let moved = paths.iter().any(|p| p.block == bodies.len());
+            let body = match (b.support, moved) {
+                (true, true) => RigidBodyBuilder::kinematic_position_based(),
+                (true, false) => RigidBodyBuilder::fixed(),
+                (false, _) => RigidBodyBuilder::dynamic(),
+            };
             let mut body = body.translation(v32(centroid.coords - offset)).can_sleep(false);
             if !b.support && settings.perturbation > 0.0 {
                 let speed = settings.perturbation * (g.norm() * b.aabb.diagonal()).sqrt();
@@ -104,11 +117,32 @@ impl Simulation {
         }
         let start = bodies.iter().map(|&h| (world.bodies[h].translation(), *world.bodies[h].rotation())).collect();
         let deep = DeepContacts { depth: (settings.max_contact_depth * unit) as f32 };
-        Self { world, bodies, offset, start, max_volume_error, initial_overlap, deep }
+        let paths = paths.iter().map(|p| (*p, 0.0)).collect();
+        Self { world, bodies, offset, start, max_volume_error, initial_overlap, deep, paths }
     }
 
     pub fn step(&mut self) {
         self.world.step_with_events(&self.deep, &());
+    }
+
+    /// One step in which every moved support covers `fraction` more of its path (its next
+    /// kinematic pose: translated, and turned about its centroid).
+    pub fn step_supports(&mut self, fraction: f64) {
+        for (path, done) in &mut self.paths {
+            *done += fraction;
+            let (t0, r0) = self.start[path.block];
+            let turn = Rotation::from_scaled_axis(v32(path.rotation * *done));
+            if let Some(body) = self.world.bodies.get_mut(self.bodies[path.block]) {
+                body.set_next_kinematic_position(Pose::from_parts(t0 + v32(path.translation * *done), turn * r0));
+            }
+        }
+        self.step();
+    }
+
+    /// The speed of block `i`'s centroid (m/s) and its angular speed (rad/s).
+    pub fn speeds(&self, i: usize) -> (f64, f64) {
+        let body = &self.world.bodies[self.bodies[i]];
+        (body.linvel().length() as f64, body.angvel().length() as f64)
     }
 
     /// Centroid drift (m) and rotation (rad) of block `i` since the start.

@@ -15,6 +15,9 @@
 //! made supports after the history, default none), `loads` (default none: `[{"block": "top",
 //! "point": [x,y,z], "force": [fx,fy,fz], "kind": "dead"}, {"acceleration": [ax,ay,az]}, …]`,
 //! forces in N, accelerations in g, `kind` dead or live — the default; [`crate::model::loads`]),
+//! `movements` (default none: `[{"block": "left", "translation": [dx,dy,dz], "rotation":
+//! [rx,ry,rz]}, …]`, a support's whole path in model units and degrees about its centroid;
+//! [`crate::model::movement`]),
 //! and per block `support` (false) and `density` are optional, so the neutral shape without
 //! `schema` and `ground` loads as is.
 //!
@@ -27,7 +30,7 @@
 
 use super::IoError;
 use crate::geometry::{Mesh, Point3, Vector3};
-use crate::model::{Block, Cut, Load, LoadKind, Material, Scene, Warning};
+use crate::model::{Block, Cut, Load, LoadKind, Material, Movement, Scene, Warning};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
@@ -62,6 +65,8 @@ struct SceneFile {
     order: Vec<String>,
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     loads: Vec<LoadFile>,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    movements: Vec<Movement>,
 }
 
 /// A load: `block`, `point` and `force` (a point load) or `acceleration` (a field, in g);
@@ -144,12 +149,25 @@ pub fn scene_from_str(path: &Path, text: &str) -> Result<Scene, IoError> {
 
 /// Keys of the format at each level.
 const SCENE_KEYS: &[&str] = &[
-    "schema", "name", "blocks", "density", "friction", "strength", "gravity", "ground", "cuts", "removed", "supports",
-    "order", "loads",
+    "schema",
+    "name",
+    "blocks",
+    "density",
+    "friction",
+    "strength",
+    "gravity",
+    "ground",
+    "cuts",
+    "removed",
+    "supports",
+    "order",
+    "loads",
+    "movements",
 ];
 const BLOCK_KEYS: &[&str] = &["name", "vertices", "faces", "support", "density"];
 const CUT_KEYS: &[&str] = &["point", "normal", "apex", "segments", "target"];
 const LOAD_KEYS: &[&str] = &["block", "point", "force", "acceleration", "kind"];
+const MOVEMENT_KEYS: &[&str] = &["block", "translation", "rotation"];
 
 /// Levenshtein distance (insertions, deletions, substitutions of characters).
 fn edit_distance(a: &str, b: &str) -> usize {
@@ -229,6 +247,13 @@ fn screen_keys(path: &Path, value: &mut serde_json::Value) -> Result<Vec<Warning
             }
         }
     }
+    if let Some(moves) = scene.get_mut("movements").and_then(|c| c.as_array_mut()) {
+        for (i, m) in moves.iter_mut().enumerate() {
+            if let Some(m) = m.as_object_mut() {
+                screen(path, m, MOVEMENT_KEYS, Some(format!("movement #{i}")), &mut warnings)?;
+            }
+        }
+    }
     Ok(warnings)
 }
 
@@ -258,6 +283,7 @@ pub(crate) fn scene_from_value(path: &Path, mut value: serde_json::Value) -> Res
     scene.supports = file.supports;
     scene.order = file.order;
     scene.loads = file.loads.iter().enumerate().map(|(i, l)| l.to_load(path, i)).collect::<Result<_, _>>()?;
+    scene.movements = file.movements;
     scene.warnings = warnings;
     scene.blocks = file
         .blocks
@@ -298,6 +324,7 @@ pub fn scene_to_string(scene: &Scene) -> String {
         supports: scene.supports.clone(),
         order: scene.order.clone(),
         loads: scene.loads.iter().map(LoadFile::from_load).collect(),
+        movements: scene.movements.clone(),
     };
     serde_json::to_string_pretty(&file).expect("a scene always serialises")
 }

@@ -11,6 +11,7 @@ pub mod cut;
 pub mod edit;
 mod friction;
 pub mod loads;
+pub mod movement;
 
 pub(crate) use crate::geometry::format::significant;
 pub use assembly::{Assembly, AssemblyBlock, ModelError, Overlap, Warning};
@@ -18,6 +19,7 @@ pub use builtin::{BuiltinError, builtin};
 pub use cut::{Cut, CutShape};
 pub use friction::FrictionModel;
 pub use loads::{BlockLoads, Load, LoadKind};
+pub use movement::Movement;
 
 /// Which blocks are supports ([`Scene::choose_supports`]).
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -120,6 +122,8 @@ pub struct Scene {
     /// Point loads and acceleration fields besides self-weight ([`loads`]); dead ones are part
     /// of every analysis, live ones are what a load factor scales.
     pub loads: Vec<Load>,
+    /// Prescribed support paths for a settlement analysis ([`movement`]); empty when none.
+    pub movements: Vec<Movement>,
     /// What reading the file let pass (unknown keys ignored); the [`Assembly`] carries them
     /// on, ahead of its repair warnings. Never written back to a file.
     pub warnings: Vec<Warning>,
@@ -138,6 +142,7 @@ impl Scene {
             supports: Vec::new(),
             order: Vec::new(),
             loads: Vec::new(),
+            movements: Vec::new(),
             warnings: Vec::new(),
         }
     }

@@ -130,7 +130,7 @@ pub fn margins(
         solves += 1;
         statics::solve(assembly, interfaces, settings)
     };
-    let reach = interfaces.iter().map(|i| radius(i)).fold(0.0, f64::max);
+    let reach = interfaces.iter().map(radius).fold(0.0, f64::max);
     let step = tolerance.precision * assembly.scale;
     let (delta, past) = bisect(reach, step, |d| solve(&shrunk(interfaces, d).0, settings))?;
     let shrink_governing = past.as_ref().and_then(|(d, r)| {

@@ -1,6 +1,8 @@
 //! Studies over many analyses of one design: the threshold of a family of designs found by
 //! bisection, statically and in the drop test ([`threshold`]), and the assembly sequence, every
-//! prefix of a building order checked ([`sequence`]).
+//! prefix of a building order checked ([`sequence`]); a design on supports that move, followed
+//! until it collapses ([`settlement`]).
 
 pub mod sequence;
+pub mod settlement;
 pub mod threshold;

@@ -38,6 +38,7 @@ mod plane_cut;
 mod readers;
 mod real_data_interfaces;
 mod sequence;
+mod settlement;
 mod statics_backends;
 mod statics_closed_forms;
 mod statics_feasible_minima;

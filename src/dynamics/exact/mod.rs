@@ -43,8 +43,8 @@ mod contacts;
 mod problem;
 mod step;
 
-use crate::dynamics::DropSettings;
 use crate::dynamics::settings::Coulomb;
+use crate::dynamics::{DropSettings, SupportPath};
 use crate::geometry::{Point3, Vector3};
 use crate::model::{Assembly, FrictionModel};
 use crate::statics::{Accuracy, SolverStatus};
@@ -98,17 +98,8 @@ pub struct ExactStats {
     pub energy: EnergyBalance,
 }
 
-/// A support moved along a prescribed path: its whole translation (m) and rotation vector
-/// (rad, about its centroid), covered in the fractions [`World::step_supports`] is given.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct SupportPath {
-    /// Index of the support in the assembly.
-    pub block: usize,
-    pub translation: Vector3,
-    pub rotation: Vector3,
-}
-
 /// The engine's world: free blocks and their contacts.
+#[derive(Clone)]
 pub struct World {
     bodies: Vec<Body>,
     /// The body of each assembly block (None: a support).
@@ -249,6 +240,27 @@ impl World {
         }
     }
 
+    /// The fastest vertex of any block now, m/s (bounded by |v| + |ω| r).
+    pub fn fastest_vertex(&self) -> f64 {
+        self.bodies.iter().map(|b| b.v.norm() + b.w.norm() * b.radius).fold(0.0, f64::max)
+    }
+
+    /// Sets the time step, s (a quasi-static analysis takes each increment in one step long
+    /// enough for the blocks to follow the supports under their weight).
+    pub fn set_step(&mut self, h: f64) {
+        self.ctx.h = h;
+    }
+
+    /// One step with the supports still and no push-out of overlaps (a contact overlapping by
+    /// the round-off of earlier steps counts as touching): from rest, the blocks stay at rest
+    /// exactly when an equilibrium holds them — a quasi-static analysis's check.
+    pub fn step_held(&mut self) {
+        let recovery = self.ctx.recovery;
+        self.ctx.recovery = 0.0;
+        self.step_supports(0.0);
+        self.ctx.recovery = recovery;
+    }
+
     /// Stops every block (a quasi-static analysis: no velocity carried from one increment to
     /// the next).
     pub fn stop(&mut self) {
@@ -269,10 +281,33 @@ impl World {
         self.reactions[m]
     }
 
+    /// How many supports move.
+    pub fn moved_supports(&self) -> usize {
+        self.movers.len()
+    }
+
     /// Moved support `m`'s centroid (m) and rotation since the start.
     pub fn support_pose(&self, m: usize) -> (Point3, [f64; 4]) {
         let b = &self.movers[m];
         (b.x, [b.q.w, b.q.i, b.q.j, b.q.k])
+    }
+
+    /// Per interface vertex contact now: its interface, vertex, and the velocity of b's point
+    /// relative to a's, normal (> 0 opening) and tangential speed, m/s; in the contacts' order.
+    pub fn joint_rates(&self) -> Vec<(usize, usize, f64, f64)> {
+        let poses = self.poses();
+        self.contacts
+            .iter()
+            .filter_map(|c| match c.origin {
+                contacts::Origin::Interface { interface, vertex } => {
+                    let g = c.geometry(poses);
+                    let v = c.relative_velocity(poses, &g.point);
+                    let vn = v.dot(&g.frame[0]);
+                    Some((interface, vertex, vn, (v - g.frame[0] * vn).norm()))
+                }
+                contacts::Origin::Ground { .. } => None,
+            })
+            .collect()
     }
 
     /// Per interface vertex contact now: its interface, vertex, gap (m, > 0 open) and slip (m),
@@ -297,27 +332,50 @@ impl World {
     }
 
     /// The contacts that may act within the step: not slipped off, and closer than the envelope
-    /// or closing it within two steps. With their geometry now.
+    /// or closing it within two steps. With their geometry now. Those of the awake bodies, and
+    /// through them of every sleeping body they reach (a support that moves the end of a
+    /// sleeping chain moves the whole chain), in the contacts' order.
     fn near_contacts(&self) -> Vec<Active> {
+        let mut reached: Vec<bool> = self.bodies.iter().map(|b| !b.asleep).collect();
+        let mut seen = vec![false; self.contacts.len()];
+        let mut out = Vec::new();
+        loop {
+            let mut grew = false;
+            for (i, c) in self.contacts.iter().enumerate() {
+                let free = [c.a, c.b].map(|s| if let Side::Free(k) = s { Some(k) } else { None });
+                if seen[i] || !free.iter().flatten().any(|&k| reached[k]) {
+                    continue;
+                }
+                seen[i] = true;
+                if let Some(active) = self.near(i, c) {
+                    out.push(active);
+                    for k in free.into_iter().flatten() {
+                        grew |= !reached[k];
+                        reached[k] = true;
+                    }
+                }
+            }
+            if !grew {
+                break;
+            }
+        }
+        out.sort_by_key(|a| a.contact);
+        out
+    }
+
+    /// Contact `i` if it may act within the step (see [`Self::near_contacts`]).
+    fn near(&self, i: usize, c: &Contact) -> Option<Active> {
         let envelope = self.settings.envelope * self.size;
-        let h = self.ctx.h;
-        self.contacts
-            .iter()
-            .enumerate()
-            .filter(|(_, c)| [c.a, c.b].iter().any(|s| matches!(s, Side::Free(k) if !self.bodies[*k].asleep)))
-            .filter_map(|(i, c)| {
-                let poses = self.poses();
-                let g = c.geometry(poses);
-                let closing = -c.relative_velocity(poses, &g.point).dot(&g.frame[0]);
-                let faces = g.slip <= c.reach && g.facing >= FACING && g.gap >= -DEEP * self.size;
-                (faces && g.gap <= envelope + 2.0 * h * closing.max(0.0)).then_some(Active {
-                    contact: i,
-                    geometry: g,
-                    prescribed: c.prescribed_velocity(poses, &g.point),
-                    capacity: 0.0,
-                })
-            })
-            .collect()
+        let poses = self.poses();
+        let g = c.geometry(poses);
+        let closing = -c.relative_velocity(poses, &g.point).dot(&g.frame[0]);
+        let faces = g.slip <= c.reach && g.facing >= FACING && g.gap >= -DEEP * self.size;
+        (faces && g.gap <= envelope + 2.0 * self.ctx.h * closing.max(0.0)).then_some(Active {
+            contact: i,
+            geometry: g,
+            prescribed: c.prescribed_velocity(poses, &g.point),
+            capacity: 0.0,
+        })
     }
 
     /// The awake bodies in groups linked by near contacts (sleeping ones join the group of a

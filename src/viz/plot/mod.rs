@@ -5,10 +5,12 @@
 
 pub mod diagram;
 pub mod mechanism;
+pub mod settlement;
 pub mod threshold;
 
 pub use diagram::{DiagramPicture, write_diagram};
 pub use mechanism::{MechanismPicture, PolarPlot, write_mechanism, write_polar};
+pub use settlement::{ThrustPlot, write_thrust};
 pub use threshold::{ThresholdPlot, write_thresholds};
 
 use plotters::coord::Shift;

@@ -1,0 +1,106 @@
+//! `voussoir settle`: the design on supports that move (`--move`, or the scene's `movements`),
+//! followed until it collapses — quasi-statically, and in the exact-contact engine and rapier
+//! side by side; the movement at collapse, the hinges and slides stage by stage, the thrust
+//! against the movement (`--plot`). Exit codes: 0 it stands to the end of the path, 1 it
+//! collapses (or does not stand as drawn), 2 bad input.
+
+use super::options::SolverOptions;
+use super::{BadInput, load, refuse_overwrite, scene_name, write_output};
+use crate::model::Movement;
+use crate::pipeline::analyze;
+use crate::studies::settlement::{Outcome, Run, SettleSettings, settle};
+use crate::viz::plot::{ThrustPlot, write_thrust};
+use clap::Args;
+use std::path::PathBuf;
+
+#[derive(Args, Debug, Clone, PartialEq)]
+pub struct SettleArgs {
+    /// Scene file or `builtin:NAME?k=v&...`. Default: the embedded default scene.
+    pub scene: Option<String>,
+    #[command(flatten)]
+    pub solver: SolverOptions,
+    /// A support's whole path: NAME:dx,dy,dz (model units) or NAME:dx,dy,dz:rx,ry,rz (a
+    /// rotation vector, degrees, about its centroid). Repeat for several supports; replaces the
+    /// scene's `movements`.
+    #[arg(long = "move", value_name = "NAME:DX,DY,DZ[:RX,RY,RZ]")]
+    pub moves: Vec<String>,
+    /// Quasi-static increments over the path.
+    #[arg(long, default_value_t = SettleSettings::default().increments)]
+    pub increments: usize,
+    /// The supports' speed in the engines' runs, a fraction of √(g × block size) (slower is
+    /// nearer the quasi-static limit, and takes longer).
+    #[arg(long, default_value_t = SettleSettings::default().speed)]
+    pub speed: f64,
+    /// Only the quasi-static analysis (no exact-engine or rapier run).
+    #[arg(long)]
+    pub quasi_static: bool,
+    /// Write the JSON report here (atomically).
+    #[arg(long)]
+    pub json: Option<PathBuf>,
+    /// The horizontal reaction on the first moved support against its movement (.png, .svg).
+    #[arg(long)]
+    pub plot: Option<PathBuf>,
+}
+
+pub fn run(args: &SettleArgs) -> Result<i32, BadInput> {
+    for out in [&args.json, &args.plot].into_iter().flatten() {
+        refuse_overwrite(args.scene.as_deref(), out, "output")?;
+    }
+    let name = scene_name(args.scene.as_deref()).to_string();
+    let mut scene = load(args.scene.as_deref())?;
+    if !args.moves.is_empty() {
+        scene.movements = args.moves.iter().map(|m| Movement::parse(m)).collect::<Result<_, _>>().map_err(BadInput)?;
+    }
+    let solver = args.solver.settings();
+    let analysis = analyze(&scene, &solver).map_err(|e| BadInput(format!("{name}: {e}")))?;
+    let settings = SettleSettings {
+        increments: args.increments,
+        friction: args.solver.mu,
+        engines: !args.quasi_static,
+        speed: args.speed,
+        ..Default::default()
+    };
+    let result = settle(&analysis, &scene.movements, &settings).map_err(|e| BadInput(format!("{name}: {e}")))?;
+    println!(
+        "SETTLE '{}': {} moved ({:.4e} m at the end of the path)",
+        analysis.assembly.name,
+        result.supports.join(", "),
+        result.path_movement
+    );
+    for run in [Some(&result.quasi_static), result.exact.as_ref(), result.rapier.as_ref()].into_iter().flatten() {
+        println!("{}", line(run));
+    }
+    if let Some(out) = &args.json {
+        let text = serde_json::to_string_pretty(&result).map_err(|e| BadInput(e.to_string()))?;
+        write_output(out, text.as_bytes())?;
+        println!("report written to {}", out.display());
+    }
+    if let Some(out) = &args.plot {
+        let plot = ThrustPlot {
+            title: format!("{}: reaction against support movement", analysis.assembly.name),
+            settlement: &result,
+        };
+        write_thrust(&plot, out).map_err(|e| BadInput(e.to_string()))?;
+        println!("thrust plot written to {}", out.display());
+    }
+    Ok(match result.quasi_static.outcome {
+        Outcome::Stands => 0,
+        Outcome::Collapses { .. } => 1,
+    })
+}
+
+/// One run in a line: how it ended, and the joints of its mechanism.
+fn line(run: &Run) -> String {
+    let how = match run.outcome {
+        Outcome::Stands => "stands to the end of the path".to_string(),
+        Outcome::Collapses { fraction, movement, relative } => format!(
+            "collapses at {:.2} % of the path: {movement:.4e} m ({:.3} % of the model size)",
+            100.0 * fraction,
+            100.0 * relative
+        ),
+    };
+    let joints: Vec<String> =
+        run.mechanism.iter().map(|j| format!("{} → {} {:?}", j.a, j.b, j.state).to_lowercase()).collect();
+    let mechanism = if joints.is_empty() { String::new() } else { format!("; mechanism: {}", joints.join(", ")) };
+    format!("  {:<12} {how}{mechanism} ({} steps)", run.method, run.steps)
+}

@@ -1,0 +1,528 @@
+//! When the supports move: a design followed along prescribed support paths
+//! ([`crate::model::Movement`]) until it collapses, three ways side by side.
+//!
+//! - **Quasi-static** (the answer): the path in increments; in each, the blocks start from
+//!   rest and take the motion the contacts allow while the supports move by the increment
+//!   (one step of the exact-contact engine, its first step from rest being the kinematic
+//!   check's rate problem: hinges open, joints slide, as the rigid-block equilibrium
+//!   allows), then the supports stop and the blocks are released from rest again: if they stay
+//!   at rest an equilibrium exists in the moved geometry; if not, it has collapsed. The
+//!   collapsing increment is halved `refine` times, so the movement at collapse is known to
+//!   2^-refine of an increment. No inertia: no velocity is carried from one increment to the
+//!   next.
+//! - **Exact engine** and **rapier**: the supports moved slowly in real time (at `speed` ×
+//!   √(g × block size)); collapse is the first block faster than `collapse_speed` ×
+//!   √(g × block size).
+//!
+//! Each run records stages: the fraction of the path, the movement (m: the largest translation
+//! of a support, and its fraction of the model size), the reaction on each moved support (N,
+//! the force the blocks put on it: the thrust), and the joints that are not closed (hinging,
+//! opening, sliding) from the contacts' gaps and slips beyond [`JOINT_TOLERANCE`] of the block
+//! size. Units SI, z up; rotations of the paths in degrees (input) about the support's centroid.
+
+use crate::dynamics::exact::World;
+use crate::dynamics::{DropSettings, Engine, Simulation, SupportPath};
+use crate::geometry::Vector3;
+use crate::interfaces::Interface;
+use crate::model::{Assembly, Movement};
+use crate::pipeline::Analysis;
+use crate::statics::JointState;
+use serde::Serialize;
+use thiserror::Error;
+
+/// A joint counts as open (sliding) where a contact's gap (slip) passes this fraction of the
+/// median block size.
+pub const JOINT_TOLERANCE: f64 = 1e-4;
+
+/// Settings of [`settle`]; each default written once, in `Default`.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct SettleSettings {
+    /// Quasi-static increments over the whole path.
+    pub increments: usize,
+    /// Halvings of the increment in which it collapses.
+    pub refine: usize,
+    /// Friction coefficient; `None` takes the scene material's.
+    pub friction: Option<f64>,
+    /// Also run the path in the exact-contact engine and in rapier.
+    pub engines: bool,
+    /// The engines' time step, s.
+    pub dt: f64,
+    /// The supports' speed in the engines' runs, a fraction of √(g × block size).
+    pub speed: f64,
+    /// A block faster than this fraction of √(g × block size) has collapsed (engines' runs).
+    pub collapse_speed: f64,
+}
+
+impl Default for SettleSettings {
+    fn default() -> Self {
+        Self {
+            // 1 % of the path per increment, refined to 1/6400 where it collapses.
+            increments: 100,
+            refine: 6,
+            friction: None,
+            engines: true,
+            dt: DropSettings::default().dt,
+            // Slow against a block's fall (√(g size)) and its collapse threshold: quasi-static.
+            speed: 0.01,
+            collapse_speed: 0.2,
+        }
+    }
+}
+
+impl SettleSettings {
+    pub fn validate(&self) -> Result<(), SettleError> {
+        let positive = |name: &'static str, v: f64| {
+            if v > 0.0 && v.is_finite() {
+                Ok(())
+            } else {
+                Err(SettleError::Setting(format!("{name} = {v} must be > 0")))
+            }
+        };
+        if self.increments == 0 {
+            return Err(SettleError::Setting("increments must be at least 1".into()));
+        }
+        positive("dt", self.dt)?;
+        positive("speed", self.speed)?;
+        positive("collapse_speed", self.collapse_speed)?;
+        if self.speed >= self.collapse_speed {
+            return Err(SettleError::Setting("speed must be below collapse_speed".into()));
+        }
+        Ok(())
+    }
+}
+
+/// Bad movement input; each names the movement and what is wrong.
+#[derive(Debug, Error, Clone, PartialEq)]
+pub enum SettleError {
+    #[error("no support movement: give one (--move NAME:dx,dy,dz or the scene's `movements`)")]
+    NoMovement,
+    #[error("movement of '{0}': no block of that name")]
+    UnknownBlock(String),
+    #[error("movement of '{0}': it is a free block; only supports are moved (the blocks follow)")]
+    NotASupport(String),
+    #[error("movement of '{0}': a translation or rotation that is not a finite number")]
+    NotFinite(String),
+    #[error("'{0}' is moved twice: give one path per support")]
+    Twice(String),
+    #[error("movement of '{moved}': its path runs it into support '{other}' (two supports cannot pass each other)")]
+    Closes { moved: String, other: String },
+    #[error("{0}")]
+    Setting(String),
+}
+
+/// One non-closed joint of a stage.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Joint {
+    pub interface: usize,
+    pub a: String,
+    pub b: String,
+    pub state: JointState,
+}
+
+/// One stage of a run.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Stage {
+    /// Fraction of the path covered.
+    pub fraction: f64,
+    /// The largest translation of a moved support, m.
+    pub movement: f64,
+    /// Per moved support (in the movements' order), the force the blocks put on it, N.
+    pub reactions: Vec<[f64; 3]>,
+    pub joints: Vec<Joint>,
+}
+
+/// How a run ended.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+pub enum Outcome {
+    /// It collapsed at this fraction of the path, this movement (m) and fraction of the model
+    /// size.
+    Collapses { fraction: f64, movement: f64, relative: f64 },
+    /// It stood to the end of the path.
+    Stands,
+}
+
+/// One way through the path.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Run {
+    pub method: &'static str,
+    pub outcome: Outcome,
+    pub stages: Vec<Stage>,
+    /// The joints that are not closed just after the collapse (the mechanism); empty when it
+    /// stands.
+    pub mechanism: Vec<Joint>,
+    /// Engine steps taken.
+    pub steps: usize,
+}
+
+/// The analysis of a design on moving supports ([`settle`]).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Settlement {
+    /// The moved supports, in order.
+    pub supports: Vec<String>,
+    /// The largest translation of a support over the whole path, m.
+    pub path_movement: f64,
+    /// The model size (bounding-box diagonal), m: the movement relative to it.
+    pub model_size: f64,
+    pub quasi_static: Run,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub exact: Option<Run>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub rapier: Option<Run>,
+}
+
+/// Follows `analysis`'s design along `movements` (module docs).
+pub fn settle(
+    analysis: &Analysis,
+    movements: &[Movement],
+    settings: &SettleSettings,
+) -> Result<Settlement, SettleError> {
+    settings.validate()?;
+    let assembly = &analysis.assembly;
+    let paths = resolve(assembly, movements)?;
+    let path = PathScale::new(assembly, &paths);
+    let quasi_static = quasi_static(analysis, &paths, &path, settings);
+    let (exact, rapier) = if settings.engines {
+        (
+            Some(in_engine(analysis, &paths, &path, settings, Engine::Exact)),
+            Some(in_engine(analysis, &paths, &path, settings, Engine::Rapier)),
+        )
+    } else {
+        (None, None)
+    };
+    Ok(Settlement {
+        supports: paths.iter().map(|p| assembly.blocks[p.block].name.clone()).collect(),
+        path_movement: path.movement,
+        model_size: assembly.scale,
+        quasi_static,
+        exact,
+        rapier,
+    })
+}
+
+/// The movements as engine paths (radians), each checked.
+pub fn resolve(assembly: &Assembly, movements: &[Movement]) -> Result<Vec<SupportPath>, SettleError> {
+    if movements.is_empty() {
+        return Err(SettleError::NoMovement);
+    }
+    let mut paths: Vec<SupportPath> = Vec::new();
+    for m in movements {
+        let block = assembly
+            .blocks
+            .iter()
+            .position(|b| b.name == m.block)
+            .ok_or_else(|| SettleError::UnknownBlock(m.block.clone()))?;
+        if !assembly.blocks[block].support {
+            return Err(SettleError::NotASupport(m.block.clone()));
+        }
+        if !m.finite() {
+            return Err(SettleError::NotFinite(m.block.clone()));
+        }
+        if paths.iter().any(|p| p.block == block) {
+            return Err(SettleError::Twice(m.block.clone()));
+        }
+        let v = |a: [f64; 3]| Vector3::new(a[0], a[1], a[2]);
+        paths.push(SupportPath { block, translation: v(m.translation), rotation: v(m.rotation) * 1f64.to_radians() });
+    }
+    check_clear(assembly, &paths)?;
+    Ok(paths)
+}
+
+/// Two supports must not be driven into each other: at the path's quarters, a moved support's
+/// box (moved by its translation) may not overlap another support's box more than at the start.
+fn check_clear(assembly: &Assembly, paths: &[SupportPath]) -> Result<(), SettleError> {
+    let moved = |i: usize, f: f64| {
+        let mut b = assembly.blocks[i].aabb;
+        if let Some(p) = paths.iter().find(|p| p.block == i) {
+            b.min += p.translation * f;
+            b.max += p.translation * f;
+        }
+        b
+    };
+    let overlap = |a: &crate::geometry::Aabb3, b: &crate::geometry::Aabb3| {
+        (0..3).map(|k| (a.max[k].min(b.max[k]) - a.min[k].max(b.min[k])).max(0.0)).product::<f64>()
+    };
+    let supports: Vec<usize> = (0..assembly.blocks.len()).filter(|&i| assembly.blocks[i].support).collect();
+    let grain = 1e-9 * assembly.scale.powi(3);
+    for p in paths {
+        for &o in supports.iter().filter(|&&o| o != p.block) {
+            let start = overlap(&moved(p.block, 0.0), &moved(o, 0.0));
+            if [0.25, 0.5, 0.75, 1.0].iter().any(|&f| overlap(&moved(p.block, f), &moved(o, f)) > start + grain) {
+                let name = |i: usize| assembly.blocks[i].name.clone();
+                return Err(SettleError::Closes { moved: name(p.block), other: name(o) });
+            }
+        }
+    }
+    Ok(())
+}
+
+/// How far the supports go: the largest translation (m) and the largest distance any point of
+/// a moved support travels (translation plus rotation × its reach, m).
+struct PathScale {
+    movement: f64,
+    travel: f64,
+}
+
+impl PathScale {
+    fn new(assembly: &Assembly, paths: &[SupportPath]) -> Self {
+        let movement = paths.iter().map(|p| p.translation.norm()).fold(0.0, f64::max);
+        let travel = paths
+            .iter()
+            .map(|p| p.translation.norm() + p.rotation.norm() * 0.5 * assembly.blocks[p.block].aabb.diagonal())
+            .fold(0.0, f64::max);
+        Self { movement, travel }
+    }
+}
+
+fn engine_settings(settings: &SettleSettings, engine: Engine) -> DropSettings {
+    DropSettings { engine, dt: settings.dt, friction: settings.friction, perturbation: 0.0, ..Default::default() }
+}
+
+/// The quasi-static run (module docs).
+fn quasi_static(analysis: &Analysis, paths: &[SupportPath], scale: &PathScale, settings: &SettleSettings) -> Run {
+    let assembly = &analysis.assembly;
+    let mut world = World::with_paths(assembly, &engine_settings(settings, Engine::Exact), paths);
+    let mut run =
+        Run { method: "quasi-static", outcome: Outcome::Stands, stages: Vec::new(), mechanism: Vec::new(), steps: 0 };
+    let n = settings.increments;
+    let mut done = 0.0;
+    let g = assembly.gravity.norm().max(f64::MIN_POSITIVE);
+    // One increment per step, long enough that a block falls ten times the supports' travel
+    // in it: the blocks follow the supports under their weight instead of being left behind.
+    let step = |fraction: f64| (10.0 * fraction * scale.travel / g).sqrt().max(settings.dt);
+    world.set_step(step(1.0 / n as f64));
+    if !increment(&mut world, 0.0, &mut run.steps) {
+        return collapsed(run, analysis, world, 0.0, scale);
+    }
+    for k in 1..=n {
+        let fraction = k as f64 / n as f64;
+        let before = world.clone();
+        if increment(&mut world, fraction - done, &mut run.steps) {
+            done = fraction;
+            run.stages.push(stage(assembly, &analysis.interfaces, &world, done, scale));
+            continue;
+        }
+        let (mut lo, mut hi, mut held) = (done, fraction, before);
+        let mut past = world;
+        for _ in 0..settings.refine {
+            let mid = 0.5 * (lo + hi);
+            let mut w = held.clone();
+            w.set_step(step(mid - lo));
+            if increment(&mut w, mid - lo, &mut run.steps) {
+                (lo, held) = (mid, w);
+            } else {
+                (hi, past) = (mid, w);
+            }
+        }
+        return collapsed(run, analysis, past, hi, scale);
+    }
+    run
+}
+
+/// Hold steps that may settle what an increment left: one step moves the blocks along
+/// straight lines at one velocity, so they end a little off the position the contacts hold,
+/// and the first steps from rest settle them there, each by a fraction of the last (the
+/// motion dies out); a collapse does not die out.
+const HOLDS: usize = 8;
+
+/// A hold step's motion that is not below this fraction of the previous one's is not dying
+/// out: a collapse.
+const DYING: f64 = 0.5;
+
+/// One quasi-static increment: from rest, the supports move by `fraction` of their paths in
+/// one step; then, from rest, held still: whether the blocks settle at rest (module docs).
+fn increment(world: &mut World, fraction: f64, steps: &mut usize) -> bool {
+    if fraction > 0.0 {
+        world.stop();
+        world.step_supports(fraction);
+        *steps += 1;
+    }
+    let mut last = f64::INFINITY;
+    for _ in 0..HOLDS {
+        world.stop();
+        world.step_held();
+        *steps += 1;
+        if world.at_rest() {
+            return true;
+        }
+        let now = world.fastest_vertex();
+        if now > DYING * last {
+            return false;
+        }
+        last = now;
+    }
+    false
+}
+
+/// The run ended by a collapse at `fraction`: the mechanism is how the joints move as the
+/// blocks start to fall (the last hold step's velocities, as the kinematic check's).
+fn collapsed(mut run: Run, analysis: &Analysis, world: World, fraction: f64, scale: &PathScale) -> Run {
+    let assembly = &analysis.assembly;
+    let fastest = world.fastest_vertex();
+    run.mechanism = classify(assembly, &analysis.interfaces, world.joint_rates(), MECHANISM_TOLERANCE * fastest);
+    let movement = fraction * scale.movement;
+    run.outcome = Outcome::Collapses { fraction, movement, relative: movement / assembly.scale };
+    run
+}
+
+fn stage(assembly: &Assembly, interfaces: &[Interface], world: &World, fraction: f64, scale: &PathScale) -> Stage {
+    let reactions = (0..world.moved_supports()).map(|m| world.support_reaction(m)[0].into()).collect();
+    Stage { fraction, movement: fraction * scale.movement, reactions, joints: joints(assembly, interfaces, world) }
+}
+
+/// A joint's contact counts as opening (sliding) in a collapse where its relative velocity
+/// passes this fraction of the fastest block's.
+pub const MECHANISM_TOLERANCE: f64 = 1e-3;
+
+/// The joints whose contacts are not all closed and still, from their gaps and slips.
+fn joints(assembly: &Assembly, interfaces: &[Interface], world: &World) -> Vec<Joint> {
+    classify(assembly, interfaces, world.joint_gaps(), JOINT_TOLERANCE * world.block_size())
+}
+
+/// Per interface from its contacts' (interface, vertex, opening, slip) — distances or rates —
+/// beyond `tol`: hinging (some open), opening (all open), sliding (a closed contact slips).
+fn classify(
+    assembly: &Assembly,
+    interfaces: &[Interface],
+    contacts: Vec<(usize, usize, f64, f64)>,
+    tol: f64,
+) -> Vec<Joint> {
+    let mut per: Vec<(usize, usize, usize, bool)> = Vec::new(); // interface, open, total, slid
+    for (interface, _, gap, slip) in contacts {
+        if per.last().is_none_or(|p| p.0 != interface) {
+            per.push((interface, 0, 0, false));
+        }
+        let p = per.last_mut().expect("just pushed");
+        p.2 += 1;
+        if gap > tol {
+            p.1 += 1;
+        } else if slip > tol {
+            p.3 = true;
+        }
+    }
+    per.into_iter()
+        .filter_map(|(k, open, total, slid)| {
+            let state = match (open, slid) {
+                (o, _) if o == total => JointState::Opening,
+                (_, true) => JointState::Sliding,
+                (0, false) => return None,
+                _ => JointState::Hinging,
+            };
+            let itf = &interfaces[k];
+            Some(Joint {
+                interface: k,
+                a: itf.a.name(assembly).to_string(),
+                b: itf.b.name(assembly).to_string(),
+                state,
+            })
+        })
+        .collect()
+}
+
+/// The path in real time in `engine` (module docs).
+fn in_engine(
+    analysis: &Analysis,
+    paths: &[SupportPath],
+    scale: &PathScale,
+    settings: &SettleSettings,
+    engine: Engine,
+) -> Run {
+    let assembly = &analysis.assembly;
+    let drop = engine_settings(settings, engine);
+    let g = assembly.gravity.norm().max(f64::MIN_POSITIVE);
+    let size = median_block_size(assembly);
+    let unit = (g * size).sqrt();
+    let duration = scale.travel / (settings.speed * unit);
+    let steps = ((duration / settings.dt).ceil() as usize).max(1);
+    let every = (steps / settings.increments).max(1);
+    let method = if engine == Engine::Exact { "exact" } else { "rapier" };
+    let mut run = Run { method, outcome: Outcome::Stands, stages: Vec::new(), mechanism: Vec::new(), steps: 0 };
+    let mut stepper = Mover::new(assembly, &drop, paths);
+    let mut speeds = Vec::with_capacity(steps);
+    for k in 1..=steps {
+        stepper.step(1.0 / steps as f64);
+        run.steps += 1;
+        speeds.push(stepper.fastest(assembly));
+        if speeds[k - 1] > settings.collapse_speed * unit {
+            let fraction = departure(&speeds) as f64 / steps as f64;
+            let movement = fraction * scale.movement;
+            run.outcome = Outcome::Collapses { fraction, movement, relative: movement / assembly.scale };
+            if let Mover::Exact(w) = &stepper {
+                run.mechanism = joints(assembly, &analysis.interfaces, w);
+            }
+            return run;
+        }
+        if k % every == 0 {
+            run.stages.push(stepper.stage(assembly, &analysis.interfaces, k as f64 / steps as f64, scale));
+        }
+    }
+    run
+}
+
+/// Blocks faster than this multiple of their pace following the supports have left it.
+const DEPARTURE: f64 = 1.25;
+
+/// The step at which the blocks left the supports' pace, given every step's fastest block
+/// speed up to the one past the collapse speed: the first of the last run of steps faster than
+/// [`DEPARTURE`] × the median (the pace at which the blocks followed the supports).
+fn departure(speeds: &[f64]) -> usize {
+    let mut sorted = speeds.to_vec();
+    sorted.sort_by(f64::total_cmp);
+    let pace = sorted[sorted.len() / 2];
+    let mut k = speeds.len();
+    while k > 1 && speeds[k - 2] > DEPARTURE * pace {
+        k -= 1;
+    }
+    k
+}
+
+fn median_block_size(assembly: &Assembly) -> f64 {
+    let mut sizes: Vec<f64> = assembly.blocks.iter().map(|b| b.aabb.diagonal()).collect();
+    sizes.sort_by(f64::total_cmp);
+    sizes.get(sizes.len() / 2).copied().unwrap_or(1.0).max(f64::MIN_POSITIVE)
+}
+
+/// An engine with moving supports.
+enum Mover {
+    Exact(Box<World>),
+    Rapier(Box<Simulation>),
+}
+
+impl Mover {
+    fn new(assembly: &Assembly, settings: &DropSettings, paths: &[SupportPath]) -> Self {
+        match settings.engine {
+            Engine::Exact => Self::Exact(Box::new(World::with_paths(assembly, settings, paths))),
+            Engine::Rapier => Self::Rapier(Box::new(Simulation::with_paths(assembly, settings, paths))),
+        }
+    }
+
+    fn step(&mut self, fraction: f64) {
+        match self {
+            Self::Exact(w) => w.step_supports(fraction),
+            Self::Rapier(s) => s.step_supports(fraction),
+        }
+    }
+
+    /// The fastest block, m/s (centroid speed plus angular speed × half its box diagonal).
+    fn fastest(&self, assembly: &Assembly) -> f64 {
+        match self {
+            Self::Exact(w) => w.fastest_vertex(),
+            Self::Rapier(s) => (0..assembly.blocks.len())
+                .filter(|&i| !assembly.blocks[i].support)
+                .map(|i| {
+                    let (v, w) = s.speeds(i);
+                    v + w * 0.5 * assembly.blocks[i].aabb.diagonal()
+                })
+                .fold(0.0, f64::max),
+        }
+    }
+
+    fn stage(&self, assembly: &Assembly, interfaces: &[Interface], fraction: f64, scale: &PathScale) -> Stage {
+        match self {
+            Self::Exact(w) => stage(assembly, interfaces, w, fraction, scale),
+            Self::Rapier(_) => {
+                Stage { fraction, movement: fraction * scale.movement, reactions: Vec::new(), joints: Vec::new() }
+            }
+        }
+    }
+}

@@ -1,0 +1,96 @@
+//! Support movement (`studies::settlement`).
+//!
+//! Invariants: a b × h block on a support that tilts slowly tips when the tilt reaches
+//! atan(b/h) (μ > b/h) and slides at atan μ (μ < b/h) — quasi-statically within 0.1°, with the
+//! joint hinging or sliding; the exact engine and rapier, moving the support in real time,
+//! within 1.5° (their collapse is seen once the block leaves the support's pace); bad movement
+//! input is one clear error each.
+
+use crate::common::*;
+use voussoir::model::{Movement, Scene};
+use voussoir::pipeline::AnalysisSettings;
+use voussoir::statics::JointState;
+use voussoir::studies::settlement::{Outcome, SettleError, SettleSettings, Settlement, settle};
+
+/// A 2 × 2 slab turning by `tilt` degrees about y under a b × 0.5 × h block, μ = `mu`.
+fn tilting(b: f64, h: f64, mu: f64, tilt: f64, engines: bool) -> Settlement {
+    let mut scene = Scene::new(
+        "tilt",
+        vec![
+            cuboid("slab", [-1.0, -1.0, -0.5], [1.0, 1.0, 0.0]).support(true),
+            cuboid("block", [-b / 2.0, -0.25, 0.0], [b / 2.0, 0.25, h]),
+        ],
+    );
+    scene.material.friction = mu;
+    let analysis = run(&scene, &AnalysisSettings::default());
+    let turn = Movement { block: "slab".into(), translation: [0.0; 3], rotation: [0.0, tilt, 0.0] };
+    settle(&analysis, &[turn], &SettleSettings { engines, ..Default::default() }).unwrap()
+}
+
+fn tilt_at_collapse(outcome: Outcome, tilt: f64) -> f64 {
+    match outcome {
+        Outcome::Collapses { fraction, .. } => fraction * tilt,
+        Outcome::Stands => panic!("expected a collapse"),
+    }
+}
+
+#[test]
+fn a_block_on_a_tilting_support_tips_at_atan_b_over_h_and_slides_at_atan_mu() {
+    let (b, h): (f64, f64) = (0.5, 1.0);
+    for (mu, expected, state) in [(0.8, (b / h).atan(), JointState::Hinging), (0.3, 0.3f64.atan(), JointState::Sliding)]
+    {
+        let s = tilting(b, h, mu, 60.0, true);
+        let expected = expected.to_degrees();
+        let quasi = tilt_at_collapse(s.quasi_static.outcome, 60.0);
+        assert_close(quasi, expected, 0.1, &format!("μ {mu}: quasi-static tilt at collapse (degrees)"));
+        assert_eq!(s.quasi_static.mechanism.len(), 1, "μ {mu}: {:?}", s.quasi_static.mechanism);
+        assert_eq!(s.quasi_static.mechanism[0].state, state, "μ {mu}");
+        for run in [s.exact.as_ref().unwrap(), s.rapier.as_ref().unwrap()] {
+            let t = tilt_at_collapse(run.outcome, 60.0);
+            assert!(
+                t >= expected - 0.1 && t <= expected + 1.5,
+                "μ {mu}: {} collapses at {t}° (expected {expected}°)",
+                run.method
+            );
+        }
+        assert_eq!(s.exact.as_ref().unwrap().mechanism[0].state, state, "μ {mu}: the exact engine's mechanism");
+    }
+}
+
+/// A tilt short of both limits: the block rides the support to the end; the support's
+/// reaction is the block's weight throughout (quasi-static: no inertia), 1e-6 relative.
+#[test]
+fn a_short_tilt_carries_the_block_with_its_weight_on_the_support() {
+    let s = tilting(0.5, 1.0, 0.8, 10.0, false);
+    assert_eq!(s.quasi_static.outcome, Outcome::Stands);
+    let weight = 0.5 * 0.5 * 1.0 * 600.0 * 9.81;
+    for stage in &s.quasi_static.stages {
+        let r = stage.reactions[0];
+        let magnitude = (r[0] * r[0] + r[1] * r[1] + r[2] * r[2]).sqrt();
+        assert_close(magnitude, weight, 1e-6 * weight, "the support carries the weight");
+    }
+    assert_eq!(s.quasi_static.stages.len(), SettleSettings::default().increments);
+}
+
+#[test]
+fn bad_movements_are_one_clear_error_each() {
+    let scene = Scene::new(
+        "two slabs",
+        vec![
+            cuboid("left", [0.0, 0.0, -1.0], [1.0, 1.0, 0.0]).support(true),
+            cuboid("right", [1.5, 0.0, -1.0], [2.5, 1.0, 0.0]).support(true),
+            cuboid("lintel", [0.5, 0.0, 0.0], [2.0, 1.0, 0.2]),
+        ],
+    );
+    let analysis = run(&scene, &AnalysisSettings::default());
+    let go =
+        |m: Movement| settle(&analysis, &[m], &SettleSettings { engines: false, ..Default::default() }).unwrap_err();
+    let mv = |block: &str, t: [f64; 3]| Movement { block: block.into(), translation: t, rotation: [0.0; 3] };
+    assert_eq!(go(mv("nowhere", [0.1, 0.0, 0.0])), SettleError::UnknownBlock("nowhere".into()));
+    assert_eq!(go(mv("lintel", [0.1, 0.0, 0.0])), SettleError::NotASupport("lintel".into()));
+    assert_eq!(go(mv("left", [f64::NAN, 0.0, 0.0])), SettleError::NotFinite("left".into()));
+    assert_eq!(go(mv("left", [1.0, 0.0, 0.0])), SettleError::Closes { moved: "left".into(), other: "right".into() });
+    assert_eq!(settle(&analysis, &[], &SettleSettings::default()).unwrap_err(), SettleError::NoMovement);
+    assert!(Movement::parse("left:1,2").is_err() && Movement::parse("left:1,2,3:4").is_err());
+    assert_eq!(Movement::parse("left:1,2,3:0,0,5").unwrap().rotation, [0.0, 0.0, 5.0]);
+}
