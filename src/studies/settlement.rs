@@ -129,6 +129,9 @@ pub struct Stage {
     /// Per moved support (in the movements' order), the force the blocks put on it, N.
     pub reactions: Vec<[f64; 3]>,
     pub joints: Vec<Joint>,
+    /// The blocks did not stay in the last equilibrium but snapped over into this one (a
+    /// hinge moved), moving with their inertia while the supports were still (quasi-static run).
+    pub snapped: bool,
 }
 
 /// How a run ended.
@@ -302,6 +305,15 @@ fn quasi_static(analysis: &Analysis, paths: &[SupportPath], scale: &PathScale, s
             run.stages.push(stage(assembly, &analysis.interfaces, &world, done, scale));
             continue;
         }
+        let h = step(1.0 / n as f64);
+        if let Some(snapped) = snap(world.clone(), g, settings.dt, h, &mut run.steps) {
+            world = snapped;
+            done = fraction;
+            let mut s = stage(assembly, &analysis.interfaces, &world, done, scale);
+            s.snapped = true;
+            run.stages.push(s);
+            continue;
+        }
         let (mut lo, mut hi, mut held) = (done, fraction, before);
         let mut past = world;
         for _ in 0..settings.refine {
@@ -319,6 +331,41 @@ fn quasi_static(analysis: &Analysis, paths: &[SupportPath], scale: &PathScale, s
     run
 }
 
+/// How long a snap may take (in √(block size / g)) and how far a block may move in it (in block
+/// sizes) before it counts as a fall.
+const SNAP_TIME: f64 = 20.0;
+const SNAP_DROP: f64 = 0.25;
+
+/// After an increment from which the blocks do not settle at rest: the blocks move under
+/// their weight with the supports still and their inertia kept (engine steps of `dt`), as a
+/// hinge snaps over to another; `Some` with the world at rest in the new equilibrium (held,
+/// as an increment, at the increment step `h`), `None` when a block falls (moves more than
+/// [`SNAP_DROP`] of a block) or nothing settles within [`SNAP_TIME`].
+fn snap(mut world: World, g: f64, dt: f64, h: f64, steps: &mut usize) -> Option<World> {
+    let size = world.block_size();
+    let start = world.centroids();
+    world.set_step(dt);
+    let limit = (SNAP_TIME * (size / g).sqrt() / dt).ceil() as usize;
+    let every = ((0.5 * (size / g).sqrt() / dt).ceil() as usize).max(1);
+    for k in 1..=limit {
+        world.step_supports(0.0);
+        *steps += 1;
+        let drift = world.centroids().iter().zip(&start).map(|(p, q)| (p - q).norm()).fold(0.0, f64::max);
+        if drift > SNAP_DROP * size {
+            return None;
+        }
+        // Every half √(size / g): stopped there, does an equilibrium hold them?
+        if k % every == 0 || world.at_rest() {
+            let mut held = world.clone();
+            held.set_step(h);
+            if increment(&mut held, 0.0, steps) {
+                return Some(held);
+            }
+        }
+    }
+    None
+}
+
 /// Hold steps that may settle what an increment left: one step moves the blocks along
 /// straight lines at one velocity, so they end a little off the position the contacts hold,
 /// and the first steps from rest settle them there, each by a fraction of the last (the
@@ -328,6 +375,13 @@ const HOLDS: usize = 8;
 /// A hold step's motion that is not below this fraction of the previous one's is not dying
 /// out: a collapse.
 const DYING: f64 = 0.5;
+
+/// Blocks that a hold step from rest leaves slower than this fraction of a free fall's speed
+/// over the step (g h) are held: a collapse mechanism's acceleration is then below 1e-4 g,
+/// which a tilt passes within 1e-4 rad of its limit, while a mechanism at its neutral point
+/// (a hinge about to move over, at the round-off of the contact forces) is not called a
+/// collapse.
+const HELD: f64 = 1e-4;
 
 /// One quasi-static increment: from rest, the supports move by `fraction` of their paths in
 /// one step; then, from rest, held still: whether the blocks settle at rest (module docs).
@@ -342,10 +396,11 @@ fn increment(world: &mut World, fraction: f64, steps: &mut usize) -> bool {
         world.stop();
         world.step_held();
         *steps += 1;
-        if world.at_rest() {
+        let now = world.fastest_vertex();
+        if world.at_rest() || now <= HELD * world.free_fall_speed() {
+            world.stop();
             return true;
         }
-        let now = world.fastest_vertex();
         if now > DYING * last {
             return false;
         }
@@ -367,7 +422,13 @@ fn collapsed(mut run: Run, analysis: &Analysis, world: World, fraction: f64, sca
 
 fn stage(assembly: &Assembly, interfaces: &[Interface], world: &World, fraction: f64, scale: &PathScale) -> Stage {
     let reactions = (0..world.moved_supports()).map(|m| world.support_reaction(m)[0].into()).collect();
-    Stage { fraction, movement: fraction * scale.movement, reactions, joints: joints(assembly, interfaces, world) }
+    Stage {
+        fraction,
+        movement: fraction * scale.movement,
+        reactions,
+        joints: joints(assembly, interfaces, world),
+        snapped: false,
+    }
 }
 
 /// A joint's contact counts as opening (sliding) in a collapse where its relative velocity
@@ -520,9 +581,13 @@ impl Mover {
     fn stage(&self, assembly: &Assembly, interfaces: &[Interface], fraction: f64, scale: &PathScale) -> Stage {
         match self {
             Self::Exact(w) => stage(assembly, interfaces, w, fraction, scale),
-            Self::Rapier(_) => {
-                Stage { fraction, movement: fraction * scale.movement, reactions: Vec::new(), joints: Vec::new() }
-            }
+            Self::Rapier(_) => Stage {
+                fraction,
+                movement: fraction * scale.movement,
+                reactions: Vec::new(),
+                joints: Vec::new(),
+                snapped: false,
+            },
         }
     }
 }

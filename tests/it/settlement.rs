@@ -58,7 +58,8 @@ fn a_block_on_a_tilting_support_tips_at_atan_b_over_h_and_slides_at_atan_mu() {
 }
 
 /// A tilt short of both limits: the block rides the support to the end; the support's
-/// reaction is the block's weight throughout (quasi-static: no inertia), 1e-6 relative.
+/// reaction is the block's weight throughout (quasi-static: no inertia), to the hold
+/// criterion's 1e-4 g (a block counts as held below 1e-4 of a free fall's speed).
 #[test]
 fn a_short_tilt_carries_the_block_with_its_weight_on_the_support() {
     let s = tilting(0.5, 1.0, 0.8, 10.0, false);
@@ -67,7 +68,7 @@ fn a_short_tilt_carries_the_block_with_its_weight_on_the_support() {
     for stage in &s.quasi_static.stages {
         let r = stage.reactions[0];
         let magnitude = (r[0] * r[0] + r[1] * r[1] + r[2] * r[2]).sqrt();
-        assert_close(magnitude, weight, 1e-6 * weight, "the support carries the weight");
+        assert_close(magnitude, weight, 1e-4 * weight, "the support carries the weight");
     }
     assert_eq!(s.quasi_static.stages.len(), SettleSettings::default().increments);
 }

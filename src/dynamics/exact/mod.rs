@@ -281,6 +281,16 @@ impl World {
         self.reactions[m]
     }
 
+    /// g × the time step, m/s: how fast a block falls freely in one step.
+    pub fn free_fall_speed(&self) -> f64 {
+        self.ctx.units.g * self.ctx.h
+    }
+
+    /// The free blocks' centroids now, m (in body order).
+    pub fn centroids(&self) -> Vec<Point3> {
+        self.bodies.iter().map(|b| b.x).collect()
+    }
+
     /// How many supports move.
     pub fn moved_supports(&self) -> usize {
         self.movers.len()
