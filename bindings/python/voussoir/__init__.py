@@ -32,6 +32,7 @@ from ._native import (
     load_factor,
     repair,
     sequence,
+    tolerance,
 )
 
 __all__ = [
@@ -47,4 +48,5 @@ __all__ = [
     "load_factor",
     "repair",
     "sequence",
+    "tolerance",
 ]

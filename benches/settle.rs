@@ -1,0 +1,35 @@
+//! Support movement (issue #41): the quasi-static settlement analysis of the 15-voussoir arch
+//! (t/R 0.15) on spreading springers (0.15 m each, 100 increments) to its collapse, and of a
+//! block on a support tilting by 60° to its tipping. Increments per second follow from the
+//! medians and the increments the runs take (printed once).
+
+use criterion::{Criterion, criterion_group, criterion_main};
+use std::hint::black_box;
+use std::time::Duration;
+use voussoir::model::Movement;
+use voussoir::pipeline::{AnalysisSettings, analyze};
+use voussoir::studies::settlement::{SettleSettings, settle};
+
+fn moved(block: &str, translation: [f64; 3], rotation: [f64; 3]) -> Movement {
+    Movement { block: block.into(), translation, rotation }
+}
+
+fn quasi_static(c: &mut Criterion) {
+    let only = SettleSettings { engines: false, ..Default::default() };
+    let arch = analyze(&voussoir::model::builtin("arch?n=15&t=0.15").unwrap(), &AnalysisSettings::default()).unwrap();
+    let spread = [moved("springer_left", [-0.15, 0.0, 0.0], [0.0; 3]), moved("springer_right", [0.15, 0.0, 0.0], [0.0; 3])];
+    let once = settle(&arch, &spread, &only).unwrap();
+    println!("arch: {} stages, {} engine steps, {:?}", once.quasi_static.stages.len(), once.quasi_static.steps, once.quasi_static.outcome);
+    let mut g = c.benchmark_group("settle");
+    g.sample_size(10).measurement_time(Duration::from_secs(60));
+    g.bench_function("arch15_spread_quasi_static", |b| b.iter(|| black_box(settle(&arch, &spread, &only).unwrap())));
+    let mut block = voussoir::model::builtin("stack?n=1&a=0.5").unwrap();
+    block.material.friction = 0.8;
+    let block = analyze(&block, &AnalysisSettings::default()).unwrap();
+    let tilt = [moved("base", [0.0; 3], [0.0, 60.0, 0.0])];
+    g.bench_function("block_tilt_quasi_static", |b| b.iter(|| black_box(settle(&block, &tilt, &only).unwrap())));
+    g.finish();
+}
+
+criterion_group!(benches, quasi_static);
+criterion_main!(benches);
