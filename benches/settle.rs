@@ -17,9 +17,15 @@ fn moved(block: &str, translation: [f64; 3], rotation: [f64; 3]) -> Movement {
 fn quasi_static(c: &mut Criterion) {
     let only = SettleSettings { engines: false, ..Default::default() };
     let arch = analyze(&voussoir::model::builtin("arch?n=15&t=0.15").unwrap(), &AnalysisSettings::default()).unwrap();
-    let spread = [moved("springer_left", [-0.15, 0.0, 0.0], [0.0; 3]), moved("springer_right", [0.15, 0.0, 0.0], [0.0; 3])];
+    let spread =
+        [moved("springer_left", [-0.15, 0.0, 0.0], [0.0; 3]), moved("springer_right", [0.15, 0.0, 0.0], [0.0; 3])];
     let once = settle(&arch, &spread, &only).unwrap();
-    println!("arch: {} stages, {} engine steps, {:?}", once.quasi_static.stages.len(), once.quasi_static.steps, once.quasi_static.outcome);
+    println!(
+        "arch: {} stages, {} engine steps, {:?}",
+        once.quasi_static.stages.len(),
+        once.quasi_static.steps,
+        once.quasi_static.outcome
+    );
     let mut g = c.benchmark_group("settle");
     g.sample_size(10).measurement_time(Duration::from_secs(60));
     g.bench_function("arch15_spread_quasi_static", |b| b.iter(|| black_box(settle(&arch, &spread, &only).unwrap())));
