@@ -387,6 +387,20 @@ def test_tolerance_margins():
         voussoir.tolerance(voussoir.Scene.builtin("arch?n=15&t=0.09"))
 
 
+def test_settle_a_block_on_a_tilting_slab():
+    # A 0.5 x 0.5 x 1 block on a slab that turns by 60 degrees about y: with mu = 0.8 > b/h it
+    # tips at atan(0.5) = 26.565 degrees (within 0.1); an unknown block is one clear error.
+    scene = voussoir.Scene.from_arrays([box(-1, -1, -0.5, 1, 1, 0), box(-0.25, -0.25, 0, 0.25, 0.25, 1)], supports=[0])
+    result = voussoir.settle(scene, moves=["0:0,0,0:0,60,0"], quasi_static=True, mu=0.8)
+    outcome = result["quasi_static"]["outcome"]
+    assert outcome["kind"] == "collapses"
+    assert abs(outcome["fraction"] * 60 - 26.565051177) < 0.1
+    assert [j["state"] for j in result["quasi_static"]["mechanism"]] == ["hinging"]
+    assert "exact" not in result
+    with pytest.raises(voussoir.InputError, match="movement of 'nowhere': no block of that name"):
+        voussoir.settle(scene, moves=["nowhere:1,0,0"], quasi_static=True)
+
+
 def test_cut_history_and_supports_edits():
     scene = voussoir.Scene.builtin("stack?n=1&a=1")
     cut = scene.with_cut([0.0, 0.0, 0.5], [0.0, 0.0, 1.0])

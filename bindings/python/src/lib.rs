@@ -30,6 +30,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(tasks::detect_interfaces, m)?)?;
     m.add_function(wrap_pyfunction!(tasks::load_factor, m)?)?;
     m.add_function(wrap_pyfunction!(tasks::tolerance, m)?)?;
+    m.add_function(wrap_pyfunction!(tasks::settle, m)?)?;
     m.add_function(wrap_pyfunction!(tasks::sequence, m)?)?;
     m.add_function(wrap_pyfunction!(tasks::drop, m)?)?;
     m.add_function(wrap_pyfunction!(design::repair, m)?)?;

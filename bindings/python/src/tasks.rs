@@ -106,6 +106,41 @@ solve_function! {
     }
 }
 
+solve_function! {
+    /// The design on supports that move (`voussoir settle --json` as a dict): `moves` as the
+    /// command line's `--move` ("NAME:dx,dy,dz[:rx,ry,rz]", model units and degrees; default:
+    /// the scene's `movements`), followed quasi-statically in `increments`, and unless
+    /// `quasi_static` also in the exact-contact engine and rapier.
+    pub fn settle<'py>(
+        py, scene,
+        moves: Option<Vec<String>> = None, increments: Option<usize> = None, quasi_static: bool = false,
+        ..options(mu, friction_model, solver, supports, ground, density, strength)
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let (design, settings) = options.apply(scene)?;
+        let source = scene.source.as_str();
+        let movements = match moves {
+            Some(list) => list.iter().map(|m| voussoir::model::Movement::parse(m)).collect::<Result<Vec<_>, _>>()
+                .map_err(|e| errors::input(source, e))?,
+            None => design.movements.clone(),
+        };
+        let defaults = voussoir::studies::settlement::SettleSettings::default();
+        let study = voussoir::studies::settlement::SettleSettings {
+            increments: increments.unwrap_or(defaults.increments),
+            friction: options.mu,
+            engines: !quasi_static,
+            ..defaults
+        };
+        let text = py
+            .detach(|| {
+                let analysis = analyze(&design, &settings).map_err(|e| e.to_string())?;
+                let result = voussoir::studies::settlement::settle(&analysis, &movements, &study).map_err(|e| e.to_string())?;
+                serde_json::to_string(&result).map_err(|e| e.to_string())
+            })
+            .map_err(|e: String| errors::input(source, e))?;
+        json_to_python(py, &text)
+    }
+}
+
 /// `order`: "bottom-up", "from-supports", or a list of block names.
 #[derive(FromPyObject)]
 pub enum Order {

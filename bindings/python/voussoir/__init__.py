@@ -32,6 +32,7 @@ from ._native import (
     load_factor,
     repair,
     sequence,
+    settle,
     tolerance,
 )
 
@@ -48,5 +49,6 @@ __all__ = [
     "load_factor",
     "repair",
     "sequence",
+    "settle",
     "tolerance",
 ]

@@ -162,6 +162,23 @@ def detect_interfaces(
 ) -> dict[str, Any]:
     """block_names, blocks (m, 2), area, centroid, normal, u, v, polygons."""
 
+def settle(
+    scene: Scene,
+    *,
+    moves: Optional[list[str]] = None,
+    increments: Optional[int] = None,
+    quasi_static: bool = False,
+    mu: Optional[float] = None,
+    friction_model: Optional[FrictionModel] = None,
+    solver: Optional[Solver] = None,
+    supports: Optional[Supports] = None,
+    ground: Optional[bool] = None,
+    density: Optional[float] = None,
+    strength: Optional[float] = None,
+) -> dict[str, Any]:
+    """`voussoir settle --json`: supports, path_movement, model_size, quasi_static (and exact,
+    rapier unless `quasi_static`), each with outcome, stages, mechanism, steps."""
+
 def tolerance(
     scene: Scene,
     *,
