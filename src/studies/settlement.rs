@@ -129,6 +129,9 @@ pub struct Stage {
     /// Per moved support (in the movements' order), the force the blocks put on it, N.
     pub reactions: Vec<[f64; 3]>,
     pub joints: Vec<Joint>,
+    /// The largest rotation of a free block since the start, degrees (engine runs: the exact
+    /// engine's; none in rapier's stages).
+    pub rotation: f64,
     /// The blocks did not stay in the last equilibrium but snapped over into this one (a
     /// hinge moved), moving with their inertia while the supports were still (quasi-static run).
     pub snapped: bool,
@@ -427,6 +430,7 @@ fn stage(assembly: &Assembly, interfaces: &[Interface], world: &World, fraction:
         movement: fraction * scale.movement,
         reactions,
         joints: joints(assembly, interfaces, world),
+        rotation: world.largest_rotation().to_degrees(),
         snapped: false,
     }
 }
@@ -586,6 +590,7 @@ impl Mover {
                 movement: fraction * scale.movement,
                 reactions: Vec::new(),
                 joints: Vec::new(),
+                rotation: f64::NAN,
                 snapped: false,
             },
         }

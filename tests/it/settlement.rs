@@ -95,3 +95,29 @@ fn bad_movements_are_one_clear_error_each() {
     assert!(Movement::parse("left:1,2").is_err() && Movement::parse("left:1,2,3:4").is_err());
     assert_eq!(Movement::parse("left:1,2,3:0,0,5").unwrap().rotation, [0.0, 0.0, 5.0]);
 }
+
+/// A lintel on two piers, the right one settling by d: the lintel turns about the left pier's
+/// inner edge and rests on the right pier by its end, tan θ = d / (distance from that edge to the
+/// end), and stands (μ 0.84 against a slope of 2.3°).
+#[test]
+fn a_lintel_follows_a_settling_pier_turning_about_the_other_pier_s_edge() {
+    let scene = Scene::new(
+        "lintel",
+        vec![
+            cuboid("left", [0.0, 0.0, -1.0], [0.5, 1.0, 0.0]).support(true),
+            cuboid("right", [2.5, 0.0, -1.0], [3.5, 1.0, 0.0]).support(true),
+            cuboid("lintel", [0.0, 0.0, 0.0], [3.0, 1.0, 0.3]),
+        ],
+    );
+    let analysis = run(&scene, &AnalysisSettings::default());
+    let d = 0.1;
+    let settle_right = Movement { block: "right".into(), translation: [0.0, 0.0, -d], rotation: [0.0; 3] };
+    let s = settle(&analysis, &[settle_right], &SettleSettings { engines: false, ..Default::default() }).unwrap();
+    assert_eq!(s.quasi_static.outcome, Outcome::Stands);
+    let last = s.quasi_static.stages.last().unwrap();
+    let expected = (d / 2.5f64).atan().to_degrees();
+    assert_close(last.rotation, expected, 1e-3 * expected, "the lintel's turn (degrees)");
+    let states: Vec<(&str, &str, JointState)> =
+        last.joints.iter().map(|j| (j.a.as_str(), j.b.as_str(), j.state)).collect();
+    assert!(states.iter().any(|j| j.0 == "left" && j.2 == JointState::Hinging), "{states:?}");
+}

@@ -286,6 +286,11 @@ impl World {
         self.ctx.units.g * self.ctx.h
     }
 
+    /// The largest rotation of a free block since the start, rad.
+    pub fn largest_rotation(&self) -> f64 {
+        self.bodies.iter().map(|b| b.q.angle()).fold(0.0, f64::max)
+    }
+
     /// The free blocks' centroids now, m (in body order).
     pub fn centroids(&self) -> Vec<Point3> {
         self.bodies.iter().map(|b| b.x).collect()
