@@ -92,17 +92,23 @@ pub struct SupportPath {
     pub rotation: crate::geometry::Vector3,
 }
 
-/// The engine a drop test runs on.
-enum Stepper {
+/// The engine a drop test (or a settlement's engine run) runs on.
+pub enum Stepper {
     Rapier(Box<Simulation>),
     Exact(Box<exact::World>),
 }
 
 impl Stepper {
     fn new(assembly: &Assembly, settings: &DropSettings) -> Self {
+        Self::with_paths(assembly, settings, &[])
+    }
+
+    /// The engine `settings` name, with the supports `paths` name moving along them
+    /// ([`Self::step_supports`]).
+    pub fn with_paths(assembly: &Assembly, settings: &DropSettings, paths: &[SupportPath]) -> Self {
         match settings.engine {
-            Engine::Rapier => Self::Rapier(Box::new(Simulation::new(assembly, settings))),
-            Engine::Exact => Self::Exact(Box::new(exact::World::new(assembly, settings))),
+            Engine::Rapier => Self::Rapier(Box::new(Simulation::with_paths(assembly, settings, paths))),
+            Engine::Exact => Self::Exact(Box::new(exact::World::with_paths(assembly, settings, paths))),
         }
     }
 
@@ -110,6 +116,29 @@ impl Stepper {
         match self {
             Self::Rapier(s) => s.step(),
             Self::Exact(w) => w.step(),
+        }
+    }
+
+    /// One step in which every moved support covers `fraction` of its path.
+    pub fn step_supports(&mut self, fraction: f64) {
+        match self {
+            Self::Rapier(s) => s.step_supports(fraction),
+            Self::Exact(w) => w.step_supports(fraction),
+        }
+    }
+
+    /// The fastest block, m/s: the exact engine's fastest vertex; in rapier, the centroid's speed
+    /// plus the angular speed × half the block's box diagonal.
+    pub fn fastest(&self, assembly: &Assembly) -> f64 {
+        match self {
+            Self::Exact(w) => w.fastest_vertex(),
+            Self::Rapier(s) => (0..assembly.blocks.len())
+                .filter(|&i| !assembly.blocks[i].support)
+                .map(|i| {
+                    let (v, w) = s.speeds(i);
+                    v + w * 0.5 * assembly.blocks[i].aabb.diagonal()
+                })
+                .fold(0.0, f64::max),
         }
     }
 

@@ -38,9 +38,7 @@ impl Simulation {
         let mut world = PhysicsWorld::new();
         let g = assembly.gravity;
         world.gravity = v32(g);
-        let mut sizes: Vec<f64> = assembly.blocks.iter().map(|b| b.aabb.diagonal()).collect();
-        sizes.sort_by(f64::total_cmp);
-        let unit = sizes.get(sizes.len() / 2).copied().unwrap_or(1.0).max(1e-6);
+        let unit = assembly.median_block_size().unwrap_or(1.0).max(1e-6);
         let p = &mut world.integration_parameters;
         p.dt = settings.dt as f32;
         p.num_solver_iterations = settings.solver_iterations;

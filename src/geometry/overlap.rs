@@ -21,13 +21,7 @@ pub fn shrink(ring: &[[f64; 2]], delta: f64) -> Vec<Vec<Vec<[f64; 2]>>> {
     use i_overlay::mesh::float::outline::offset::OutlineOffset;
     use i_overlay::mesh::float::style::{LineJoin, OutlineStyle};
     let mut ccw = ring.to_vec();
-    let twice_area: f64 = (0..ccw.len())
-        .map(|i| {
-            let (p, q) = (ccw[i], ccw[(i + 1) % ccw.len()]);
-            p[0] * q[1] - q[0] * p[1]
-        })
-        .sum();
-    if twice_area < 0.0 {
+    if super::polygon::signed_area_2d(&ccw) < 0.0 {
         ccw.reverse();
     }
     // Arcs in steps of 0.1 rad: within δ·(1 − cos 0.05) ≈ 1e-3 δ of the true erosion.

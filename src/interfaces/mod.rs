@@ -86,11 +86,7 @@ impl Interface {
         let flat: Vec<[f64; 2]> =
             self.polygon.iter().map(|p| [(p - f.origin).dot(&f.u), (p - f.origin).dot(&f.v)]).collect();
         let lift = |q: &[f64; 2]| f.origin + f.u * q[0] + f.v * q[1];
-        let ring_area = |r: &[[f64; 2]]| {
-            0.5 * (0..r.len())
-                .map(|i| r[i][0] * r[(i + 1) % r.len()][1] - r[(i + 1) % r.len()][0] * r[i][1])
-                .sum::<f64>()
-        };
+        let ring_area = crate::geometry::polygon::signed_area_2d;
         crate::geometry::overlap::shrink(&flat, delta)
             .into_iter()
             .filter_map(|piece| {

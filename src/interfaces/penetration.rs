@@ -85,9 +85,7 @@ struct Checker<'a> {
 
 impl<'a> Checker<'a> {
     fn new(assembly: &'a Assembly) -> Self {
-        let mut sizes: Vec<f64> = assembly.blocks.iter().map(|b| b.aabb.diagonal()).collect();
-        sizes.sort_by(f64::total_cmp);
-        let unit = sizes.get(sizes.len() / 2).copied().filter(|u| *u > 0.0 && u.is_finite()).unwrap_or(1.0);
+        let unit = assembly.median_block_size().filter(|u| *u > 0.0 && u.is_finite()).unwrap_or(1.0);
         Self { assembly, shapes: (0..assembly.blocks.len()).map(|_| Shapes::default()).collect(), unit }
     }
 

@@ -275,6 +275,14 @@ impl Assembly {
         self.blocks.iter().position(|b| b.name == name).map(BlockId)
     }
 
+    /// The median of the blocks' bounding-box diagonals, m (None without blocks): the length
+    /// the engines and the overlap check measure depths and tolerances against.
+    pub fn median_block_size(&self) -> Option<f64> {
+        let mut sizes: Vec<f64> = self.blocks.iter().map(|b| b.aabb.diagonal()).collect();
+        sizes.sort_by(f64::total_cmp);
+        sizes.get(sizes.len() / 2).copied()
+    }
+
     /// Total weight of the free (non-support) blocks, N.
     pub fn free_weight(&self) -> f64 {
         let g = self.gravity.norm();

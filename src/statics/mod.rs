@@ -75,7 +75,7 @@ pub use components::{Component, components};
 pub use error::StaticsError;
 pub use load_factor::{FactorOutcome, Motion, component_load_factor, failure_mechanism, standing_load_factor};
 pub use mechanism::{BlockMotion, InterfaceMotion, JointState, Mechanism};
-pub use problem::{Accuracy, Cone, ConicProblem, FrictionModel, SolverStatus, StressBlock, stress_block};
+pub use problem::{Accuracy, Cone, ConicProblem, FrictionModel, SolverStatus, StressBlock};
 pub use rate::{KinematicSettings, RateOutcome, RateState, rate_problem};
 pub use result::{CrushingReport, InterfaceResult, SolverReport, StaticsResult, VertexForce};
 pub use settings::{FirstStage, StaticsSettings};

@@ -289,7 +289,7 @@ impl Geometry {
 
 /// The stress block of a polygon `pts` ((u, v) about the interface origin) whose points are
 /// `points` of a problem.
-pub fn stress_block(points: std::ops::Range<usize>, pts: &[[f64; 2]]) -> StressBlock {
+fn stress_block(points: std::ops::Range<usize>, pts: &[[f64; 2]]) -> StressBlock {
     let n = pts.len();
     let edge = |i: usize| [pts[(i + 1) % n][0] - pts[i][0], pts[(i + 1) % n][1] - pts[i][1]];
     let longest = (0..n)
@@ -298,8 +298,7 @@ pub fn stress_block(points: std::ops::Range<usize>, pts: &[[f64; 2]]) -> StressB
     let len = longest[0].hypot(longest[1]);
     let a0 = if len > 0.0 { [longest[0] / len, longest[1] / len] } else { [1.0, 0.0] };
     let axes = [a0, [-a0[1], a0[0]]];
-    let area =
-        0.5 * (0..n).map(|i| pts[i][0] * pts[(i + 1) % n][1] - pts[(i + 1) % n][0] * pts[i][1]).sum::<f64>().abs();
+    let area = crate::geometry::polygon::signed_area_2d(pts).abs();
     let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
     for p in pts {
         for (k, a) in axes.iter().enumerate() {

@@ -407,7 +407,11 @@ impl<'a> ComponentSolve<'a> {
         if solution.tension.max(solution.excess) > threshold {
             return None;
         }
-        let sys = self.system(false).with_stress();
+        // The stress blocks are the geometry's, shared by the solution's system and the strict one.
+        let blocks = solution.sys.geometry.stress_blocks();
+        let own = solution.sys.stress_demands(&blocks, &solution.out.x).into_iter().fold(0.0, f64::max);
+        let mut sys = self.system(false);
+        sys.stress = blocks;
         let unit = sys.strength_scale(self.assembly.scale);
         let least = self.stage(&sys, Stage::Strength);
         if !solved(least.status) {
@@ -416,8 +420,6 @@ impl<'a> ComponentSolve<'a> {
         let demands = sys.stress_demands(&sys.stress, &least.x);
         let (governing, needed) =
             demands.iter().enumerate().fold((0, 0.0), |best, (k, &d)| if d > best.1 { (k, d) } else { best });
-        let blocks = solution.sys.geometry.stress_blocks();
-        let own = solution.sys.stress_demands(&blocks, &solution.out.x).into_iter().fold(0.0, f64::max);
         if needed <= sigma * unit && own > sigma * unit {
             let capped = self.stage(&sys, Stage::Capped { strength: sigma * unit });
             if solved(capped.status) {

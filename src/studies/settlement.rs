@@ -21,7 +21,7 @@
 //! size. Units SI, z up; rotations of the paths in degrees (input) about the support's centroid.
 
 use crate::dynamics::exact::World;
-use crate::dynamics::{DropSettings, Engine, Simulation, SupportPath};
+use crate::dynamics::{DropSettings, Engine, Stepper, SupportPath};
 use crate::geometry::Vector3;
 use crate::interfaces::Interface;
 use crate::model::{Assembly, Movement};
@@ -495,30 +495,42 @@ fn in_engine(
     let assembly = &analysis.assembly;
     let drop = engine_settings(settings, engine);
     let g = assembly.gravity.norm().max(f64::MIN_POSITIVE);
-    let size = median_block_size(assembly);
+    let size = assembly.median_block_size().unwrap_or(1.0).max(f64::MIN_POSITIVE);
     let unit = (g * size).sqrt();
     let duration = scale.travel / (settings.speed * unit);
     let steps = ((duration / settings.dt).ceil() as usize).max(1);
     let every = (steps / settings.increments).max(1);
     let method = if engine == Engine::Exact { "exact" } else { "rapier" };
     let mut run = Run { method, outcome: Outcome::Stands, stages: Vec::new(), mechanism: Vec::new(), steps: 0 };
-    let mut stepper = Mover::new(assembly, &drop, paths);
+    let mut stepper = Stepper::with_paths(assembly, &drop, paths);
     let mut speeds = Vec::with_capacity(steps);
     for k in 1..=steps {
-        stepper.step(1.0 / steps as f64);
+        stepper.step_supports(1.0 / steps as f64);
         run.steps += 1;
         speeds.push(stepper.fastest(assembly));
         if speeds[k - 1] > settings.collapse_speed * unit {
             let fraction = departure(&speeds) as f64 / steps as f64;
             let movement = fraction * scale.movement;
             run.outcome = Outcome::Collapses { fraction, movement, relative: movement / assembly.scale };
-            if let Mover::Exact(w) = &stepper {
+            if let Stepper::Exact(w) = &stepper {
                 run.mechanism = joints(assembly, &analysis.interfaces, w);
             }
             return run;
         }
         if k % every == 0 {
-            run.stages.push(stepper.stage(assembly, &analysis.interfaces, k as f64 / steps as f64, scale));
+            let fraction = k as f64 / steps as f64;
+            run.stages.push(match &stepper {
+                Stepper::Exact(w) => stage(assembly, &analysis.interfaces, w, fraction, scale),
+                // rapier's contacts are not read: the stage has its movement only.
+                Stepper::Rapier(_) => Stage {
+                    fraction,
+                    movement: fraction * scale.movement,
+                    reactions: Vec::new(),
+                    joints: Vec::new(),
+                    rotation: f64::NAN,
+                    snapped: false,
+                },
+            });
         }
     }
     run
@@ -539,60 +551,4 @@ fn departure(speeds: &[f64]) -> usize {
         k -= 1;
     }
     k
-}
-
-fn median_block_size(assembly: &Assembly) -> f64 {
-    let mut sizes: Vec<f64> = assembly.blocks.iter().map(|b| b.aabb.diagonal()).collect();
-    sizes.sort_by(f64::total_cmp);
-    sizes.get(sizes.len() / 2).copied().unwrap_or(1.0).max(f64::MIN_POSITIVE)
-}
-
-/// An engine with moving supports.
-enum Mover {
-    Exact(Box<World>),
-    Rapier(Box<Simulation>),
-}
-
-impl Mover {
-    fn new(assembly: &Assembly, settings: &DropSettings, paths: &[SupportPath]) -> Self {
-        match settings.engine {
-            Engine::Exact => Self::Exact(Box::new(World::with_paths(assembly, settings, paths))),
-            Engine::Rapier => Self::Rapier(Box::new(Simulation::with_paths(assembly, settings, paths))),
-        }
-    }
-
-    fn step(&mut self, fraction: f64) {
-        match self {
-            Self::Exact(w) => w.step_supports(fraction),
-            Self::Rapier(s) => s.step_supports(fraction),
-        }
-    }
-
-    /// The fastest block, m/s (centroid speed plus angular speed × half its box diagonal).
-    fn fastest(&self, assembly: &Assembly) -> f64 {
-        match self {
-            Self::Exact(w) => w.fastest_vertex(),
-            Self::Rapier(s) => (0..assembly.blocks.len())
-                .filter(|&i| !assembly.blocks[i].support)
-                .map(|i| {
-                    let (v, w) = s.speeds(i);
-                    v + w * 0.5 * assembly.blocks[i].aabb.diagonal()
-                })
-                .fold(0.0, f64::max),
-        }
-    }
-
-    fn stage(&self, assembly: &Assembly, interfaces: &[Interface], fraction: f64, scale: &PathScale) -> Stage {
-        match self {
-            Self::Exact(w) => stage(assembly, interfaces, w, fraction, scale),
-            Self::Rapier(_) => Stage {
-                fraction,
-                movement: fraction * scale.movement,
-                reactions: Vec::new(),
-                joints: Vec::new(),
-                rotation: f64::NAN,
-                snapped: false,
-            },
-        }
-    }
 }

@@ -26,6 +26,22 @@ pub(crate) fn json_to_python<'py>(py: Python<'py>, text: &str) -> PyResult<Bound
     py.import("json")?.call_method1("loads", (text,))
 }
 
+/// Analyses `design` with the GIL released and turns the analysis into a JSON report with
+/// `report`; a failure of either is an input error naming `source`; the report comes back as a
+/// dict.
+fn analyzed_json<'py>(
+    py: Python<'py>,
+    source: &str,
+    design: &voussoir::model::Scene,
+    settings: &AnalysisSettings,
+    report: impl FnOnce(&voussoir::pipeline::Analysis) -> Result<String, String> + Send,
+) -> PyResult<Bound<'py, PyAny>> {
+    let text = py
+        .detach(|| report(&analyze(design, settings).map_err(|e| e.to_string())?))
+        .map_err(|e: String| errors::input(source, e))?;
+    json_to_python(py, &text)
+}
+
 solve_function! {
     /// Interfaces of `scene` (its cut history replayed) without solving anything: a dict with
     /// `block_names`, `blocks` (m, 2; -1 the ground), `area` (m,), `centroid`, `normal`, `u`, `v`
@@ -70,17 +86,12 @@ solve_function! {
         ..options(mu, friction_model, solver, supports, ground, density, strength)
     ) -> PyResult<Bound<'py, PyAny>> {
         let (design, settings) = options.apply(scene)?;
-        let source = scene.source.as_str();
-        let text = py
-            .detach(|| {
-                let analysis = analyze(&design, &settings).map_err(|e| e.to_string())?;
-                let question = Question::choose(&analysis, direction, directions);
-                let answer =
-                    stability::answer(&analysis, &settings.statics, &question, &|_, _| {}).map_err(|e| e.to_string())?;
-                Ok(stability_report::to_json(&analysis, &answer.result, answer.sweep.as_ref(), &answer.load))
-            })
-            .map_err(|e: String| errors::input(source, e))?;
-        json_to_python(py, &text)
+        analyzed_json(py, &scene.source, &design, &settings, |analysis| {
+            let question = Question::choose(analysis, direction, directions);
+            let answer =
+                stability::answer(analysis, &settings.statics, &question, &|_, _| {}).map_err(|e| e.to_string())?;
+            Ok(stability_report::to_json(analysis, &answer.result, answer.sweep.as_ref(), &answer.load))
+        })
     }
 }
 
@@ -93,16 +104,11 @@ solve_function! {
         ..options(mu, friction_model, solver, supports, ground, density, strength)
     ) -> PyResult<Bound<'py, PyAny>> {
         let (design, settings) = options.apply(scene)?;
-        let source = scene.source.as_str();
-        let text = py
-            .detach(|| {
-                let analysis = analyze(&design, &settings).map_err(|e| e.to_string())?;
-                let margins = stability::tolerance::margins(&analysis, &settings.statics, &Default::default())
-                    .map_err(|e| e.to_string())?;
-                serde_json::to_string(&margins).map_err(|e| e.to_string())
-            })
-            .map_err(|e: String| errors::input(source, e))?;
-        json_to_python(py, &text)
+        analyzed_json(py, &scene.source, &design, &settings, |analysis| {
+            let margins = stability::tolerance::margins(analysis, &settings.statics, &Default::default())
+                .map_err(|e| e.to_string())?;
+            serde_json::to_string(&margins).map_err(|e| e.to_string())
+        })
     }
 }
 
@@ -130,14 +136,10 @@ solve_function! {
             engines: !quasi_static,
             ..defaults
         };
-        let text = py
-            .detach(|| {
-                let analysis = analyze(&design, &settings).map_err(|e| e.to_string())?;
-                let result = voussoir::studies::settlement::settle(&analysis, &movements, &study).map_err(|e| e.to_string())?;
-                serde_json::to_string(&result).map_err(|e| e.to_string())
-            })
-            .map_err(|e: String| errors::input(source, e))?;
-        json_to_python(py, &text)
+        analyzed_json(py, source, &design, &settings, |analysis| {
+            let result = voussoir::studies::settlement::settle(analysis, &movements, &study).map_err(|e| e.to_string())?;
+            serde_json::to_string(&result).map_err(|e| e.to_string())
+        })
     }
 }
 

@@ -150,9 +150,7 @@ impl World {
             .collect();
         let interfaces = crate::interfaces::detect(assembly);
         let contacts = contacts::build(assembly, &interfaces, &sides, Poses { bodies: &bodies, movers: &movers });
-        let mut sizes: Vec<f64> = assembly.blocks.iter().map(|b| b.aabb.diagonal()).collect();
-        sizes.sort_by(f64::total_cmp);
-        let size = sizes.get(sizes.len() / 2).copied().unwrap_or(1.0).max(f64::MIN_POSITIVE);
+        let size = assembly.median_block_size().unwrap_or(1.0).max(f64::MIN_POSITIVE);
         let weight: f64 = bodies.iter().map(|b| b.mass * g).sum();
         let units = Units { length: assembly.scale.max(f64::MIN_POSITIVE), force: weight.max(f64::MIN_POSITIVE), g };
         let ctx = StepContext {
@@ -301,40 +299,35 @@ impl World {
         self.movers.len()
     }
 
-    /// Moved support `m`'s centroid (m) and rotation since the start.
-    pub fn support_pose(&self, m: usize) -> (Point3, [f64; 4]) {
-        let b = &self.movers[m];
-        (b.x, [b.q.w, b.q.i, b.q.j, b.q.k])
-    }
-
     /// Per interface vertex contact now: its interface, vertex, and the velocity of b's point
     /// relative to a's, normal (> 0 opening) and tangential speed, m/s; in the contacts' order.
     pub fn joint_rates(&self) -> Vec<(usize, usize, f64, f64)> {
-        let poses = self.poses();
-        self.contacts
-            .iter()
-            .filter_map(|c| match c.origin {
-                contacts::Origin::Interface { interface, vertex } => {
-                    let g = c.geometry(poses);
-                    let v = c.relative_velocity(poses, &g.point);
-                    let vn = v.dot(&g.frame[0]);
-                    Some((interface, vertex, vn, (v - g.frame[0] * vn).norm()))
-                }
-                contacts::Origin::Ground { .. } => None,
-            })
-            .collect()
+        self.per_joint_contact(|c, g, poses| {
+            let v = c.relative_velocity(poses, &g.point);
+            let vn = v.dot(&g.frame[0]);
+            (vn, (v - g.frame[0] * vn).norm())
+        })
     }
 
     /// Per interface vertex contact now: its interface, vertex, gap (m, > 0 open) and slip (m),
     /// in the contacts' order.
     pub fn joint_gaps(&self) -> Vec<(usize, usize, f64, f64)> {
+        self.per_joint_contact(|_, g, _| (g.gap, g.slip))
+    }
+
+    /// `measure` of every interface vertex contact at its geometry now, with its interface and
+    /// vertex, in the contacts' order (ground contacts left out).
+    fn per_joint_contact(
+        &self,
+        measure: impl Fn(&Contact, &contacts::Geometry, Poses) -> (f64, f64),
+    ) -> Vec<(usize, usize, f64, f64)> {
         let poses = self.poses();
         self.contacts
             .iter()
             .filter_map(|c| match c.origin {
                 contacts::Origin::Interface { interface, vertex } => {
-                    let g = c.geometry(poses);
-                    Some((interface, vertex, g.gap, g.slip))
+                    let (x, y) = measure(c, &c.geometry(poses), poses);
+                    Some((interface, vertex, x, y))
                 }
                 contacts::Origin::Ground { .. } => None,
             })
