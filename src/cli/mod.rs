@@ -1,7 +1,7 @@
 //! Command line: `voussoir [analyze] [SCENE] [options]`. Exit codes: 0 the assembly stands,
 //! 1 it does not (or the solver could not tell), 2 bad input.
 //!
-//! One file per command ([`analyze`], [`cut`], [`decompose`], [`export`], [`repair`], [`robustness`], [`sequence`], [`sweep`],
+//! One file per command ([`analyze`], [`cut`], [`decompose`], [`export`], [`infill`], [`repair`], [`robustness`], [`sequence`], [`sweep`],
 //! [`view`]);
 //! the options several commands share are flattened structs in [`options`] that turn into the
 //! library's settings in one place. Every default is the library's (`default_value_t` reads its
@@ -22,6 +22,7 @@ mod choice;
 pub mod cut;
 pub mod decompose;
 pub mod export;
+pub mod infill;
 pub mod options;
 pub mod repair;
 pub mod robustness;
@@ -34,6 +35,7 @@ pub use analyze::AnalyzeArgs;
 pub use cut::CutArgs;
 pub use decompose::DecomposeArgs;
 pub use export::ExportArgs;
+pub use infill::InfillArgs;
 pub use options::{Diagram, DiagramOptions, DropOptions, LoadOptions, SolverOptions};
 pub use repair::RepairArgs;
 pub use robustness::RobustnessArgs;
@@ -87,6 +89,9 @@ pub enum Command {
     /// Move and turn the design's cuts until it stands, then stands most safely; write the
     /// repaired design (or say why no placement helps, and which support would).
     Repair(RepairArgs),
+    /// Choose per-block densities within bounds (a print's infill) that make the design stand:
+    /// the lightest, or the most robust; write the design (or the mechanism no mass can stop).
+    Infill(InfillArgs),
     /// Export the analysed design without a window: glTF binary with the blocks and the
     /// interface polygons coloured by a diagram mode.
     Export(ExportArgs),
@@ -112,6 +117,7 @@ pub fn run(cli: Cli) -> i32 {
         Some(Command::Settle(args)) => settle::run(&args),
         Some(Command::Repair(args)) => repair::run(&args),
         Some(Command::Decompose(args)) => decompose::run(&args),
+        Some(Command::Infill(args)) => infill::run(&args),
         Some(Command::Export(args)) => export::run(&args),
         Some(Command::View(args)) => view::run(&args),
     };

@@ -34,6 +34,8 @@ pub enum CutError {
     UnknownRemoved { name: String },
     #[error("'{name}' is listed as a support but is not a piece of the design")]
     UnknownSupport { name: String },
+    #[error("'{name}' is given a density but is not a piece of the design")]
+    UnknownDensity { name: String },
     #[error("cut {index}, segment {segment}: {why}")]
     BadSegment { index: usize, segment: usize, why: String },
     #[error("cut {index} targets '{target}', which is not a piece at that step of the history")]
@@ -287,7 +289,7 @@ pub fn resolve(
     tolerances: &crate::geometry::Tolerances,
     cache: &mut CutCache,
 ) -> Result<(Scene, ReplayStats), CutError> {
-    if scene.cuts.is_empty() && scene.removed.is_empty() && scene.supports.is_empty() {
+    if scene.cuts.is_empty() && scene.removed.is_empty() && scene.supports.is_empty() && scene.densities.is_empty() {
         return Ok((scene.clone(), ReplayStats::default()));
     }
     let tol = tolerances.resolve(crate::model::coordinates::model_size(&scene.blocks, tolerances)?);
@@ -313,11 +315,18 @@ pub fn resolve(
         };
         b.support = true;
     }
+    for (name, &density) in &scene.densities {
+        let Some(b) = blocks.iter_mut().find(|b| &b.name == name) else {
+            return Err(CutError::UnknownDensity { name: name.clone() });
+        };
+        b.density = Some(density);
+    }
     let mut out = scene.clone();
     out.blocks = blocks;
     out.cuts.clear();
     out.removed.clear();
     out.supports.clear();
+    out.densities.clear();
     Ok((out, stats))
 }
 

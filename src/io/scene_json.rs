@@ -12,7 +12,8 @@
 //! [nx,ny,nz], "target": "name"?}` or `{"apex": [x,y,z], "segments": [[[x,y,z],[x,y,z]], …],
 //! "target": "name"?}`, …], default none: then `blocks` are the source shapes), `removed`
 //! (names of pieces left out after the history, default none), `supports` (names of pieces
-//! made supports after the history, default none), `loads` (default none: `[{"block": "top",
+//! made supports after the history, default none), `densities` (`{"piece": kg/m³, …}`: densities
+//! of pieces after the history, an infill design's, default none), `loads` (default none: `[{"block": "top",
 //! "point": [x,y,z], "force": [fx,fy,fz], "kind": "dead"}, {"acceleration": [ax,ay,az]}, …]`,
 //! forces in N, accelerations in g, `kind` dead or live — the default; [`crate::model::loads`]),
 //! `movements` (default none: `[{"block": "left", "translation": [dx,dy,dz], "rotation":
@@ -61,6 +62,8 @@ struct SceneFile {
     removed: Vec<String>,
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     supports: Vec<String>,
+    #[serde(default, skip_serializing_if = "std::collections::BTreeMap::is_empty")]
+    densities: std::collections::BTreeMap<String, f64>,
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     order: Vec<String>,
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
@@ -160,6 +163,7 @@ const SCENE_KEYS: &[&str] = &[
     "cuts",
     "removed",
     "supports",
+    "densities",
     "order",
     "loads",
     "movements",
@@ -281,6 +285,7 @@ pub(crate) fn scene_from_value(path: &Path, mut value: serde_json::Value) -> Res
     scene.cuts = file.cuts;
     scene.removed = file.removed;
     scene.supports = file.supports;
+    scene.densities = file.densities;
     scene.order = file.order;
     scene.loads = file.loads.iter().enumerate().map(|(i, l)| l.to_load(path, i)).collect::<Result<_, _>>()?;
     scene.movements = file.movements;
@@ -322,6 +327,7 @@ pub fn scene_to_string(scene: &Scene) -> String {
         cuts: scene.cuts.clone(),
         removed: scene.removed.clone(),
         supports: scene.supports.clone(),
+        densities: scene.densities.clone(),
         order: scene.order.clone(),
         loads: scene.loads.iter().map(LoadFile::from_load).collect(),
         movements: scene.movements.clone(),

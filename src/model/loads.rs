@@ -50,11 +50,15 @@ impl Load {
 /// A wrench about a block's centroid: force (N) then moment (N·m), world axes.
 pub type Wrench = [f64; 6];
 
-/// The loads of one block, resolved: the dead and the live wrench about its centroid.
+/// The loads of one block, resolved: the dead and the live wrench about its centroid, and of
+/// each the part that scales with the block's mass (the acceleration fields: N per kg, at the
+/// centroid), so that a design may change the mass ([`crate::synthesis::infill`]).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct BlockLoads {
     pub dead: Wrench,
     pub live: Wrench,
+    pub dead_per_kg: [f64; 3],
+    pub live_per_kg: [f64; 3],
 }
 
 impl BlockLoads {
@@ -64,6 +68,17 @@ impl BlockLoads {
             LoadKind::Live => &mut self.live,
         };
         target.iter_mut().zip(w).for_each(|(t, v)| *t += v);
+    }
+
+    /// An acceleration field of `per_kg` N/kg on a block of `mass` kg.
+    fn add_field(&mut self, kind: LoadKind, per_kg: Vector3, mass: f64) {
+        let f = per_kg * mass;
+        self.add(kind, [f.x, f.y, f.z, 0.0, 0.0, 0.0]);
+        let target = match kind {
+            LoadKind::Dead => &mut self.dead_per_kg,
+            LoadKind::Live => &mut self.live_per_kg,
+        };
+        target.iter_mut().zip(per_kg.iter()).for_each(|(t, v)| *t += v);
     }
 }
 
@@ -104,8 +119,7 @@ pub fn resolve(
                     return Err(bad(format!("acceleration {accel:?} is not finite")));
                 }
                 for (b, blk) in blocks.iter().enumerate().filter(|(_, b)| !b.support) {
-                    let f = accel * (g * blk.mass());
-                    out[b].add(*kind, [f.x, f.y, f.z, 0.0, 0.0, 0.0]);
+                    out[b].add_field(*kind, accel * g, blk.mass());
                 }
             }
         }

@@ -116,6 +116,9 @@ pub struct Scene {
     pub removed: Vec<String>,
     /// Pieces made supports after the cut history (by name), besides blocks marked `support`.
     pub supports: Vec<String>,
+    /// Densities of pieces after the cut history (kg/m³, by name), overriding the source
+    /// shape's and the material's: what an infill design sets ([`crate::synthesis::infill`]).
+    pub densities: std::collections::BTreeMap<String, f64>,
     /// An assembly order (piece names, or source-shape names standing for all their pieces
     /// bottom-up) for [`crate::studies::sequence`]; empty when none is given.
     pub order: Vec<String>,
@@ -140,6 +143,7 @@ impl Scene {
             cuts: Vec::new(),
             removed: Vec::new(),
             supports: Vec::new(),
+            densities: Default::default(),
             order: Vec::new(),
             loads: Vec::new(),
             movements: Vec::new(),
@@ -175,11 +179,12 @@ impl Scene {
         if extent > 0.0 { extent } else { 1.0 }
     }
 
-    /// One density for every block (kg/m³): the material's, with the blocks' own overrides
-    /// dropped (`analyze --density`, Python's `density=`).
+    /// One density for every block (kg/m³): the material's, with the blocks' and pieces' own
+    /// overrides dropped (`analyze --density`, Python's `density=`).
     pub fn set_density(&mut self, density: f64) {
         self.material.density = density;
         self.blocks.iter_mut().for_each(|b| b.density = None);
+        self.densities.clear();
     }
 
     /// Replaces the supports given in the scene by `choice` (`analyze --supports`, Python's

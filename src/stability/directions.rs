@@ -70,7 +70,9 @@ pub fn with_horizontal_field(assembly: &Assembly, azimuth: f64) -> Assembly {
     let (s, c) = azimuth.to_radians().sin_cos();
     let g = a.gravity.norm();
     for (load, b) in a.loads.iter_mut().zip(&assembly.blocks) {
-        load.live = if b.support { [0.0; 6] } else { [c * g * b.mass(), s * g * b.mass(), 0.0, 0.0, 0.0, 0.0] };
+        let per_kg = if b.support { [0.0; 3] } else { [c * g, s * g, 0.0] };
+        load.live = [per_kg[0] * b.mass(), per_kg[1] * b.mass(), 0.0, 0.0, 0.0, 0.0];
+        load.live_per_kg = per_kg;
     }
     a
 }

@@ -19,7 +19,7 @@ mod question;
 pub mod tolerance;
 
 pub use crate::statics::{BlockMotion, InterfaceMotion, JointState, Mechanism};
-pub use directions::{DirectionSettings, DirectionSweep, worst_direction};
+pub use directions::{DirectionSettings, DirectionSweep, with_horizontal_field, worst_direction};
 pub use question::{Answer, Question, answer};
 
 use crate::interfaces::Interface;

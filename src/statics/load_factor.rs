@@ -58,7 +58,7 @@ pub struct FactorOutcome {
 
 /// The physical motions of a component's blocks from the duals `z` of its equilibrium rows
 /// (the first 6 per block), divided by `norm` (the normalised load's non-dimensional work).
-fn motions(z: &[f64], blocks: usize, force_scale: f64, length_scale: f64, norm: f64) -> Vec<Motion> {
+pub(super) fn motions(z: &[f64], blocks: usize, force_scale: f64, length_scale: f64, norm: f64) -> Vec<Motion> {
     (0..blocks)
         .map(|i| {
             let mut m = [0.0; 6];

@@ -48,6 +48,8 @@
 //! 3. `assemble`: a component's rows and each stage's problem.
 //! 4. `stages`: a component's solve stage by stage, and the verdict rule; `load_factor`: a
 //!    component's load factor and collapse mechanism (an LP/SOCP on the same rows, its dual);
+//!    `infill`: the densities that make a component stand (the same rows with the
+//!    densities as variables, and the dual mechanism when none does);
 //!    `kinematic`: a component's rate problem from rest (the same rows with the blocks'
 //!    accelerations, a fixed point of QPs on clarabel).
 //! 5. `result`: per-interface results and the global answer from the stages' outcomes;
@@ -60,6 +62,7 @@ mod backend_tests;
 mod cache;
 mod components;
 mod error;
+mod infill;
 mod load_factor;
 pub mod mechanism;
 mod problem;
@@ -73,6 +76,7 @@ pub(crate) use cache::component_key;
 pub use cache::{SolveStats, StaticsCache, solve_cached};
 pub use components::{Component, components};
 pub use error::StaticsError;
+pub use infill::{DensityGoal, DensityOutcome, DensityRange, LiveCase, component_densities};
 pub use load_factor::{FactorOutcome, Motion, component_load_factor, failure_mechanism, standing_load_factor};
 pub use mechanism::{BlockMotion, InterfaceMotion, JointState, Mechanism};
 pub use problem::{Accuracy, Cone, ConicProblem, FrictionModel, SolverStatus, StressBlock};

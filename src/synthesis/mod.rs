@@ -10,6 +10,7 @@
 
 pub mod generate;
 pub mod generated;
+pub mod infill;
 pub mod objective;
 pub mod params;
 pub mod props;
@@ -18,6 +19,7 @@ pub mod thrust;
 
 pub use generate::{BlockSize, Field, courses};
 pub use generated::{Generated, ThrustRounds};
+pub use infill::{InfillObjective, InfillOutcome, InfillReport, InfillSettings, infill};
 pub use objective::{Evaluator, Score};
 pub use params::{CutParameters, Freedom};
 pub use props::{SupportProposal, propose_support};

@@ -25,6 +25,7 @@ mod drop_test;
 mod ecs_app;
 mod exact_dynamics;
 mod fuzz_corpora;
+mod infill;
 mod gltf_export;
 mod incremental;
 mod interfaces_synthetic;

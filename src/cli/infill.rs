@@ -1,0 +1,125 @@
+//! `voussoir infill DESIGN -o OUT.json`: per-block densities within bounds that make the design
+//! stand — the lightest ([`InfillObjective::Stand`]) or those carrying the largest horizontal
+//! load (`--objective robust`) — written into the design by piece name
+//! ([`crate::synthesis::infill`]). When no density within the bounds holds it, says so and
+//! prints the mechanism every admissible mass drives. Exit codes: 0 the infilled design
+//! stands, 1 no density holds it (or a solver failed), 2 bad input.
+
+use super::options::SolverOptions;
+use super::{BadInput, load, refuse_overwrite, scene_name, write_output};
+use crate::io::scene_json;
+use crate::statics::Verdict;
+use crate::synthesis::{self, InfillObjective, InfillOutcome, InfillReport, InfillSettings};
+use clap::Args;
+use std::path::PathBuf;
+
+#[derive(Args, Debug, Clone, PartialEq)]
+pub struct InfillArgs {
+    /// The design: a scene file (with or without a cut history), or `builtin:…`.
+    pub scene: String,
+    #[command(flatten)]
+    pub solver: SolverOptions,
+    /// Every free block's density bounds, kg/m³ (e.g. `150,600`); default: from a quarter of
+    /// each block's density to its density.
+    #[arg(long, value_delimiter = ',', num_args = 2, value_names = ["LO", "HI"])]
+    pub density_range: Option<Vec<f64>>,
+    /// `stand`: the lightest densities that stand; `robust`: those that carry the largest
+    /// horizontal load (the scene's live loads when it has some).
+    #[arg(long, value_enum, default_value = "stand")]
+    pub objective: Objective,
+    /// Robust: the one horizontal direction to carry, degrees from +x towards +y; default:
+    /// every one of `--directions` evenly spaced azimuths.
+    #[arg(long)]
+    pub azimuth: Option<f64>,
+    #[arg(long, default_value_t = InfillSettings::default().directions)]
+    pub directions: usize,
+    /// The infilled design (scene JSON with `densities`, written atomically).
+    #[arg(short, long)]
+    pub output: PathBuf,
+    /// Write the JSON report here (atomically).
+    #[arg(long)]
+    pub json: Option<PathBuf>,
+}
+
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Objective {
+    Stand,
+    Robust,
+}
+
+pub fn run(args: &InfillArgs) -> Result<i32, BadInput> {
+    for out in std::iter::once(&args.output).chain(&args.json) {
+        refuse_overwrite(Some(&args.scene), out, "output")?;
+    }
+    let name = scene_name(Some(&args.scene)).to_string();
+    let scene = load(Some(&args.scene))?;
+    let settings = InfillSettings {
+        range: args.density_range.as_ref().map(|r| (r[0], r[1])),
+        objective: match args.objective {
+            Objective::Stand => InfillObjective::Stand,
+            Objective::Robust => InfillObjective::Robust,
+        },
+        azimuth: args.azimuth,
+        directions: args.directions,
+        ..Default::default()
+    };
+    let report =
+        synthesis::infill(&scene, &args.solver.settings(), &settings).map_err(|e| BadInput(format!("{name}: {e}")))?;
+    print!("{}", text(&report));
+    if let Some(design) = &report.design {
+        write_output(&args.output, scene_json::scene_to_string(design).as_bytes())?;
+        println!("design written to {}", args.output.display());
+    }
+    if let Some(out) = &args.json {
+        let json = serde_json::to_string_pretty(&report).expect("a report serialises");
+        write_output(out, json.as_bytes())?;
+        println!("report written to {}", out.display());
+    }
+    let stands = report.outcome == InfillOutcome::Stands && report.verdict_after == Some(Verdict::Stands);
+    Ok(if stands { 0 } else { 1 })
+}
+
+/// Blocks listed in the text (all of them in the JSON report and the design).
+const SHOWN: usize = 12;
+
+/// The headline, the densities that changed and the mass.
+pub fn text(r: &InfillReport) -> String {
+    let mut s = match &r.outcome {
+        InfillOutcome::Stands => format!(
+            "INFILLED: {} with these densities\n",
+            r.verdict_after.map_or("not analysed", |v| v.words())
+        ),
+        InfillOutcome::Impossible => "IMPOSSIBLE: no density within the bounds makes it stand\n".to_string(),
+        InfillOutcome::SolverFailed { status, residual } => {
+            format!("UNRESOLVED: the solver stopped ({status:?}, residual {residual:.3e} N)\n")
+        }
+    };
+    s += &format!("  verdict before: {}\n", r.verdict_before.words());
+    if let Some(l) = r.load_factor {
+        s += &format!("  carries λ = {l:.4} g horizontally (every direction asked)\n");
+    }
+    s += &format!("  mass of the free blocks: {:.4} kg → {:.4} kg\n", r.mass_before, r.mass_after);
+    let changed: Vec<_> = r.blocks.iter().filter(|b| b.after != b.before).collect();
+    for b in changed.iter().take(SHOWN) {
+        s += &format!("  {:<24} {:>10.2} → {:>10.2} kg/m³  [{:.0}, {:.0}]\n", b.block, b.before, b.after, b.lo, b.hi);
+    }
+    if changed.len() > SHOWN {
+        s += &format!("  … {} more changed (all in the JSON report)\n", changed.len() - SHOWN);
+    }
+    if let Some(m) = &r.mechanism {
+        s += &format!(
+            "  the mechanism every admissible mass drives (least work {:.3e} of the weight):\n",
+            r.least_work
+        );
+        for b in m.blocks.iter().take(SHOWN) {
+            let t = b.translation;
+            let w = b.rotation;
+            s += &format!(
+                "    {:<22} moves ({:+.3e}, {:+.3e}, {:+.3e}) m, turns ({:+.3e}, {:+.3e}, {:+.3e}) rad\n",
+                b.block, t[0], t[1], t[2], w[0], w[1], w[2]
+            );
+        }
+    }
+    s += &format!("  {} density problems in {:.2} s\n", r.solves, r.seconds);
+    s
+}

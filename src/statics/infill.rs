@@ -1,0 +1,304 @@
+//! Densities as variables: which per-block densities within bounds let a component stand by
+//! compression and friction, the lightest such, and a mechanism that proves when none does.
+//!
+//! A block's self-weight and its acceleration fields scale with its mass, so with a uniform
+//! density ρ_i per block the equilibrium rows `A x = −D` become `A x + Σ_i ρ_i c_i = −p`: c_i
+//! is block i's load per unit density (its volume times gravity plus its dead fields' N/kg, at
+//! its centroid: no moment), p the loads that do not scale (point loads). Linear in (x, ρ):
+//! one LP for the pyramid and box models, one SOCP for the cone, on clarabel.
+//!
+//! - [`DensityGoal::Lightest`]: minimise the component's mass over the densities that stand.
+//! - [`DensityGoal::Carries`]: the same, among densities that also stand under each live case
+//!   at a given factor λ — one copy of the forces per case, the densities shared (a live field
+//!   scales with the mass too, so λ·ρ is bilinear: the caller searches λ, see
+//!   [`crate::synthesis::infill`]).
+//!
+//! When no density within the bounds stands, the minimum-tension LP (then the minimum
+//! friction-excess LP) over the same bounds has a positive optimum T*, and by minimax duality
+//! its equilibrium duals are a mechanism u whose dead-load work is at least T* for every
+//! admissible density: `min over the bounds of (p + Σ ρ_i c_i)·u = T*`. Normalised so that
+//! this least work is 1 N·m.
+//!
+//! Units: densities in kg/m³ outside, ρ / ρ_ref inside (ρ_ref the largest upper bound), forces
+//! by the component's free weight at its current densities, lengths by the model size.
+
+use super::assemble::{PINNED_TENSION, Stage, System, contact_problem};
+use super::backend::solve_conic;
+use super::components::Component;
+use super::load_factor::{Motion, motions};
+use super::problem::{Accuracy, Cone, ConicProblem, SolverStatus, Strength};
+use super::settings::StaticsSettings;
+use super::stages::LP_TOLERANCE;
+use crate::interfaces::Interface;
+use crate::model::Assembly;
+use crate::model::loads::Wrench;
+
+/// One block's density bounds, kg/m³ (0 < lo ≤ hi).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DensityRange {
+    pub lo: f64,
+    pub hi: f64,
+}
+
+/// A live load case, per block of the assembly: the N/kg of its acceleration fields and the
+/// wrench (N, N·m about the centroid) of the rest.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LiveCase {
+    pub per_kg: Vec<[f64; 3]>,
+    pub fixed: Vec<Wrench>,
+}
+
+impl LiveCase {
+    /// The assembly's own live loads.
+    pub fn of(assembly: &Assembly) -> Self {
+        let (per_kg, fixed) = assembly
+            .blocks
+            .iter()
+            .zip(&assembly.loads)
+            .map(|(b, l)| {
+                let mut fixed = l.live;
+                (0..3).for_each(|k| fixed[k] -= l.live_per_kg[k] * b.mass());
+                (l.live_per_kg, fixed)
+            })
+            .unzip();
+        Self { per_kg, fixed }
+    }
+
+    /// A horizontal field of 1 g along `azimuth` (degrees from +x towards +y) on every block.
+    pub fn horizontal(assembly: &Assembly, azimuth: f64) -> Self {
+        let (s, c) = azimuth.to_radians().sin_cos();
+        let g = assembly.gravity.norm();
+        let n = assembly.blocks.len();
+        Self { per_kg: vec![[c * g, s * g, 0.0]; n], fixed: vec![[0.0; 6]; n] }
+    }
+}
+
+/// What the densities are chosen for.
+#[derive(Clone, Copy, Debug)]
+pub enum DensityGoal<'c> {
+    /// The lightest densities that stand under the dead load.
+    Lightest,
+    /// The lightest that stand under the dead load and under each case at factor `lambda`.
+    Carries { lambda: f64, cases: &'c [LiveCase] },
+}
+
+/// How a component's density problem ended.
+#[derive(Clone, Debug)]
+pub struct DensityOutcome {
+    pub status: SolverStatus,
+    /// Per block of the component, kg/m³; empty when no density within the bounds stands.
+    pub densities: Vec<f64>,
+    /// When none stands (and the goal is [`DensityGoal::Lightest`]): the mechanism, per block
+    /// of the component, normalised so that its least dead-load work over the bounds is 1 N·m.
+    pub motions: Vec<Motion>,
+    /// That least work before normalisation, relative to the component's weight (the LP's T*).
+    pub excess: f64,
+    /// ‖A x + Σ ρ_i c_i + p‖_∞ of the dead-load copy, N (NaN without a solution).
+    pub residual: f64,
+    pub iterations: u32,
+    pub solver_seconds: f64,
+}
+
+/// The density columns and the fixed right-hand side of a component's dead or live rows.
+struct Loading {
+    /// Per block of the component: its force per unit of ρ / ρ_ref (non-dimensional).
+    columns: Vec<[f64; 3]>,
+    /// Minus the loads that do not scale with mass, 6 per block (non-dimensional).
+    rhs: Vec<f64>,
+}
+
+impl Loading {
+    /// The dead loading of `comp`, plus `lambda` times `case` when given.
+    fn new(assembly: &Assembly, comp: &Component, sys: &System, rho_ref: f64, live: Option<(f64, &LiveCase)>) -> Self {
+        let (f, l) = (sys.force_scale, assembly.scale);
+        let mut columns = Vec::with_capacity(comp.blocks.len());
+        let mut rhs = vec![0.0; 6 * comp.blocks.len()];
+        for (i, &b) in comp.blocks.iter().enumerate() {
+            let blk = assembly.block(b);
+            let loads = &assembly.loads[b.0];
+            let mut per_kg: [f64; 3] = std::array::from_fn(|k| assembly.gravity[k] + loads.dead_per_kg[k]);
+            let mut fixed = loads.dead;
+            (0..3).for_each(|k| fixed[k] -= loads.dead_per_kg[k] * blk.mass());
+            if let Some((lambda, case)) = live {
+                (0..3).for_each(|k| per_kg[k] += lambda * case.per_kg[b.0][k]);
+                (0..6).for_each(|k| fixed[k] += lambda * case.fixed[b.0][k]);
+            }
+            columns.push(per_kg.map(|a| rho_ref * blk.mass.volume * a / f));
+            for k in 0..3 {
+                rhs[6 * i + k] = -fixed[k] / f;
+                rhs[6 * i + 3 + k] = -fixed[3 + k] / (f * l);
+            }
+        }
+        Self { columns, rhs }
+    }
+}
+
+/// One copy of a component's problem and its density columns (row, block, value).
+type Copy = (ConicProblem, Vec<(usize, usize, f64)>);
+
+/// The stage's conic problem over `sys` with its block rows' right-hand side from `loading`,
+/// and the triplets (row, block, value) of the density columns in its rows.
+fn copy(sys: &System, stage: Stage, settings: &StaticsSettings, loading: &Loading, length_scale: f64) -> Copy {
+    let mut cp = contact_problem(sys, stage, settings);
+    if matches!(stage, Stage::Strict) {
+        // Feasibility: the objective is the densities' (the caller's).
+        cp.p.iter_mut().for_each(|v| *v = 0.0);
+        cp.q.iter_mut().for_each(|v| *v = 0.0);
+    }
+    if let Some(s) = settings.strength {
+        cp.crushing = Some(sys.crushing(Strength::Fixed(s * sys.strength_scale(length_scale))));
+    }
+    let mut conic = cp.to_conic();
+    conic.b[..loading.rhs.len()].copy_from_slice(&loading.rhs);
+    let columns = loading
+        .columns
+        .iter()
+        .enumerate()
+        .flat_map(|(i, c)| (0..3).filter(|&k| c[k] != 0.0).map(move |k| (6 * i + k, i, c[k])))
+        .collect();
+    (conic, columns)
+}
+
+/// The copies side by side (block-diagonal), the densities as the last variables with their
+/// bounds (non-dimensional) and linear cost `cost`.
+fn stack(copies: Vec<Copy>, bounds: &[(f64, f64)], cost: &[f64]) -> ConicProblem {
+    let n_own: usize = copies.iter().map(|c| c.0.n).sum();
+    let mut out = ConicProblem::default();
+    let (mut row0, mut col0) = (0, 0);
+    for (conic, columns) in copies {
+        out.a.extend(conic.a.iter().map(|&(r, c, v)| (row0 + r, col0 + c, v)));
+        out.a.extend(columns.iter().map(|&(r, i, v)| (row0 + r, n_own + i, v)));
+        out.b.extend(&conic.b);
+        out.cones.extend(&conic.cones);
+        out.p_diag.extend(&conic.p_diag);
+        out.q.extend(&conic.q);
+        row0 += conic.b.len();
+        col0 += conic.n;
+    }
+    for (i, &(lo, hi)) in bounds.iter().enumerate() {
+        out.a.push((out.b.len(), n_own + i, -1.0));
+        out.b.push(-lo);
+        out.a.push((out.b.len(), n_own + i, 1.0));
+        out.b.push(hi);
+    }
+    out.cones.push(Cone::Nonnegative(2 * bounds.len()));
+    out.p_diag.extend(std::iter::repeat_n(0.0, bounds.len()));
+    out.q.extend(cost);
+    out.n = out.p_diag.len();
+    out
+}
+
+/// The densities of `comp` (bounds per block of the component) for `goal`.
+pub fn component_densities(
+    assembly: &Assembly,
+    interfaces: &[Interface],
+    comp: &Component,
+    mu: f64,
+    settings: &StaticsSettings,
+    ranges: &[DensityRange],
+    goal: DensityGoal,
+) -> DensityOutcome {
+    let t = std::time::Instant::now();
+    let mut sys = System::new(assembly, interfaces, comp, mu, settings.friction_model, false);
+    if settings.strength.is_some() {
+        sys = sys.with_stress();
+    }
+    let rho_ref = ranges.iter().map(|r| r.hi).fold(0.0, f64::max);
+    let bounds: Vec<(f64, f64)> = ranges.iter().map(|r| (r.lo / rho_ref, r.hi / rho_ref)).collect();
+    // The mass relative to the component's at ρ_ref throughout.
+    let volumes: Vec<f64> = comp.blocks.iter().map(|&b| assembly.block(b).mass.volume).collect();
+    let total: f64 = volumes.iter().sum();
+    let cost: Vec<f64> = volumes.iter().map(|v| v / total).collect();
+    let dead = Loading::new(assembly, comp, &sys, rho_ref, None);
+    let mut copies = vec![copy(&sys, Stage::Strict, settings, &dead, assembly.scale)];
+    if let DensityGoal::Carries { lambda, cases } = goal {
+        for case in cases {
+            let live = Loading::new(assembly, comp, &sys, rho_ref, Some((lambda, case)));
+            copies.push(copy(&sys, Stage::Strict, settings, &live, assembly.scale));
+        }
+    }
+    let n_dead = copies[0].0.n;
+    let problem = stack(copies, &bounds, &cost);
+    let out = solve_conic(&problem, accuracy(settings), settings.max_iterations);
+    let found = matches!(out.status, SolverStatus::Solved | SolverStatus::AlmostSolved);
+    let mut outcome = DensityOutcome {
+        status: out.status,
+        densities: Vec::new(),
+        motions: Vec::new(),
+        excess: 0.0,
+        residual: f64::NAN,
+        iterations: out.iterations,
+        solver_seconds: 0.0,
+    };
+    if found {
+        let r = &out.x[out.x.len() - comp.blocks.len()..];
+        outcome.densities = r.iter().zip(ranges).map(|(r, b)| (r * rho_ref).clamp(b.lo, b.hi)).collect();
+        outcome.residual = residual(&sys, &dead, &out.x[..n_dead], r);
+    } else if out.status == SolverStatus::Infeasible && matches!(goal, DensityGoal::Lightest) {
+        let cert = certificate(assembly, interfaces, comp, mu, settings, &bounds, rho_ref);
+        outcome.iterations += cert.iterations;
+        outcome.motions = cert.motions;
+        outcome.excess = cert.excess;
+    }
+    outcome.solver_seconds = t.elapsed().as_secs_f64();
+    outcome
+}
+
+/// The statics' solver tolerance, no looser than the stages' LP tolerance: the densities are an
+/// answer at a limit, as a load factor is.
+fn accuracy(settings: &StaticsSettings) -> Accuracy {
+    let tol = settings.solver_tolerance.min(LP_TOLERANCE);
+    Accuracy { feas: tol, gap_abs: tol, gap_rel: tol, pure_relative: false }
+}
+
+/// ‖A x + C r − rhs‖_∞ of the dead copy, N (`x`: the strict stage's variables, which on a
+/// strict system are the system's own, in its layout).
+fn residual(sys: &System, dead: &Loading, x: &[f64], r: &[f64]) -> f64 {
+    let mut out = vec![0.0; dead.rhs.len()];
+    sys.a_mul(&x[..sys.n()], &mut out);
+    let mut worst = 0.0f64;
+    for (i, c) in dead.columns.iter().enumerate() {
+        for k in 0..6 {
+            let v = out[6 * i + k] + if k < 3 { c[k] * r[i] } else { 0.0 } - dead.rhs[6 * i + k];
+            worst = worst.max(v.abs());
+        }
+    }
+    worst * sys.force_scale
+}
+
+/// The mechanism of a component no density within the bounds makes stand (module docs).
+struct Certificate {
+    motions: Vec<Motion>,
+    excess: f64,
+    iterations: u32,
+}
+
+fn certificate(
+    assembly: &Assembly,
+    interfaces: &[Interface],
+    comp: &Component,
+    mu: f64,
+    settings: &StaticsSettings,
+    bounds: &[(f64, f64)],
+    rho_ref: f64,
+) -> Certificate {
+    let sys = System::new(assembly, interfaces, comp, mu, settings.friction_model, true);
+    let dead = Loading::new(assembly, comp, &sys, rho_ref, None);
+    let zero = vec![0.0; bounds.len()];
+    let mut iterations = 0;
+    for stage in [Stage::Tension, Stage::FrictionExcess { tension: 0.0, penalty: 0.0 }] {
+        let problem = stack(vec![copy(&sys, stage, settings, &dead, assembly.scale)], bounds, &zero);
+        let out = solve_conic(&problem, accuracy(settings), settings.max_iterations);
+        iterations += out.iterations;
+        let solved = matches!(out.status, SolverStatus::Solved | SolverStatus::AlmostSolved);
+        if solved && out.objective > PINNED_TENSION {
+            let blocks = comp.blocks.len();
+            let m = motions(&out.z, blocks, sys.force_scale, assembly.scale, out.objective);
+            return Certificate { motions: m, excess: out.objective, iterations };
+        }
+        if !solved {
+            break;
+        }
+    }
+    Certificate { motions: Vec::new(), excess: 0.0, iterations }
+}

@@ -1,0 +1,303 @@
+//! Make it stand by mass: per-block densities within bounds — a 3D print's infill, a mix of
+//! stones — chosen so that the design stands, the lightest such ([`InfillObjective::Stand`]),
+//! or so that it carries the largest horizontal load ([`InfillObjective::Robust`]).
+//!
+//! Each connected component of free blocks is its own problem ([`statics::component_densities`]:
+//! the contact problem with the densities as variables; an LP, or an SOCP with the cone).
+//! - Stand: the lightest densities that stand, one solve. The answer lies on the edge of what
+//!   stands (a lighter block somewhere would tip it): the exact threshold, e.g. the lever rule's
+//!   density ratio.
+//! - Robust: the largest λ for which some densities stand under the dead load and under λ times
+//!   each live case (the scene's live loads, else a horizontal 1 g field along each of
+//!   `directions` azimuths, or along `azimuth`), by bisection on λ — a live field scales with
+//!   the mass, so λ·ρ is bilinear, but for fixed densities the λ that stand form an interval
+//!   holding 0, so "some densities carry λ" is monotone in λ. The densities of the largest λ
+//!   found (within `precision` of λ*), the lightest of those.
+//!
+//! When no density within the bounds stands, the answer says so with the mechanism every
+//! admissible mass drives (its least dead-load work over the bounds is positive).
+//!
+//! Densities in kg/m³; the written design carries them by piece name (the scene's `densities`),
+//! so `analyze` and the drop tests read the design as infilled.
+
+use super::DesignError;
+use crate::model::{BlockId, Scene};
+use crate::pipeline::{self, Analysis, AnalysisSettings};
+use crate::statics::{
+    self, Component, DensityGoal, DensityOutcome, DensityRange, LiveCase, Mechanism, SolverStatus, Verdict,
+};
+use serde::Serialize;
+
+/// What the densities are chosen for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum InfillObjective {
+    /// The lightest densities that stand.
+    Stand,
+    /// The densities that carry the largest horizontal (or the scene's live) load.
+    Robust,
+}
+
+/// Settings of [`infill`]; each default written once, in `Default`.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct InfillSettings {
+    /// Every free block's density bounds, kg/m³; `None`: each block from a quarter of its
+    /// density to its density (a print from 25 % infill to solid).
+    pub range: Option<(f64, f64)>,
+    pub objective: InfillObjective,
+    /// Robust, on a scene without live loads: evenly spaced horizontal azimuths the design
+    /// must carry together, or the one `azimuth` (degrees from +x towards +y).
+    pub directions: usize,
+    pub azimuth: Option<f64>,
+    /// Robust: λ to this fraction of itself.
+    pub precision: f64,
+}
+
+impl Default for InfillSettings {
+    fn default() -> Self {
+        Self { range: None, objective: InfillObjective::Stand, directions: 8, azimuth: None, precision: 1e-4 }
+    }
+}
+
+/// Above this load factor a design is taken to carry any horizontal load (a block's weight 16
+/// times over, sideways).
+const UNLIMITED: f64 = 16.0;
+
+impl InfillSettings {
+    pub fn validate(&self) -> Result<(), DesignError> {
+        let bad = |why: String| Err(DesignError::Settings(why));
+        if let Some((lo, hi)) = self.range
+            && !(lo > 0.0 && lo <= hi && hi.is_finite())
+        {
+            return bad(format!("density range {lo},{hi}: need 0 < low ≤ high, finite (kg/m³)"));
+        }
+        if self.directions == 0 {
+            return bad("at least one direction is needed".into());
+        }
+        if let Some(a) = self.azimuth
+            && !a.is_finite()
+        {
+            return bad(format!("azimuth {a} is not a finite angle (degrees)"));
+        }
+        if !(self.precision > 0.0 && self.precision < 1.0) {
+            return bad(format!("precision {} must be a number in (0, 1)", self.precision));
+        }
+        Ok(())
+    }
+}
+
+/// How an infill ended.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+pub enum InfillOutcome {
+    /// Densities within the bounds make every component stand; the design carries them.
+    Stands,
+    /// No density within the bounds holds some component: `mechanism` is driven by every
+    /// admissible mass.
+    Impossible,
+    /// A solver did not reach an answer.
+    SolverFailed { status: SolverStatus, residual: f64 },
+}
+
+/// One free block's density before and after, kg/m³.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct BlockDensity {
+    pub block: String,
+    pub before: f64,
+    pub after: f64,
+    pub lo: f64,
+    pub hi: f64,
+}
+
+/// What [`infill`] found.
+#[derive(Clone, Debug, Serialize)]
+pub struct InfillReport {
+    pub outcome: InfillOutcome,
+    pub objective: InfillObjective,
+    /// The free blocks, in block order (after = before where no density was found).
+    pub blocks: Vec<BlockDensity>,
+    /// The free blocks' mass before and after, kg.
+    pub mass_before: f64,
+    pub mass_after: f64,
+    pub verdict_before: Verdict,
+    /// The verdict of the written design, analysed again (None when nothing was written).
+    pub verdict_after: Option<Verdict>,
+    /// Robust: the load factor the densities carry in every case, to `precision`.
+    pub load_factor: Option<f64>,
+    /// Impossible: the mechanism, normalised so that its least dead-load work over the bounds
+    /// is 1 N·m; and that least work before normalisation, as a fraction of the weight.
+    pub mechanism: Option<Mechanism>,
+    pub least_work: f64,
+    /// Density problems solved.
+    pub solves: usize,
+    pub seconds: f64,
+    /// The infilled design (the input with `densities` set), when one was found.
+    #[serde(skip)]
+    pub design: Option<Scene>,
+}
+
+/// One component's answer.
+struct Found {
+    outcome: DensityOutcome,
+    load_factor: Option<f64>,
+}
+
+/// Chooses densities for `scene` (see the module docs).
+pub fn infill(scene: &Scene, analysis: &AnalysisSettings, settings: &InfillSettings) -> Result<InfillReport, DesignError> {
+    let t = std::time::Instant::now();
+    settings.validate()?;
+    analysis.statics.validate().map_err(|e| DesignError::Settings(e.to_string()))?;
+    let before = pipeline::analyze(scene, analysis)?;
+    let statics_settings = analysis.statics.resolved(&before.assembly);
+    let (assembly, interfaces) = (&before.assembly, before.interfaces.as_slice());
+    let mu = statics_settings.friction.unwrap_or(assembly.material.friction);
+    let ranges = ranges(&before, settings);
+    let cases = cases(&before, settings);
+    let comps = statics::components(assembly, interfaces);
+    let mut solves = 0;
+    let found: Vec<Found> = comps
+        .iter()
+        .map(|c| {
+            let r: Vec<DensityRange> = c.blocks.iter().map(|b| ranges[b.0]).collect();
+            let mut solve = |goal: DensityGoal<'_>| {
+                solves += 1;
+                statics::component_densities(assembly, interfaces, c, mu, &statics_settings, &r, goal)
+            };
+            component(&mut solve, settings, &cases)
+        })
+        .collect();
+    let mut report = summary(&before, &comps, &found, &ranges, settings.objective);
+    report.solves = solves;
+    if report.outcome == InfillOutcome::Stands {
+        let design = designed(scene, &report);
+        report.verdict_after = Some(pipeline::analyze(&design, analysis)?.statics.verdict);
+        report.design = Some(design);
+    }
+    report.seconds = t.elapsed().as_secs_f64();
+    Ok(report)
+}
+
+/// Each block's bounds (supports too: never used).
+fn ranges(analysis: &Analysis, settings: &InfillSettings) -> Vec<DensityRange> {
+    analysis
+        .assembly
+        .blocks
+        .iter()
+        .map(|b| match settings.range {
+            Some((lo, hi)) => DensityRange { lo, hi },
+            None => DensityRange { lo: 0.25 * b.density, hi: b.density },
+        })
+        .collect()
+}
+
+/// The live cases a robust design must carry.
+fn cases(analysis: &Analysis, settings: &InfillSettings) -> Vec<LiveCase> {
+    let assembly = &analysis.assembly;
+    if settings.objective == InfillObjective::Stand {
+        return Vec::new();
+    }
+    if assembly.has_live_loads() {
+        return vec![LiveCase::of(assembly)];
+    }
+    match settings.azimuth {
+        Some(a) => vec![LiveCase::horizontal(assembly, a)],
+        None => (0..settings.directions)
+            .map(|k| LiveCase::horizontal(assembly, 360.0 * k as f64 / settings.directions as f64))
+            .collect(),
+    }
+}
+
+/// One component: the lightest densities that stand, then (robust) the largest λ carried.
+fn component(
+    solve: &mut impl FnMut(DensityGoal) -> DensityOutcome,
+    settings: &InfillSettings,
+    cases: &[LiveCase],
+) -> Found {
+    let light = solve(DensityGoal::Lightest);
+    if light.densities.is_empty() || settings.objective == InfillObjective::Stand {
+        return Found { outcome: light, load_factor: None };
+    }
+    let mut carries = |lambda: f64| {
+        let out = solve(DensityGoal::Carries { lambda, cases });
+        (!out.densities.is_empty()).then_some(out)
+    };
+    let (mut lo, mut best, mut hi) = (0.0, light, 1.0);
+    // Bracket: double λ until the densities cannot carry it.
+    loop {
+        match carries(hi) {
+            Some(out) if hi < UNLIMITED => (lo, best, hi) = (hi, out, 2.0 * hi),
+            Some(out) => return Found { outcome: out, load_factor: Some(hi) },
+            None => break,
+        }
+    }
+    while hi - lo > settings.precision * hi {
+        let mid = 0.5 * (lo + hi);
+        match carries(mid) {
+            Some(out) => (lo, best) = (mid, out),
+            None => hi = mid,
+        }
+    }
+    Found { outcome: best, load_factor: Some(lo) }
+}
+
+/// The report from every component's answer (nothing analysed again yet).
+fn summary(
+    before: &Analysis,
+    comps: &[Component],
+    found: &[Found],
+    ranges: &[DensityRange],
+    objective: InfillObjective,
+) -> InfillReport {
+    let (assembly, interfaces) = (&before.assembly, before.interfaces.as_slice());
+    let mut after: Vec<f64> = assembly.blocks.iter().map(|b| b.density).collect();
+    for (c, f) in comps.iter().zip(found) {
+        for (b, d) in c.blocks.iter().zip(&f.outcome.densities) {
+            after[b.0] = *d;
+        }
+    }
+    let failed = found.iter().find(|f| f.outcome.densities.is_empty() && f.outcome.motions.is_empty());
+    let impossible: Vec<(&Component, &[statics::Motion])> = comps
+        .iter()
+        .zip(found)
+        .filter(|(_, f)| !f.outcome.motions.is_empty())
+        .map(|(c, f)| (c, f.outcome.motions.as_slice()))
+        .collect();
+    let outcome = match (failed, impossible.is_empty()) {
+        (_, false) => InfillOutcome::Impossible,
+        (Some(f), true) => InfillOutcome::SolverFailed { status: f.outcome.status, residual: f.outcome.residual },
+        (None, true) => InfillOutcome::Stands,
+    };
+    let free: Vec<BlockId> = (0..assembly.blocks.len()).map(BlockId).filter(|b| !assembly.block(*b).support).collect();
+    let volume = |b: &BlockId| assembly.block(*b).mass.volume;
+    InfillReport {
+        blocks: free
+            .iter()
+            .map(|&b| BlockDensity {
+                block: assembly.block(b).name.clone(),
+                before: assembly.block(b).density,
+                after: after[b.0],
+                lo: ranges[b.0].lo,
+                hi: ranges[b.0].hi,
+            })
+            .collect(),
+        mass_before: free.iter().map(|b| assembly.block(*b).mass()).sum(),
+        mass_after: free.iter().map(|b| after[b.0] * volume(b)).sum(),
+        verdict_before: before.statics.verdict,
+        verdict_after: None,
+        load_factor: found.iter().filter_map(|f| f.load_factor).reduce(f64::min),
+        mechanism: (!impossible.is_empty()).then(|| Mechanism::new(assembly, interfaces, &impossible)),
+        least_work: found.iter().map(|f| f.outcome.excess).fold(0.0, f64::max),
+        outcome,
+        objective,
+        solves: 0,
+        seconds: 0.0,
+        design: None,
+    }
+}
+
+/// `scene` with the report's densities on its pieces.
+fn designed(scene: &Scene, report: &InfillReport) -> Scene {
+    let mut design = scene.clone();
+    design.densities.extend(report.blocks.iter().map(|b| (b.block.clone(), b.after)));
+    design
+}

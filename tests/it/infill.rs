@@ -1,0 +1,124 @@
+//! Make it stand by mass (`synthesis::infill`): per-block densities within bounds.
+//!
+//! The scene: a plank A (x ∈ [−0.8, 1.2], 0.2 thick) on a support whose edge is x = 0, a tail
+//! block B (x ∈ [−0.8, 0], 0.125 thick) on the plank's back. About the edge, A's weight turns
+//! it over with arm 0.2 and B's holds it back with arm 0.4: with V_A = 0.4, V_B = 0.1 it stands
+//! exactly when 0.04 ρ_B ≥ 0.08 ρ_A, i.e. ρ_B / ρ_A ≥ 2 (the lever rule).
+//!
+//! Invariants: the lightest densities within [150, 600] are ρ_A = 150, ρ_B = 300 (1e-9
+//! relative); with ρ_B ≤ 250 none stands, and the mechanism returned does positive work at
+//! every corner of the bounds (the least of it 1 N·m); the answer does not depend on the unit
+//! of length; the robust design's load factor is the one its densities carry when analysed
+//! again, and both drop-test engines keep it standing where the uniform design falls.
+
+use crate::common::*;
+use voussoir::dynamics::{DropSettings, Engine, drop_test};
+use voussoir::geometry::Vector3;
+use voussoir::model::Scene;
+use voussoir::pipeline::AnalysisSettings;
+use voussoir::stability::{self, Safety};
+use voussoir::statics::Verdict;
+use voussoir::synthesis::{InfillObjective, InfillOutcome, InfillReport, InfillSettings, infill};
+
+/// The overhang of the module docs, lengths times `unit` (1: metres; 1000: millimetres with
+/// gravity in mm/s²).
+fn overhang(unit: f64) -> Scene {
+    let c = |name: &str, lo: [f64; 3], hi: [f64; 3]| cuboid(name, lo.map(|v| v * unit), hi.map(|v| v * unit));
+    let mut s = Scene::new(
+        "overhang",
+        vec![
+            c("support", [-1.0, 0.0, -1.0], [0.0, 1.0, 0.0]).support(true),
+            c("plank", [-0.8, 0.0, 0.0], [1.2, 1.0, 0.2]),
+            c("tail", [-0.8, 0.0, 0.2], [0.0, 1.0, 0.325]),
+        ],
+    );
+    s.gravity = Vector3::new(0.0, 0.0, -9.81 * unit);
+    s
+}
+
+fn run_infill(scene: &Scene, settings: &InfillSettings) -> InfillReport {
+    infill(scene, &AnalysisSettings::default(), settings).expect("infill runs")
+}
+
+fn density(r: &InfillReport, block: &str) -> f64 {
+    r.blocks.iter().find(|b| b.block == block).expect("a free block").after
+}
+
+fn range(lo: f64, hi: f64) -> InfillSettings {
+    InfillSettings { range: Some((lo, hi)), ..Default::default() }
+}
+
+#[test]
+fn the_lightest_densities_meet_the_lever_rule() {
+    let scene = overhang(1.0);
+    assert_eq!(run(&scene, &AnalysisSettings::default()).statics.verdict, Verdict::NeedsTension, "uniform tips");
+    let r = run_infill(&scene, &range(150.0, 600.0));
+    assert_eq!(r.outcome, InfillOutcome::Stands);
+    assert_close(density(&r, "plank"), 150.0, 150.0 * 1e-9, "plank at its lower bound");
+    assert_close(density(&r, "tail"), 300.0, 300.0 * 1e-9, "tail at twice the plank");
+    assert_close(r.mass_after, 0.4 * 150.0 + 0.1 * 300.0, 90.0 * 1e-9, "mass of the infilled design");
+    assert_eq!(r.solves, 1);
+}
+
+#[test]
+fn no_admissible_density_is_certified_by_a_mechanism() {
+    let (lo, hi) = (150.0, 250.0);
+    let r = run_infill(&overhang(1.0), &range(lo, hi));
+    assert_eq!(r.outcome, InfillOutcome::Impossible);
+    assert!(r.design.is_none() && r.verdict_after.is_none());
+    let m = r.mechanism.as_ref().expect("a mechanism");
+    // Work of gravity on the blocks' centroids, at a corner (ρ_A, ρ_B) of the bounds.
+    let down = |name: &str| -m.blocks.iter().find(|b| b.block == name).map_or(0.0, |b| b.translation[2]);
+    let work = |ra: f64, rb: f64| 9.81 * (ra * 0.4 * down("plank") + rb * 0.1 * down("tail"));
+    let corners = [work(lo, lo), work(lo, hi), work(hi, lo), work(hi, hi)];
+    assert!(corners.iter().all(|&w| w > 0.0), "positive work at every corner: {corners:?}");
+    let least = corners.iter().copied().fold(f64::INFINITY, f64::min);
+    assert_close(least, 1.0, 1e-6, "least work over the bounds, normalised");
+    // The least work lies at (ρ_A, ρ_B) = (lo, hi): 9.81 θ (0.08·150 − 0.04·250) = 2·9.81 θ.
+    assert_eq!(least, corners[1]);
+    assert!(r.least_work > 0.0);
+}
+
+#[test]
+fn densities_do_not_depend_on_the_unit_of_length() {
+    let m = run_infill(&overhang(1.0), &range(150.0, 600.0));
+    let mm = run_infill(&overhang(1000.0), &range(150.0, 600.0));
+    for b in ["plank", "tail"] {
+        assert_close(density(&mm, b), density(&m, b), density(&m, b) * 1e-9, b);
+    }
+}
+
+/// A bad range is one error naming it.
+#[test]
+fn a_bad_range_is_an_error() {
+    for (lo, hi) in [(0.0, 600.0), (700.0, 600.0), (150.0, f64::INFINITY)] {
+        let e = infill(&overhang(1.0), &AnalysisSettings::default(), &range(lo, hi)).unwrap_err();
+        assert!(e.to_string().contains("density range"), "{e}");
+    }
+}
+
+#[test]
+fn the_robust_design_carries_its_load_factor_and_stands_in_both_engines() {
+    let scene = overhang(1.0);
+    let settings = InfillSettings { objective: InfillObjective::Robust, azimuth: Some(0.0), ..range(150.0, 600.0) };
+    let r = run_infill(&scene, &settings);
+    assert_eq!(r.outcome, InfillOutcome::Stands);
+    assert_eq!(r.verdict_after, Some(Verdict::Stands));
+    let lambda = r.load_factor.expect("a load factor");
+    let design = r.design.as_ref().expect("a design");
+    // Analysed again under a horizontal field along +x.
+    let analysis = run(design, &AnalysisSettings::default());
+    let settings = voussoir::statics::StaticsSettings::default();
+    let field = stability::with_horizontal_field(&analysis.assembly, 0.0);
+    let again = stability::assess_parts(&field, &analysis.interfaces, true, &settings).expect("load factor");
+    let Safety::Collapses { load_factor } = again.safety else { panic!("{:?}", again.safety) };
+    assert!(load_factor >= lambda * (1.0 - 1e-6), "{load_factor} carries {lambda}");
+    assert!(load_factor <= lambda * (1.0 + 3e-4), "{load_factor} is λ* to the precision 1e-4 ({lambda})");
+    for engine in [Engine::Rapier, Engine::Exact] {
+        let drop = DropSettings { engine, ..Default::default() };
+        let uniform = drop_test(&assembly(&scene), &drop).expect("drop test");
+        assert!(!uniform.stands, "{engine}: the uniform design tips");
+        let infilled = drop_test(&analysis.assembly, &drop).expect("drop test");
+        assert!(infilled.stands, "{engine}: the infilled design stands ({:?})", infilled.max_rotation);
+    }
+}
