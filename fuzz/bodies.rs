@@ -185,7 +185,7 @@ fn perturb(scene: &mut Scene, settings: &mut AnalysisSettings, bytes: &mut Bytes
                 }
             }
         }
-        4 => block.density = Some([1.0, 2400.0, 1e-6, 1e9, 0.0, -5.0][usize::from(bytes.byte() % 6)]),
+        4 => block.density = Some([1.0, 2400.0, 1e-6, 1e9, 0.0, -5.0][usize::from(bytes.byte() % 6)].into()),
         5 => block.support = !block.support,
         6 => scene.material.friction = [0.0, 0.2, 0.5, 0.84, 1.5, f64::NAN][usize::from(bytes.byte() % 6)],
         7 => {

@@ -27,6 +27,10 @@ pub struct InfillArgs {
     /// horizontal load (the scene's live loads when it has some).
     #[arg(long, value_enum, default_value = "stand")]
     pub objective: Objective,
+    /// Cells per axis of each block's box, each with its own density (2: octants, which move
+    /// the block's centroid); 1: one density per block.
+    #[arg(long, default_value_t = InfillSettings::default().cells)]
+    pub cells: usize,
     /// Robust: the one horizontal direction to carry, degrees from +x towards +y; default:
     /// every one of `--directions` evenly spaced azimuths.
     #[arg(long)]
@@ -59,6 +63,7 @@ pub fn run(args: &InfillArgs) -> Result<i32, BadInput> {
             Objective::Stand => InfillObjective::Stand,
             Objective::Robust => InfillObjective::Robust,
         },
+        cells: args.cells,
         azimuth: args.azimuth,
         directions: args.directions,
         ..Default::default()
@@ -85,10 +90,9 @@ const SHOWN: usize = 12;
 /// The headline, the densities that changed and the mass.
 pub fn text(r: &InfillReport) -> String {
     let mut s = match &r.outcome {
-        InfillOutcome::Stands => format!(
-            "INFILLED: {} with these densities\n",
-            r.verdict_after.map_or("not analysed", |v| v.words())
-        ),
+        InfillOutcome::Stands => {
+            format!("INFILLED: {} with these densities\n", r.verdict_after.map_or("not analysed", |v| v.words()))
+        }
         InfillOutcome::Impossible => "IMPOSSIBLE: no density within the bounds makes it stand\n".to_string(),
         InfillOutcome::SolverFailed { status, residual } => {
             format!("UNRESOLVED: the solver stopped ({status:?}, residual {residual:.3e} N)\n")
@@ -101,16 +105,19 @@ pub fn text(r: &InfillReport) -> String {
     s += &format!("  mass of the free blocks: {:.4} kg → {:.4} kg\n", r.mass_before, r.mass_after);
     let changed: Vec<_> = r.blocks.iter().filter(|b| b.after != b.before).collect();
     for b in changed.iter().take(SHOWN) {
-        s += &format!("  {:<24} {:>10.2} → {:>10.2} kg/m³  [{:.0}, {:.0}]\n", b.block, b.before, b.after, b.lo, b.hi);
+        s += &format!("  {:<24} {:>10.2} → {:>10.2} kg/m³  [{:.0}, {:.0}]", b.block, b.before, b.after, b.lo, b.hi);
+        if !b.cells.is_empty() {
+            let cells: Vec<String> = b.cells.iter().map(|c| format!("{c:.0}")).collect();
+            s += &format!("  cells {}", cells.join(" "));
+        }
+        s += "\n";
     }
     if changed.len() > SHOWN {
         s += &format!("  … {} more changed (all in the JSON report)\n", changed.len() - SHOWN);
     }
     if let Some(m) = &r.mechanism {
-        s += &format!(
-            "  the mechanism every admissible mass drives (least work {:.3e} of the weight):\n",
-            r.least_work
-        );
+        s +=
+            &format!("  the mechanism every admissible mass drives (least work {:.3e} of the weight):\n", r.least_work);
         for b in m.blocks.iter().take(SHOWN) {
             let t = b.translation;
             let w = b.rotation;

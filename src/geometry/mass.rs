@@ -55,4 +55,26 @@ impl MassProperties {
         let inertia = Matrix3::identity() * cov.trace() - cov;
         Self { volume, centroid: o + c_rel, inertia }
     }
+
+    /// The mass properties of parts with densities `weights` (relative: the result is per unit
+    /// of their volume-weighted mean), combined: weighted volume, centroid and inertia, each
+    /// part's inertia moved to the common centroid (parallel axes). `None` when the weighted
+    /// volume is not positive.
+    pub fn combined(parts: &[(f64, MassProperties)]) -> Option<Self> {
+        let mass: f64 = parts.iter().map(|(w, p)| w * p.volume).sum();
+        let volume: f64 = parts.iter().map(|(_, p)| p.volume).sum();
+        if !(mass > 0.0 && volume > 0.0) {
+            return None;
+        }
+        let mean = mass / volume;
+        let centroid = parts.iter().map(|(w, p)| p.centroid.coords * (w * p.volume)).sum::<Vector3>() / mass;
+        let inertia = parts
+            .iter()
+            .map(|(w, p)| {
+                let d = p.centroid.coords - centroid;
+                (p.inertia + (Matrix3::identity() * d.norm_squared() - d * d.transpose()) * p.volume) * (w / mean)
+            })
+            .sum();
+        Some(Self { volume, centroid: Point3::from(centroid), inertia })
+    }
 }

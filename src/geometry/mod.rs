@@ -5,6 +5,7 @@
 //! size). Axes: right-handed, z up. Faces are listed counter-clockwise seen from outside, so
 //! Newell normals point outward.
 
+pub mod cells;
 pub mod convex;
 pub mod cut;
 pub(crate) mod format;

@@ -263,7 +263,7 @@ pub fn replay(
                         }
                         let suffix = if several { j.to_string() } else { String::new() };
                         let name = format!("{}.{index}{}{sign}{suffix}", piece.name, blade.label);
-                        let block = Block { name, mesh, support: piece.support, density: piece.density };
+                        let block = Block { name, mesh, support: piece.support, density: piece.density.clone() };
                         next.push((block, child_key(key, sign, j), in_scope));
                     }
                 }
@@ -315,11 +315,11 @@ pub fn resolve(
         };
         b.support = true;
     }
-    for (name, &density) in &scene.densities {
+    for (name, density) in &scene.densities {
         let Some(b) = blocks.iter_mut().find(|b| &b.name == name) else {
             return Err(CutError::UnknownDensity { name: name.clone() });
         };
-        b.density = Some(density);
+        b.density = Some(density.clone());
     }
     let mut out = scene.clone();
     out.blocks = blocks;

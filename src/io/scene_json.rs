@@ -19,7 +19,8 @@
 //! `movements` (default none: `[{"block": "left", "translation": [dx,dy,dz], "rotation":
 //! [rx,ry,rz]}, …]`, a support's whole path in model units and degrees about its centroid;
 //! [`crate::model::movement`]),
-//! and per block `support` (false) and `density` are optional, so the neutral shape without
+//! and per block `support` (false) and `density` (a number, or k³ numbers: one per cell of the
+//! block's box, [`crate::model::Density`]) are optional, so the neutral shape without
 //! `schema` and `ground` loads as is.
 //!
 //! Unknown keys, at every level (the scene, a block, a cut, a load): a key within a typo of a known
@@ -31,7 +32,7 @@
 
 use super::IoError;
 use crate::geometry::{Mesh, Point3, Vector3};
-use crate::model::{Block, Cut, Load, LoadKind, Material, Movement, Scene, Warning};
+use crate::model::{Block, Cut, Density, Load, LoadKind, Material, Movement, Scene, Warning};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
@@ -63,7 +64,7 @@ struct SceneFile {
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     supports: Vec<String>,
     #[serde(default, skip_serializing_if = "std::collections::BTreeMap::is_empty")]
-    densities: std::collections::BTreeMap<String, f64>,
+    densities: std::collections::BTreeMap<String, Density>,
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     order: Vec<String>,
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
@@ -136,7 +137,7 @@ struct BlockFile {
     #[serde(default)]
     support: bool,
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    density: Option<f64>,
+    density: Option<Density>,
 }
 
 fn default_schema() -> u32 {
@@ -316,7 +317,7 @@ pub fn scene_to_string(scene: &Scene) -> String {
                 vertices: b.mesh.vertices.iter().map(|p| [p.x, p.y, p.z]).collect(),
                 faces: b.mesh.faces.clone(),
                 support: b.support,
-                density: b.density,
+                density: b.density.clone(),
             })
             .collect(),
         density: Some(scene.material.density),

@@ -1,6 +1,6 @@
 //! Validated scene: repaired meshes, mass properties, model size, face planes.
 
-use super::{BlockId, BlockLoads, Material, Scene};
+use super::{Block, BlockId, BlockLoads, Density, Material, Scene};
 use crate::geometry::format::significant;
 use crate::geometry::polygon::{area_vector, centroid};
 use crate::geometry::tolerances::AbsTolerances;
@@ -26,6 +26,8 @@ pub enum ModelError {
     EmptyName(usize),
     #[error("block '{block}': density {density} is not a positive finite number (kg/m³)")]
     BadDensity { block: String, density: f64 },
+    #[error("block '{block}': {count} cell densities: {why}")]
+    BadCells { block: String, count: usize, why: &'static str },
     #[error("friction coefficient {0} is not a finite number ≥ 0")]
     BadFriction(f64),
     #[error("compressive strength {0} is not a finite number > 0 (Pa)")]
@@ -167,6 +169,56 @@ pub struct AssemblyBlock {
     pub thickness: f64,
 }
 
+/// A block's density, uniform or per cell, is finite and positive (cells: k³ of them, none
+/// negative, not all zero).
+fn check_density(b: &Block, default: f64) -> Result<(), ModelError> {
+    let bad = |density: f64| ModelError::BadDensity { block: b.name.clone(), density };
+    let cells = |count, why| ModelError::BadCells { block: b.name.clone(), count, why };
+    match b.density.as_ref().unwrap_or(&Density::Uniform(default)) {
+        Density::Uniform(d) if !(*d > 0.0 && d.is_finite()) => Err(bad(*d)),
+        Density::Uniform(_) => Ok(()),
+        Density::Cells(v) => {
+            let k = (v.len() as f64).cbrt().round() as usize;
+            if v.is_empty() || k * k * k != v.len() {
+                return Err(cells(v.len(), "not k³ for any whole k (8 for octants)"));
+            }
+            if let Some(d) = v.iter().find(|d| !(**d >= 0.0 && d.is_finite())) {
+                return Err(cells(v.len(), if d.is_finite() { "one is negative" } else { "one is not finite" }));
+            }
+            if v.iter().all(|d| *d == 0.0) {
+                return Err(cells(v.len(), "all are zero: the block has no mass"));
+            }
+            Ok(())
+        }
+    }
+}
+
+/// A block's mean density and its mass properties per unit of it (`check_density` passed):
+/// with cells, each cell of its grid weighted by its density ([`crate::geometry::cells`]).
+fn block_mass(
+    b: &Block,
+    default: f64,
+    mesh: &Mesh,
+    geometric: MassProperties,
+    eps: f64,
+) -> Result<(f64, MassProperties), ModelError> {
+    let Some(Density::Cells(v)) = &b.density else {
+        let d = match b.density {
+            Some(Density::Uniform(d)) => d,
+            _ => default,
+        };
+        return Ok((d, geometric));
+    };
+    let k = (v.len() as f64).cbrt().round() as usize;
+    let parts: Vec<(f64, MassProperties)> = v.iter().copied().zip(crate::geometry::cells::grid(mesh, k, eps)).collect();
+    let Some(mass) = MassProperties::combined(&parts) else {
+        let why = "the cells with density hold none of the block's volume";
+        return Err(ModelError::BadCells { block: b.name.clone(), count: v.len(), why });
+    };
+    let total: f64 = parts.iter().map(|(d, c)| d * c.volume).sum();
+    Ok((total / mass.volume, mass))
+}
+
 impl AssemblyBlock {
     /// kg.
     pub fn mass(&self) -> f64 {
@@ -232,12 +284,10 @@ impl Assembly {
         let mut warnings = scene.warnings.clone();
         repairs.begin();
         for b in &scene.blocks {
-            let density = b.density.unwrap_or(scene.material.density);
-            if !(density > 0.0 && density.is_finite()) {
-                return Err(ModelError::BadDensity { block: b.name.clone(), density });
-            }
+            check_density(b, scene.material.density)?;
             let r =
                 repairs.repair(&b.mesh, &tol).map_err(|source| ModelError::Mesh { block: b.name.clone(), source })?;
+            let (density, mass) = block_mass(b, scene.material.density, &r.mesh, r.mass, tol.weld)?;
             warnings.extend(r.warnings.into_iter().map(|w| Warning::Repair { block: b.name.clone(), warning: w }));
             let faces = face_data(&r.mesh);
             let largest = faces.iter().map(|f| f.area).fold(0.0, f64::max);
@@ -248,7 +298,7 @@ impl Assembly {
                 support: b.support,
                 density,
                 thickness: r.mass.volume / largest,
-                mass: r.mass,
+                mass,
                 faces,
             });
         }

@@ -51,7 +51,23 @@ pub struct Block {
     /// Fixed body: no equilibrium rows, takes any reaction.
     pub support: bool,
     /// Overrides the scene's density for this block (kg/m³).
-    pub density: Option<f64>,
+    pub density: Option<Density>,
+}
+
+/// A block's density, kg/m³: one for the whole block, or one per cell of its bounding box's
+/// k × k × k grid ([`crate::geometry::cells`]: x fastest, then y, then z; k³ values), which moves
+/// its centroid — an infill design's ([`crate::synthesis::infill`]).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(untagged)]
+pub enum Density {
+    Uniform(f64),
+    Cells(Vec<f64>),
+}
+
+impl From<f64> for Density {
+    fn from(d: f64) -> Self {
+        Density::Uniform(d)
+    }
 }
 
 impl Block {
@@ -118,7 +134,7 @@ pub struct Scene {
     pub supports: Vec<String>,
     /// Densities of pieces after the cut history (kg/m³, by name), overriding the source
     /// shape's and the material's: what an infill design sets ([`crate::synthesis::infill`]).
-    pub densities: std::collections::BTreeMap<String, f64>,
+    pub densities: std::collections::BTreeMap<String, Density>,
     /// An assembly order (piece names, or source-shape names standing for all their pieces
     /// bottom-up) for [`crate::studies::sequence`]; empty when none is given.
     pub order: Vec<String>,

@@ -212,7 +212,7 @@ fn a_warm_start_is_only_a_starting_point() {
     let settings = StaticsSettings::default();
     let wall = builtin("wall?courses=6&bricks=6").unwrap();
     let mut heavier = wall.clone();
-    heavier.blocks[20].density = Some(heavier.material.density * 1.1);
+    heavier.blocks[20].density = Some((heavier.material.density * 1.1).into());
     let (base, edited) = (strict_system(&wall), strict_system(&heavier));
     let (cp_base, cp) =
         (contact_problem(&base, Stage::Strict, &settings), contact_problem(&edited, Stage::Strict, &settings));

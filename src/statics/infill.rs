@@ -2,10 +2,12 @@
 //! compression and friction, the lightest such, and a mechanism that proves when none does.
 //!
 //! A block's self-weight and its acceleration fields scale with its mass, so with a uniform
-//! density ρ_i per block the equilibrium rows `A x = −D` become `A x + Σ_i ρ_i c_i = −p`: c_i
-//! is block i's load per unit density (its volume times gravity plus its dead fields' N/kg, at
-//! its centroid: no moment), p the loads that do not scale (point loads). Linear in (x, ρ):
-//! one LP for the pyramid and box models, one SOCP for the cone, on clarabel.
+//! density ρ_j per cell — a whole block, or a cell of it ([`crate::geometry::cells`]) — the
+//! equilibrium rows `A x = −D` become `A x + Σ_j ρ_j c_j = −p`: c_j is cell j's load per unit
+//! density on its block's rows (its volume times gravity plus the block's dead fields' N/kg,
+//! at the cell's centroid: a moment about the block's centroid when the cell is off it), p the
+//! loads that do not scale (point loads). Linear in (x, ρ): one LP for the pyramid and box
+//! models, one SOCP for the cone, on clarabel.
 //!
 //! - [`DensityGoal::Lightest`]: minimise the component's mass over the densities that stand.
 //! - [`DensityGoal::Carries`]: the same, among densities that also stand under each live case
@@ -16,7 +18,7 @@
 //! When no density within the bounds stands, the minimum-tension LP (then the minimum
 //! friction-excess LP) over the same bounds has a positive optimum T*, and by minimax duality
 //! its equilibrium duals are a mechanism u whose dead-load work is at least T* for every
-//! admissible density: `min over the bounds of (p + Σ ρ_i c_i)·u = T*`. Normalised so that
+//! admissible density: `min over the bounds of (p + Σ ρ_j c_j)·u = T*`. Normalised so that
 //! this least work is 1 N·m.
 //!
 //! Units: densities in kg/m³ outside, ρ / ρ_ref inside (ρ_ref the largest upper bound), forces
@@ -29,13 +31,18 @@ use super::load_factor::{Motion, motions};
 use super::problem::{Accuracy, Cone, ConicProblem, SolverStatus, Strength};
 use super::settings::StaticsSettings;
 use super::stages::LP_TOLERANCE;
+use crate::geometry::{Point3, Vector3};
 use crate::interfaces::Interface;
 use crate::model::Assembly;
 use crate::model::loads::Wrench;
 
-/// One block's density bounds, kg/m³ (0 < lo ≤ hi).
+/// One density variable: a block of the component (its index there) or a cell of it, with
+/// its volume (m³), centroid (m) and bounds (kg/m³, 0 < lo ≤ hi).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct DensityRange {
+pub struct DensityCell {
+    pub block: usize,
+    pub volume: f64,
+    pub centroid: Point3,
     pub lo: f64,
     pub hi: f64,
 }
@@ -86,7 +93,7 @@ pub enum DensityGoal<'c> {
 #[derive(Clone, Debug)]
 pub struct DensityOutcome {
     pub status: SolverStatus,
-    /// Per block of the component, kg/m³; empty when no density within the bounds stands.
+    /// Per cell, kg/m³; empty when no density within the bounds stands.
     pub densities: Vec<f64>,
     /// When none stands (and the goal is [`DensityGoal::Lightest`]): the mechanism, per block
     /// of the component, normalised so that its least dead-load work over the bounds is 1 N·m.
@@ -101,44 +108,66 @@ pub struct DensityOutcome {
 
 /// The density columns and the fixed right-hand side of a component's dead or live rows.
 struct Loading {
-    /// Per block of the component: its force per unit of ρ / ρ_ref (non-dimensional).
-    columns: Vec<[f64; 3]>,
+    /// Per cell: its block rows' entries (6) per unit of ρ / ρ_ref (non-dimensional).
+    columns: Vec<[f64; 6]>,
     /// Minus the loads that do not scale with mass, 6 per block (non-dimensional).
     rhs: Vec<f64>,
 }
 
 impl Loading {
     /// The dead loading of `comp`, plus `lambda` times `case` when given.
-    fn new(assembly: &Assembly, comp: &Component, sys: &System, rho_ref: f64, live: Option<(f64, &LiveCase)>) -> Self {
+    fn new(
+        assembly: &Assembly,
+        comp: &Component,
+        sys: &System,
+        cells: &[DensityCell],
+        rho_ref: f64,
+        live: Option<(f64, &LiveCase)>,
+    ) -> Self {
         let (f, l) = (sys.force_scale, assembly.scale);
-        let mut columns = Vec::with_capacity(comp.blocks.len());
         let mut rhs = vec![0.0; 6 * comp.blocks.len()];
+        let mut per_kg = Vec::with_capacity(comp.blocks.len());
         for (i, &b) in comp.blocks.iter().enumerate() {
-            let blk = assembly.block(b);
             let loads = &assembly.loads[b.0];
-            let mut per_kg: [f64; 3] = std::array::from_fn(|k| assembly.gravity[k] + loads.dead_per_kg[k]);
+            let mut a = Vector3::from_fn(|k, _| assembly.gravity[k] + loads.dead_per_kg[k]);
             let mut fixed = loads.dead;
-            (0..3).for_each(|k| fixed[k] -= loads.dead_per_kg[k] * blk.mass());
+            (0..3).for_each(|k| fixed[k] -= loads.dead_per_kg[k] * assembly.block(b).mass());
             if let Some((lambda, case)) = live {
-                (0..3).for_each(|k| per_kg[k] += lambda * case.per_kg[b.0][k]);
+                a += Vector3::from(case.per_kg[b.0]) * lambda;
                 (0..6).for_each(|k| fixed[k] += lambda * case.fixed[b.0][k]);
             }
-            columns.push(per_kg.map(|a| rho_ref * blk.mass.volume * a / f));
+            per_kg.push(a);
             for k in 0..3 {
                 rhs[6 * i + k] = -fixed[k] / f;
                 rhs[6 * i + 3 + k] = -fixed[3 + k] / (f * l);
             }
         }
+        let columns = cells
+            .iter()
+            .map(|c| {
+                let force = per_kg[c.block] * (rho_ref * c.volume / f);
+                let arm = (c.centroid - assembly.block(comp.blocks[c.block]).mass.centroid) / l;
+                let moment = arm.cross(&force);
+                [force.x, force.y, force.z, moment.x, moment.y, moment.z]
+            })
+            .collect();
         Self { columns, rhs }
     }
 }
 
-/// One copy of a component's problem and its density columns (row, block, value).
+/// One copy of a component's problem and its density columns (row, cell, value).
 type Copy = (ConicProblem, Vec<(usize, usize, f64)>);
 
 /// The stage's conic problem over `sys` with its block rows' right-hand side from `loading`,
-/// and the triplets (row, block, value) of the density columns in its rows.
-fn copy(sys: &System, stage: Stage, settings: &StaticsSettings, loading: &Loading, length_scale: f64) -> Copy {
+/// and the triplets (row, cell, value) of the density columns in its rows.
+fn copy(
+    sys: &System,
+    stage: Stage,
+    settings: &StaticsSettings,
+    cells: &[DensityCell],
+    loading: &Loading,
+    length_scale: f64,
+) -> Copy {
     let mut cp = contact_problem(sys, stage, settings);
     if matches!(stage, Stage::Strict) {
         // Feasibility: the objective is the densities' (the caller's).
@@ -150,11 +179,11 @@ fn copy(sys: &System, stage: Stage, settings: &StaticsSettings, loading: &Loadin
     }
     let mut conic = cp.to_conic();
     conic.b[..loading.rhs.len()].copy_from_slice(&loading.rhs);
-    let columns = loading
-        .columns
+    let columns = cells
         .iter()
+        .zip(&loading.columns)
         .enumerate()
-        .flat_map(|(i, c)| (0..3).filter(|&k| c[k] != 0.0).map(move |k| (6 * i + k, i, c[k])))
+        .flat_map(|(j, (cell, c))| (0..6).filter(|&k| c[k] != 0.0).map(move |k| (6 * cell.block + k, j, c[k])))
         .collect();
     (conic, columns)
 }
@@ -188,14 +217,15 @@ fn stack(copies: Vec<Copy>, bounds: &[(f64, f64)], cost: &[f64]) -> ConicProblem
     out
 }
 
-/// The densities of `comp` (bounds per block of the component) for `goal`.
+/// The densities of `cells` (of `comp`'s blocks; each block's cells together its whole
+/// volume) for `goal`.
 pub fn component_densities(
     assembly: &Assembly,
     interfaces: &[Interface],
     comp: &Component,
     mu: f64,
     settings: &StaticsSettings,
-    ranges: &[DensityRange],
+    cells: &[DensityCell],
     goal: DensityGoal,
 ) -> DensityOutcome {
     let t = std::time::Instant::now();
@@ -203,18 +233,17 @@ pub fn component_densities(
     if settings.strength.is_some() {
         sys = sys.with_stress();
     }
-    let rho_ref = ranges.iter().map(|r| r.hi).fold(0.0, f64::max);
-    let bounds: Vec<(f64, f64)> = ranges.iter().map(|r| (r.lo / rho_ref, r.hi / rho_ref)).collect();
-    // The mass relative to the component's at ρ_ref throughout.
-    let volumes: Vec<f64> = comp.blocks.iter().map(|&b| assembly.block(b).mass.volume).collect();
-    let total: f64 = volumes.iter().sum();
-    let cost: Vec<f64> = volumes.iter().map(|v| v / total).collect();
-    let dead = Loading::new(assembly, comp, &sys, rho_ref, None);
-    let mut copies = vec![copy(&sys, Stage::Strict, settings, &dead, assembly.scale)];
+    let rho_ref = cells.iter().map(|c| c.hi).fold(0.0, f64::max);
+    let bounds: Vec<(f64, f64)> = cells.iter().map(|c| (c.lo / rho_ref, c.hi / rho_ref)).collect();
+    // The mass relative to the component's at ρ_ref.
+    let total: f64 = cells.iter().map(|c| c.volume).sum();
+    let cost: Vec<f64> = cells.iter().map(|c| c.volume / total).collect();
+    let dead = Loading::new(assembly, comp, &sys, cells, rho_ref, None);
+    let mut copies = vec![copy(&sys, Stage::Strict, settings, cells, &dead, assembly.scale)];
     if let DensityGoal::Carries { lambda, cases } = goal {
         for case in cases {
-            let live = Loading::new(assembly, comp, &sys, rho_ref, Some((lambda, case)));
-            copies.push(copy(&sys, Stage::Strict, settings, &live, assembly.scale));
+            let live = Loading::new(assembly, comp, &sys, cells, rho_ref, Some((lambda, case)));
+            copies.push(copy(&sys, Stage::Strict, settings, cells, &live, assembly.scale));
         }
     }
     let n_dead = copies[0].0.n;
@@ -231,11 +260,11 @@ pub fn component_densities(
         solver_seconds: 0.0,
     };
     if found {
-        let r = &out.x[out.x.len() - comp.blocks.len()..];
-        outcome.densities = r.iter().zip(ranges).map(|(r, b)| (r * rho_ref).clamp(b.lo, b.hi)).collect();
-        outcome.residual = residual(&sys, &dead, &out.x[..n_dead], r);
+        let r = &out.x[out.x.len() - cells.len()..];
+        outcome.densities = r.iter().zip(cells).map(|(r, c)| (r * rho_ref).clamp(c.lo, c.hi)).collect();
+        outcome.residual = residual(&sys, cells, &dead, &out.x[..n_dead], r);
     } else if out.status == SolverStatus::Infeasible && matches!(goal, DensityGoal::Lightest) {
-        let cert = certificate(assembly, interfaces, comp, mu, settings, &bounds, rho_ref);
+        let cert = certificate(assembly, interfaces, comp, mu, settings, cells, rho_ref);
         outcome.iterations += cert.iterations;
         outcome.motions = cert.motions;
         outcome.excess = cert.excess;
@@ -253,17 +282,13 @@ fn accuracy(settings: &StaticsSettings) -> Accuracy {
 
 /// ‖A x + C r − rhs‖_∞ of the dead copy, N (`x`: the strict stage's variables, which on a
 /// strict system are the system's own, in its layout).
-fn residual(sys: &System, dead: &Loading, x: &[f64], r: &[f64]) -> f64 {
+fn residual(sys: &System, cells: &[DensityCell], dead: &Loading, x: &[f64], r: &[f64]) -> f64 {
     let mut out = vec![0.0; dead.rhs.len()];
     sys.a_mul(&x[..sys.n()], &mut out);
-    let mut worst = 0.0f64;
-    for (i, c) in dead.columns.iter().enumerate() {
-        for k in 0..6 {
-            let v = out[6 * i + k] + if k < 3 { c[k] * r[i] } else { 0.0 } - dead.rhs[6 * i + k];
-            worst = worst.max(v.abs());
-        }
+    for ((cell, c), r) in cells.iter().zip(&dead.columns).zip(r) {
+        (0..6).for_each(|k| out[6 * cell.block + k] += c[k] * r);
     }
-    worst * sys.force_scale
+    out.iter().zip(&dead.rhs).fold(0.0f64, |m, (a, b)| m.max((a - b).abs())) * sys.force_scale
 }
 
 /// The mechanism of a component no density within the bounds makes stand (module docs).
@@ -279,15 +304,16 @@ fn certificate(
     comp: &Component,
     mu: f64,
     settings: &StaticsSettings,
-    bounds: &[(f64, f64)],
+    cells: &[DensityCell],
     rho_ref: f64,
 ) -> Certificate {
     let sys = System::new(assembly, interfaces, comp, mu, settings.friction_model, true);
-    let dead = Loading::new(assembly, comp, &sys, rho_ref, None);
+    let dead = Loading::new(assembly, comp, &sys, cells, rho_ref, None);
+    let bounds: Vec<(f64, f64)> = cells.iter().map(|c| (c.lo / rho_ref, c.hi / rho_ref)).collect();
     let zero = vec![0.0; bounds.len()];
     let mut iterations = 0;
     for stage in [Stage::Tension, Stage::FrictionExcess { tension: 0.0, penalty: 0.0 }] {
-        let problem = stack(vec![copy(&sys, stage, settings, &dead, assembly.scale)], bounds, &zero);
+        let problem = stack(vec![copy(&sys, stage, settings, cells, &dead, assembly.scale)], &bounds, &zero);
         let out = solve_conic(&problem, accuracy(settings), settings.max_iterations);
         iterations += out.iterations;
         let solved = matches!(out.status, SolverStatus::Solved | SolverStatus::AlmostSolved);

@@ -76,7 +76,7 @@ pub(crate) use cache::component_key;
 pub use cache::{SolveStats, StaticsCache, solve_cached};
 pub use components::{Component, components};
 pub use error::StaticsError;
-pub use infill::{DensityGoal, DensityOutcome, DensityRange, LiveCase, component_densities};
+pub use infill::{DensityCell, DensityGoal, DensityOutcome, LiveCase, component_densities};
 pub use load_factor::{FactorOutcome, Motion, component_load_factor, failure_mechanism, standing_load_factor};
 pub use mechanism::{BlockMotion, InterfaceMotion, JointState, Mechanism};
 pub use problem::{Accuracy, Cone, ConicProblem, FrictionModel, SolverStatus, StressBlock};

@@ -1,5 +1,5 @@
 //! Make it stand by mass: per-block densities within bounds — a 3D print's infill, a mix of
-//! stones — chosen so that the design stands, the lightest such ([`InfillObjective::Stand`]),
+//! stones — or per cell of each block (`cells` per axis: its centroid moves), chosen so that the design stands, the lightest such ([`InfillObjective::Stand`]),
 //! or so that it carries the largest horizontal load ([`InfillObjective::Robust`]).
 //!
 //! Each connected component of free blocks is its own problem ([`statics::component_densities`]:
@@ -21,10 +21,11 @@
 //! so `analyze` and the drop tests read the design as infilled.
 
 use super::DesignError;
-use crate::model::{BlockId, Scene};
+use crate::geometry::MassProperties;
+use crate::model::{BlockId, Density, Scene};
 use crate::pipeline::{self, Analysis, AnalysisSettings};
 use crate::statics::{
-    self, Component, DensityGoal, DensityOutcome, DensityRange, LiveCase, Mechanism, SolverStatus, Verdict,
+    self, Component, DensityCell, DensityGoal, DensityOutcome, LiveCase, Mechanism, SolverStatus, Verdict,
 };
 use serde::Serialize;
 
@@ -45,6 +46,9 @@ pub struct InfillSettings {
     /// density to its density (a print from 25 % infill to solid).
     pub range: Option<(f64, f64)>,
     pub objective: InfillObjective,
+    /// Cells per axis of each block's bounding box, each with its own density (1: one density
+    /// per block; 2: octants, which move the block's centroid).
+    pub cells: usize,
     /// Robust, on a scene without live loads: evenly spaced horizontal azimuths the design
     /// must carry together, or the one `azimuth` (degrees from +x towards +y).
     pub directions: usize,
@@ -55,13 +59,16 @@ pub struct InfillSettings {
 
 impl Default for InfillSettings {
     fn default() -> Self {
-        Self { range: None, objective: InfillObjective::Stand, directions: 8, azimuth: None, precision: 1e-4 }
+        Self { range: None, objective: InfillObjective::Stand, cells: 1, directions: 8, azimuth: None, precision: 1e-4 }
     }
 }
 
 /// Above this load factor a design is taken to carry any horizontal load (a block's weight 16
 /// times over, sideways).
 const UNLIMITED: f64 = 16.0;
+
+/// Cells per axis at most (a block of 6³ cells is 216 density variables).
+const MAX_CELLS: usize = 6;
 
 impl InfillSettings {
     pub fn validate(&self) -> Result<(), DesignError> {
@@ -70,6 +77,9 @@ impl InfillSettings {
             && !(lo > 0.0 && lo <= hi && hi.is_finite())
         {
             return bad(format!("density range {lo},{hi}: need 0 < low ≤ high, finite (kg/m³)"));
+        }
+        if !(1..=MAX_CELLS).contains(&self.cells) {
+            return bad(format!("{} cells per axis: give 1 (a density per block) to {MAX_CELLS}", self.cells));
         }
         if self.directions == 0 {
             return bad("at least one direction is needed".into());
@@ -99,7 +109,8 @@ pub enum InfillOutcome {
     SolverFailed { status: SolverStatus, residual: f64 },
 }
 
-/// One free block's density before and after, kg/m³.
+/// One free block's (mean) density before and after and its bounds, kg/m³; with cells, each
+/// cell's after (x fastest, then y, then z; [`crate::geometry::cells`]).
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct BlockDensity {
     pub block: String,
@@ -107,6 +118,8 @@ pub struct BlockDensity {
     pub after: f64,
     pub lo: f64,
     pub hi: f64,
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub cells: Vec<f64>,
 }
 
 /// What [`infill`] found.
@@ -143,7 +156,11 @@ struct Found {
 }
 
 /// Chooses densities for `scene` (see the module docs).
-pub fn infill(scene: &Scene, analysis: &AnalysisSettings, settings: &InfillSettings) -> Result<InfillReport, DesignError> {
+pub fn infill(
+    scene: &Scene,
+    analysis: &AnalysisSettings,
+    settings: &InfillSettings,
+) -> Result<InfillReport, DesignError> {
     let t = std::time::Instant::now();
     settings.validate()?;
     analysis.statics.validate().map_err(|e| DesignError::Settings(e.to_string()))?;
@@ -154,19 +171,20 @@ pub fn infill(scene: &Scene, analysis: &AnalysisSettings, settings: &InfillSetti
     let ranges = ranges(&before, settings);
     let cases = cases(&before, settings);
     let comps = statics::components(assembly, interfaces);
+    let grids = grids(&before, settings.cells);
     let mut solves = 0;
     let found: Vec<Found> = comps
         .iter()
         .map(|c| {
-            let r: Vec<DensityRange> = c.blocks.iter().map(|b| ranges[b.0]).collect();
+            let cells = cells(c, &grids, &ranges);
             let mut solve = |goal: DensityGoal<'_>| {
                 solves += 1;
-                statics::component_densities(assembly, interfaces, c, mu, &statics_settings, &r, goal)
+                statics::component_densities(assembly, interfaces, c, mu, &statics_settings, &cells, goal)
             };
             component(&mut solve, settings, &cases)
         })
         .collect();
-    let mut report = summary(&before, &comps, &found, &ranges, settings.objective);
+    let mut report = summary(&before, &comps, &found, &grids, &ranges, settings.objective);
     report.solves = solves;
     if report.outcome == InfillOutcome::Stands {
         let design = designed(scene, &report);
@@ -177,15 +195,37 @@ pub fn infill(scene: &Scene, analysis: &AnalysisSettings, settings: &InfillSetti
     Ok(report)
 }
 
-/// Each block's bounds (supports too: never used).
-fn ranges(analysis: &Analysis, settings: &InfillSettings) -> Vec<DensityRange> {
-    analysis
-        .assembly
-        .blocks
+/// Each block's bounds, kg/m³ (supports too: never used).
+fn ranges(analysis: &Analysis, settings: &InfillSettings) -> Vec<(f64, f64)> {
+    let own = |b: &crate::model::AssemblyBlock| (0.25 * b.density, b.density);
+    analysis.assembly.blocks.iter().map(|b| settings.range.unwrap_or_else(|| own(b))).collect()
+}
+
+/// Each block's cells (k per axis; one, the block itself, for k = 1), supports left empty.
+fn grids(analysis: &Analysis, k: usize) -> Vec<Vec<MassProperties>> {
+    let assembly = &analysis.assembly;
+    let eps = assembly.tolerances.weld;
+    let cells = |b: &crate::model::AssemblyBlock| match k {
+        1 => vec![MassProperties::of_mesh(&b.mesh)],
+        _ => crate::geometry::cells::grid(&b.mesh, k, eps),
+    };
+    assembly.blocks.iter().map(|b| if b.support { Vec::new() } else { cells(b) }).collect()
+}
+
+/// The density variables of `comp`: every cell with volume of each of its blocks.
+fn cells(comp: &Component, grids: &[Vec<MassProperties>], ranges: &[(f64, f64)]) -> Vec<DensityCell> {
+    comp.blocks
         .iter()
-        .map(|b| match settings.range {
-            Some((lo, hi)) => DensityRange { lo, hi },
-            None => DensityRange { lo: 0.25 * b.density, hi: b.density },
+        .enumerate()
+        .flat_map(|(i, b)| {
+            let (lo, hi) = ranges[b.0];
+            grids[b.0].iter().filter(|c| c.volume > 0.0).map(move |c| DensityCell {
+                block: i,
+                volume: c.volume,
+                centroid: c.centroid,
+                lo,
+                hi,
+            })
         })
         .collect()
 }
@@ -245,16 +285,32 @@ fn summary(
     before: &Analysis,
     comps: &[Component],
     found: &[Found],
-    ranges: &[DensityRange],
+    grids: &[Vec<MassProperties>],
+    ranges: &[(f64, f64)],
     objective: InfillObjective,
 ) -> InfillReport {
     let (assembly, interfaces) = (&before.assembly, before.interfaces.as_slice());
-    let mut after: Vec<f64> = assembly.blocks.iter().map(|b| b.density).collect();
+    let mut after: Vec<Vec<f64>> = Vec::new();
+    after.resize(assembly.blocks.len(), Vec::new());
     for (c, f) in comps.iter().zip(found) {
-        for (b, d) in c.blocks.iter().zip(&f.outcome.densities) {
-            after[b.0] = *d;
+        let mut densities = f.outcome.densities.iter();
+        for b in c.blocks.iter().filter(|_| !f.outcome.densities.is_empty()) {
+            let (lo, _) = ranges[b.0];
+            // A cell the block does not reach keeps the lower bound (it weighs nothing).
+            after[b.0] = grids[b.0]
+                .iter()
+                .map(|cell| if cell.volume > 0.0 { *densities.next().expect("one per cell") } else { lo })
+                .collect();
         }
     }
+    let mean = |b: BlockId| {
+        let cells = &after[b.0];
+        if cells.is_empty() {
+            return assembly.block(b).density;
+        }
+        let mass: f64 = cells.iter().zip(&grids[b.0]).map(|(d, c)| d * c.volume).sum();
+        mass / grids[b.0].iter().map(|c| c.volume).sum::<f64>()
+    };
     let failed = found.iter().find(|f| f.outcome.densities.is_empty() && f.outcome.motions.is_empty());
     let impossible: Vec<(&Component, &[statics::Motion])> = comps
         .iter()
@@ -275,13 +331,14 @@ fn summary(
             .map(|&b| BlockDensity {
                 block: assembly.block(b).name.clone(),
                 before: assembly.block(b).density,
-                after: after[b.0],
-                lo: ranges[b.0].lo,
-                hi: ranges[b.0].hi,
+                after: mean(b),
+                lo: ranges[b.0].0,
+                hi: ranges[b.0].1,
+                cells: if after[b.0].len() > 1 { after[b.0].clone() } else { Vec::new() },
             })
             .collect(),
         mass_before: free.iter().map(|b| assembly.block(*b).mass()).sum(),
-        mass_after: free.iter().map(|b| after[b.0] * volume(b)).sum(),
+        mass_after: free.iter().map(|&b| mean(b) * volume(&b)).sum(),
         verdict_before: before.statics.verdict,
         verdict_after: None,
         load_factor: found.iter().filter_map(|f| f.load_factor).reduce(f64::min),
@@ -298,6 +355,9 @@ fn summary(
 /// `scene` with the report's densities on its pieces.
 fn designed(scene: &Scene, report: &InfillReport) -> Scene {
     let mut design = scene.clone();
-    design.densities.extend(report.blocks.iter().map(|b| (b.block.clone(), b.after)));
+    design.densities.extend(report.blocks.iter().map(|b| {
+        let density = if b.cells.is_empty() { Density::Uniform(b.after) } else { Density::Cells(b.cells.clone()) };
+        (b.block.clone(), density)
+    }));
     design
 }

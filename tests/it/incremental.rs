@@ -22,7 +22,7 @@ fn rerun_of_an_unchanged_design_reuses_everything() {
     // result is a fresh analysis's, bit for bit.
     let mut heavier = scene.clone();
     let k = heavier.blocks.iter().position(|b| !b.support).unwrap();
-    heavier.blocks[k].density = Some(5000.0);
+    heavier.blocks[k].density = Some(5000.0.into());
     let edited = p.run(&heavier, &settings).unwrap();
     assert_eq!((edited.work.pairs_detected, edited.work.components_solved), (0, 1), "{:?}", edited.work);
     let fresh = analyze(&heavier, &settings).unwrap();

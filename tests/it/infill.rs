@@ -122,3 +122,46 @@ fn the_robust_design_carries_its_load_factor_and_stands_in_both_engines() {
         assert!(infilled.stands, "{engine}: the infilled design stands ({:?})", infilled.max_rotation);
     }
 }
+
+/// A 2 × 1 × 1 block (x ∈ [0, 2]) on a support whose edge is x = 0.8: uniform, its centroid
+/// (x = 1) is past the edge. With octants the left cells (centroids x = 0.5) hold it back and the
+/// right ones (x = 1.5) turn it over: it stands when 0.3 Σ_left ρ ≥ 0.7 Σ_right ρ, so the
+/// lightest fill puts the right cells at the lower bound and the left ones at 7/3 of that in
+/// sum, which brings the centroid exactly over the edge.
+#[test]
+fn cells_move_the_centroid_over_the_support() {
+    let mut scene = Scene::new(
+        "cantilever",
+        vec![
+            cuboid("support", [-1.0, 0.0, -1.0], [0.8, 1.0, 0.0]).support(true),
+            cuboid("block", [0.0, 0.0, 0.0], [2.0, 1.0, 1.0]),
+        ],
+    );
+    scene.material.friction = 0.8;
+    assert_eq!(run(&scene, &AnalysisSettings::default()).statics.verdict, Verdict::NeedsTension);
+    let lo = 100.0;
+    let r = run_infill(&scene, &InfillSettings { cells: 2, ..range(lo, 600.0) });
+    assert_eq!(r.outcome, InfillOutcome::Stands);
+    let cells = &r.blocks[0].cells;
+    assert_eq!(cells.len(), 8);
+    let (left, right): (Vec<_>, Vec<_>) = cells.iter().enumerate().partition(|(c, _)| c % 2 == 0);
+    let sum = |v: &[(usize, &f64)]| v.iter().map(|(_, d)| **d).sum::<f64>();
+    assert_close(sum(&right), 4.0 * lo, 4.0 * lo * 1e-9, "right cells at the lower bound");
+    assert_close(sum(&left), 4.0 * lo * 7.0 / 3.0, lo * 1e-8, "left cells by the moment balance");
+    let design = r.design.as_ref().expect("a design");
+    let a = assembly(&voussoir::history::resolve(design, &Default::default(), &mut Default::default()).unwrap().0);
+    assert_close(a.blocks[1].mass.centroid.x, 0.8, 1e-9, "centroid over the edge");
+    assert_close(a.blocks[1].mass(), r.mass_after, 1e-9 * r.mass_after, "the design's mass is the report's");
+    assert_eq!(r.verdict_after, Some(Verdict::Stands));
+}
+
+/// Cell densities that are not k³ numbers, or negative, are one error naming the block.
+#[test]
+fn bad_cell_densities_are_errors() {
+    for (cells, why) in [(vec![1.0; 7], "not k³"), (vec![-1.0; 8], "negative"), (vec![0.0; 8], "all are zero")] {
+        let mut scene = overhang(1.0);
+        scene.blocks[1].density = Some(voussoir::model::Density::Cells(cells));
+        let e = voussoir::model::Assembly::new(&scene, &Default::default()).unwrap_err().to_string();
+        assert!(e.contains("'plank'") && e.contains(why), "{e}");
+    }
+}

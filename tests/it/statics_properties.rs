@@ -91,7 +91,7 @@ proptest! {
         let scene = design(family, x, y, mu);
         let mut edited = scene.clone();
         let free = edited.blocks.iter().position(|b| !b.support).expect("a free block");
-        edited.blocks[free].density = Some(edited.material.density * heavier);
+        edited.blocks[free].density = Some((edited.material.density * heavier).into());
         let mut warm = settings(0, Backend::Structured);
         warm.statics.warm_start = true;
         let mut pipeline = Pipeline::new();

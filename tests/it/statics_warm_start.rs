@@ -90,8 +90,11 @@ fn moving_a_cut_in_a_wall_gives_the_cold_answer_in_fewer_iterations() {
 /// `scene` with block `k`'s density multiplied by `factor`.
 fn heavier(scene: &Scene, k: usize, factor: f64) -> Scene {
     let mut s = scene.clone();
-    let density = s.blocks[k].density.unwrap_or(s.material.density);
-    s.blocks[k].density = Some(density * factor);
+    let density = match s.blocks[k].density {
+        Some(voussoir::model::Density::Uniform(d)) => d,
+        _ => s.material.density,
+    };
+    s.blocks[k].density = Some((density * factor).into());
     s
 }
 

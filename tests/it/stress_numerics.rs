@@ -72,9 +72,9 @@ fn slivers_of_aspect_1e4() {
 #[test]
 fn masses_a_million_apart() {
     let mut heavy = cube("heavy", [0.0, 0.0, 1.0], 1.0);
-    heavy.density = Some(1e6);
+    heavy.density = Some(1e6.into());
     let mut light = cube("light", [0.0, 0.0, 0.0], 1.0);
-    light.density = Some(1.0);
+    light.density = Some(1.0.into());
     let base = cuboid("base", [-1.0, -1.0, -1.0], [2.0, 2.0, 0.0]).support(true);
     let r = run(&Scene::new("mass ratio", vec![base, light, heavy]), &AnalysisSettings::default()).statics;
     solved(&r, "mass ratio");
@@ -83,9 +83,9 @@ fn masses_a_million_apart() {
     assert_close(top.normal_force, 1e6 * 9.81, 1e-6 * r.free_weight, "the heavy block weight");
     // A light block overhanging a little on a heavy one still needs tension, exactly as much.
     let mut light_top = cube("light_top", [0.75, 0.0, 1.0], 1.0);
-    light_top.density = Some(1.0);
+    light_top.density = Some(1.0.into());
     let mut heavy_low = cube("heavy_low", [0.0, 0.0, 0.0], 1.0);
-    heavy_low.density = Some(1e6);
+    heavy_low.density = Some(1e6.into());
     let base = cuboid("base", [-1.0, -1.0, -1.0], [2.0, 2.0, 0.0]).support(true);
     let r = run(&Scene::new("overhang", vec![base, heavy_low, light_top]), &AnalysisSettings::default()).statics;
     solved(&r, "overhang");

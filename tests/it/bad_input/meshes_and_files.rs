@@ -141,7 +141,7 @@ fn duplicate_and_empty_names_bad_density() {
     let s = Scene::new("empty", vec![Block::new("", unit())]);
     assert!(matches!(Assembly::new(&s, &Default::default()), Err(ModelError::EmptyName(0))));
     let mut b = Block::new("heavy", unit());
-    b.density = Some(-1.0);
+    b.density = Some((-1.0).into());
     let e = Assembly::new(&Scene::new("d", vec![b]), &Default::default()).unwrap_err();
     assert!(e.to_string().contains("'heavy'") && e.to_string().contains("density"), "{e}");
     assert!(matches!(Assembly::new(&Scene::new("none", vec![]), &Default::default()), Err(ModelError::NoBlocks)));
