@@ -10,6 +10,8 @@ use super::{BadInput, load, refuse_overwrite, scene_name, write_output};
 use crate::io::scene_json;
 use crate::statics::Verdict;
 use crate::synthesis::{self, InfillObjective, InfillOutcome, InfillReport, InfillSettings};
+use crate::viz::DiagramMode;
+use crate::viz::plot::diagram::{DiagramPicture, write_diagram};
 use clap::Args;
 use std::path::PathBuf;
 
@@ -43,6 +45,10 @@ pub struct InfillArgs {
     /// Write the JSON report here (atomically).
     #[arg(long)]
     pub json: Option<PathBuf>,
+    /// Picture of the infilled design (.png or .svg): blocks coloured by density (when they
+    /// differ), interfaces by compression.
+    #[arg(long)]
+    pub plot: Option<PathBuf>,
 }
 
 #[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
@@ -52,7 +58,7 @@ pub enum Objective {
 }
 
 pub fn run(args: &InfillArgs) -> Result<i32, BadInput> {
-    for out in std::iter::once(&args.output).chain(&args.json) {
+    for out in std::iter::once(&args.output).chain(&args.json).chain(&args.plot) {
         refuse_overwrite(Some(&args.scene), out, "output")?;
     }
     let name = scene_name(Some(&args.scene)).to_string();
@@ -74,6 +80,11 @@ pub fn run(args: &InfillArgs) -> Result<i32, BadInput> {
     if let Some(design) = &report.design {
         write_output(&args.output, scene_json::scene_to_string(design).as_bytes())?;
         println!("design written to {}", args.output.display());
+    }
+    if let (Some(out), Some(after)) = (&args.plot, &report.analysis) {
+        let picture = DiagramPicture::new(after, DiagramMode::Compression);
+        write_diagram(&picture, out).map_err(|e| BadInput(format!("{}: {e}", out.display())))?;
+        println!("picture written to {}", out.display());
     }
     if let Some(out) = &args.json {
         let json = serde_json::to_string_pretty(&report).expect("a report serialises");
@@ -103,7 +114,7 @@ pub fn text(r: &InfillReport) -> String {
         s += &format!("  carries λ = {l:.4} g horizontally (every direction asked)\n");
     }
     s += &format!("  mass of the free blocks: {:.4} kg → {:.4} kg\n", r.mass_before, r.mass_after);
-    let changed: Vec<_> = r.blocks.iter().filter(|b| b.after != b.before).collect();
+    let changed: Vec<_> = r.blocks.iter().filter(|b| (b.after - b.before).abs() > 1e-9 * b.before).collect();
     for b in changed.iter().take(SHOWN) {
         s += &format!("  {:<24} {:>10.2} → {:>10.2} kg/m³  [{:.0}, {:.0}]", b.block, b.before, b.after, b.lo, b.hi);
         if !b.cells.is_empty() {

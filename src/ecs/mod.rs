@@ -163,11 +163,12 @@ pub struct BlockMesh(pub Mesh);
 #[derive(Component, Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Support;
 
-/// Mass (kg) and volume centroid (m).
+/// Mass (kg), mass centre (m) and mean density (kg/m³).
 #[derive(Component, Clone, Copy, Debug, PartialEq)]
 pub struct MassCentre {
     pub mass: f64,
     pub centroid: Point3,
+    pub density: f64,
 }
 
 /// An interface entity: the two bodies it links (`None` = the ground).

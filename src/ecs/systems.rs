@@ -72,7 +72,7 @@ pub fn write_entities(
     state: Res<PipelineState>,
     mut index: ResMut<BlockIndex>,
     mut written: Local<u64>,
-    blocks: Query<(&BlockMesh, Has<Support>)>,
+    blocks: Query<(&BlockMesh, &MassCentre, Has<Support>)>,
     interfaces: Query<Entity, With<InterfaceOf>>,
 ) {
     if *written == state.generation {
@@ -86,10 +86,11 @@ pub fn write_entities(
     };
     let mut next = HashMap::with_capacity(a.assembly.blocks.len());
     for b in &a.assembly.blocks {
-        let parts = (BlockMesh(b.mesh.clone()), MassCentre { mass: b.mass(), centroid: b.mass.centroid });
+        let mass = MassCentre { mass: b.mass(), centroid: b.mass.centroid, density: b.density };
+        let parts = (BlockMesh(b.mesh.clone()), mass);
         let entity = match index.0.remove(&b.name) {
             Some(e) => {
-                let same = blocks.get(e).is_ok_and(|(m, s)| m.0 == b.mesh && s == b.support);
+                let same = blocks.get(e).is_ok_and(|(m, c, s)| m.0 == b.mesh && *c == mass && s == b.support);
                 if !same {
                     commands.entity(e).insert(parts);
                 }

@@ -23,7 +23,7 @@
 use super::DesignError;
 use crate::geometry::MassProperties;
 use crate::model::{BlockId, Density, Scene};
-use crate::pipeline::{self, Analysis, AnalysisSettings};
+use crate::pipeline::{Analysis, AnalysisSettings, Pipeline};
 use crate::statics::{
     self, Component, DensityCell, DensityGoal, DensityOutcome, LiveCase, Mechanism, SolverStatus, Verdict,
 };
@@ -144,9 +144,12 @@ pub struct InfillReport {
     /// Density problems solved.
     pub solves: usize,
     pub seconds: f64,
-    /// The infilled design (the input with `densities` set), when one was found.
+    /// The infilled design (the input with `densities` set), when one was found, and its
+    /// analysis.
     #[serde(skip)]
     pub design: Option<Scene>,
+    #[serde(skip)]
+    pub analysis: Option<Analysis>,
 }
 
 /// One component's answer.
@@ -164,7 +167,10 @@ pub fn infill(
     let t = std::time::Instant::now();
     settings.validate()?;
     analysis.statics.validate().map_err(|e| DesignError::Settings(e.to_string()))?;
-    let before = pipeline::analyze(scene, analysis)?;
+    // One pipeline for both analyses: the infilled design's differs only in its masses, so its
+    // cut pieces, repairs and interfaces are reused.
+    let mut pipeline = Pipeline::new();
+    let before = pipeline.run(scene, analysis)?;
     let statics_settings = analysis.statics.resolved(&before.assembly);
     let (assembly, interfaces) = (&before.assembly, before.interfaces.as_slice());
     let mu = statics_settings.friction.unwrap_or(assembly.material.friction);
@@ -188,8 +194,10 @@ pub fn infill(
     report.solves = solves;
     if report.outcome == InfillOutcome::Stands {
         let design = designed(scene, &report);
-        report.verdict_after = Some(pipeline::analyze(&design, analysis)?.statics.verdict);
+        let after = pipeline.run(&design, analysis)?;
+        report.verdict_after = Some(after.statics.verdict);
         report.design = Some(design);
+        report.analysis = Some(after);
     }
     report.seconds = t.elapsed().as_secs_f64();
     Ok(report)
@@ -349,6 +357,7 @@ fn summary(
         solves: 0,
         seconds: 0.0,
         design: None,
+        analysis: None,
     }
 }
 

@@ -39,6 +39,8 @@ pub enum ViewerAction {
     SetMode(DiagramMode),
     ToggleTranslucent,
     ToggleMassCentres,
+    /// Colour the blocks by density (an infill design's), or back to stone.
+    ToggleDensity,
     ToggleVertexArrows,
     ToggleLabels,
     /// Show or hide the list of keys in the panel.
@@ -123,6 +125,8 @@ pub struct ViewerState {
     pub mode: DiagramMode,
     pub translucent: bool,
     pub mass_centres: bool,
+    /// Blocks coloured by density.
+    pub density: bool,
     pub vertex_arrows: bool,
     pub labels: bool,
     /// The panel lists the keys.
@@ -154,6 +158,7 @@ impl ViewerState {
             mode: o.mode,
             translucent: o.translucent,
             mass_centres: true,
+            density: false,
             vertex_arrows: false,
             labels: false,
             keys: false,
@@ -272,6 +277,7 @@ impl Effects<'_> {
             }
             A::ToggleTranslucent => s.translucent = !s.translucent,
             A::ToggleMassCentres => s.mass_centres = !s.mass_centres,
+            A::ToggleDensity => s.density = !s.density,
             A::ToggleVertexArrows => s.vertex_arrows = !s.vertex_arrows,
             A::ToggleLabels => s.labels = !s.labels,
             A::ToggleKeys => s.keys = !s.keys,

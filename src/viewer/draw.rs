@@ -44,7 +44,12 @@ pub struct Palette {
     /// The motion pane's rest-state ghosts.
     pub(super) rest: Handle<StandardMaterial>,
     pub(super) interface: Handle<StandardMaterial>,
+    /// Blocks by density, lightest to densest ([`DENSITY_LEVELS`] steps of the ramp).
+    pub(super) density: Vec<Handle<StandardMaterial>>,
 }
+
+/// Steps of the density colours: finer than the eye tells apart on a block face.
+const DENSITY_LEVELS: usize = 16;
 
 #[derive(Component)]
 struct Ground;
@@ -75,6 +80,12 @@ fn setup(mut commands: Commands, mut materials: ResMut<Assets<StandardMaterial>>
             depth_bias: 1000.0,
             ..default()
         }),
+        density: (0..DENSITY_LEVELS)
+            .map(|k| {
+                let c = colors::density(k as f64, 0.0, (DENSITY_LEVELS - 1) as f64);
+                materials.add(lit(Color::linear_rgb(c[0], c[1], c[2])))
+            })
+            .collect(),
     });
     let both = RenderLayers::from_layers(&[0, PHYSICS_LAYER]);
     commands.spawn((
@@ -136,14 +147,32 @@ fn mesh_blocks(
 }
 
 /// What a block's style is computed from, and what it sets.
-type BlockStyle<'a> =
-    (&'a BlockName, Has<Support>, Has<Placed>, &'a mut MeshMaterial3d<StandardMaterial>, &'a mut Visibility);
+type BlockStyle<'a> = (
+    &'a BlockName,
+    Option<&'a MassCentre>,
+    Has<Support>,
+    Has<Placed>,
+    &'a mut MeshMaterial3d<StandardMaterial>,
+    &'a mut Visibility,
+);
 
 /// Material and visibility of every block from the state (set only where they differ).
 fn style_blocks(state: Res<ViewerState>, palette: Res<Palette>, mut blocks: Query<BlockStyle>) {
-    for (name, support, placed, mut material, mut visibility) in &mut blocks {
+    // The density scale: the free blocks' lightest to densest.
+    let (lo, hi) = blocks
+        .iter()
+        .filter(|b| !b.2)
+        .filter_map(|b| b.1.map(|m| m.density))
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), d| (lo.min(d), hi.max(d)));
+    let level = |d: f64| {
+        let t = if hi > lo { (d - lo) / (hi - lo) } else { 0.5 };
+        ((t * (DENSITY_LEVELS - 1) as f64).round() as usize).min(DENSITY_LEVELS - 1)
+    };
+    for (name, mass, support, placed, mut material, mut visibility) in &mut blocks {
         let want = if state.selected.as_deref() == Some(name.0.as_str()) {
             &palette.selected
+        } else if let (true, false, Some(m)) = (state.density, support, mass) {
+            &palette.density[level(m.density)]
         } else if support && state.translucent {
             &palette.support_translucent
         } else if support {

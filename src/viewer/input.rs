@@ -40,6 +40,7 @@ fn keys(keys: Res<ButtonInput<KeyCode>>, mut actions: MessageWriter<ViewerAction
             (KeyCode::Digit3, _) => send(ViewerAction::SetMode(DiagramMode::Vectors)),
             (KeyCode::KeyT, _) => send(ViewerAction::ToggleTranslucent),
             (KeyCode::KeyM, _) => send(ViewerAction::ToggleMassCentres),
+            (KeyCode::KeyI, _) => send(ViewerAction::ToggleDensity),
             (KeyCode::KeyV, _) => send(ViewerAction::ToggleVertexArrows),
             (KeyCode::KeyL, _) => send(ViewerAction::ToggleLabels),
             (KeyCode::KeyH, _) => send(ViewerAction::ToggleKeys),

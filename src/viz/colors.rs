@@ -9,6 +9,7 @@
 //!   interface from its friction resultant's use u = |F_t| / (μ · compression) — grey without
 //!   friction, yellow up to a user threshold, orange shades from the threshold up to μ (deeper
 //!   nearer μ), red where the friction model is exceeded (or friction acts without compression).
+//! - Density: blocks from light sand (lightest) to deep umber (densest), an infill design's.
 //! - Verdicts and joint states: the colour of what an analysis says (the viewer's panel, the
 //!   plots' strips and text, the mechanism's moving interfaces).
 
@@ -48,6 +49,17 @@ pub const FAILS_ON_WHITE: Srgb = srgb8(190, 20, 20);
 /// A moved block in a motion picture (the viewer's motion pane, the mechanism PNG): violet,
 /// a colour no diagram legend uses.
 pub const MOVED: Srgb = [0.60, 0.45, 0.88];
+
+/// Blocks by density (an infill design's): light sand at the lowest density shown, deep umber
+/// at the highest, linear between (linear RGB).
+pub const DENSITY_LOW: Rgb = [0.93, 0.86, 0.66];
+pub const DENSITY_HIGH: Rgb = [0.25, 0.10, 0.03];
+
+/// The colour of density `d` on the scale from `lo` to `hi` (the middle when they are equal).
+pub fn density(d: f64, lo: f64, hi: f64) -> Rgb {
+    let t = if hi > lo { ((d - lo) / (hi - lo)).clamp(0.0, 1.0) as f32 } else { 0.5 };
+    [0, 1, 2].map(|k| DENSITY_LOW[k] + t * (DENSITY_HIGH[k] - DENSITY_LOW[k]))
+}
 
 /// The colour of `verdict` on the viewer's dark panel (`None`: no analysis yet).
 pub fn verdict(verdict: Option<Verdict>) -> Srgb {

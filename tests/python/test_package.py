@@ -401,6 +401,27 @@ def test_settle_a_block_on_a_tilting_slab():
         voussoir.settle(scene, moves=["nowhere:1,0,0"], quasi_static=True)
 
 
+def test_infill_meets_the_lever_rule():
+    # A plank overhanging its support's edge (x = 0) by a centroid arm of 0.2, a tail on its back
+    # with arm 0.4 (tests/it/infill.rs): V_plank = 0.4, V_tail = 0.1, so it stands exactly when
+    # rho_tail >= 2 rho_plank. The lightest within [150, 600]: 150 and 300; the design written
+    # stands and carries the densities by piece; with [150, 250] none holds it.
+    scene = voussoir.Scene.from_arrays(
+        [box(-1, 0, -1, 0, 1, 0), box(-0.8, 0, 0, 1.2, 1, 0.2), box(-0.8, 0, 0.2, 0, 1, 0.325)], supports=[0]
+    )
+    assert voussoir.analyze(scene).verdict == "needs_tension"
+    design, report = voussoir.infill(scene, density_range=(150, 600))
+    after = {b["block"]: b["after"] for b in report["blocks"]}
+    assert list(after.values()) == pytest.approx([150, 300], rel=1e-9)
+    assert report["outcome"]["kind"] == "stands" and report["verdict_after"] == "stands"
+    assert voussoir.analyze(design).verdict == "stands"
+    assert json.loads(design.to_json())["densities"] == pytest.approx(after, rel=1e-12)
+    none, report = voussoir.infill(scene, density_range=(150, 250))
+    assert none is None and report["outcome"]["kind"] == "impossible" and report["mechanism"]["blocks"]
+    with pytest.raises(voussoir.InputError, match="density range"):
+        voussoir.infill(scene, density_range=(0, 600))
+
+
 def test_cut_history_and_supports_edits():
     scene = voussoir.Scene.builtin("stack?n=1&a=1")
     cut = scene.with_cut([0.0, 0.0, 0.5], [0.0, 0.0, 1.0])

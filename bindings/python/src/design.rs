@@ -1,5 +1,5 @@
 //! Automatic design from Python: `repair` (move and turn a design's cuts until it stands, then
-//! stands most safely) and `decompose` (a cut history for a source shape, by courses or with
+//! stands most safely), `infill` (per-block or per-cell densities that make it stand) and `decompose` (a cut history for a source shape, by courses or with
 //! the beds normal to the thrust) — the library's `design` stages with Python's arguments;
 //! solves run with the GIL released.
 
@@ -9,7 +9,7 @@ use crate::settings::solve_function;
 use crate::tasks::json_to_python;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use voussoir::synthesis::{self, BlockSize, Field, RepairSettings, ThrustSettings};
+use voussoir::synthesis::{self, BlockSize, Field, InfillObjective, InfillSettings, RepairSettings, ThrustSettings};
 
 solve_function! {
     /// Moves and turns the cuts of `scene` (all, or the indices in `cuts`) until it stands and, with
@@ -94,5 +94,43 @@ solve_function! {
         };
         out.set_item("rounds", rounds)?;
         Ok((scene.edited(generated.design), out))
+    }
+}
+
+solve_function! {
+    /// Densities within `density_range` (kg/m³; default: from a quarter of each block's density to
+    /// it) that make `scene` stand (`voussoir infill`): `objective` "stand" (the lightest) or
+    /// "robust" (the largest horizontal load carried: along `azimuth`, else `directions` azimuths;
+    /// the scene's live loads when it has some); `cells` per axis of each block's box, each with
+    /// its own density. Returns the infilled design (None when no density holds it) and the
+    /// report as a dict (`infill --json`): `outcome`, `blocks`, masses, verdicts, `load_factor`,
+    /// and when impossible the `mechanism` every admissible mass drives.
+    pub fn infill<'py>(
+        py, scene,
+        density_range: Option<(f64, f64)> = None, objective: &str = "stand", cells: Option<usize> = None,
+        azimuth: Option<f64> = None, directions: Option<usize> = None,
+        ..options(mu, friction_model, solver, supports, ground, density, strength)
+    ) -> PyResult<(Option<Scene>, Bound<'py, PyAny>)> {
+        let objective = match objective {
+            "stand" => InfillObjective::Stand,
+            "robust" => InfillObjective::Robust,
+            other => return Err(errors::setting(format!("objective: '{other}' is neither \"stand\" nor \"robust\""))),
+        };
+        let d = InfillSettings::default();
+        let infill = InfillSettings {
+            range: density_range,
+            objective,
+            cells: cells.unwrap_or(d.cells),
+            azimuth,
+            directions: directions.unwrap_or(d.directions),
+            ..d
+        };
+        let (design, settings) = options.apply(scene)?;
+        let source = scene.source.as_str();
+        let mut report = py
+            .detach(|| synthesis::infill(&design, &settings, &infill).map_err(|e| e.to_string()))
+            .map_err(|e| errors::input(source, e))?;
+        let text = serde_json::to_string(&report).map_err(errors::setting)?;
+        Ok((report.design.take().map(|d| scene.edited(d)), json_to_python(py, &text)?))
     }
 }

@@ -260,6 +260,27 @@ def repair(
     stands, then (`robust`) stands most safely; and the report (`repair --json`). The same
     `seed` gives the same design."""
 
+def infill(
+    scene: Scene,
+    *,
+    density_range: Optional[tuple[float, float]] = None,
+    objective: Literal["stand", "robust"] = "stand",
+    cells: Optional[int] = None,
+    azimuth: Optional[float] = None,
+    directions: Optional[int] = None,
+    mu: Optional[float] = None,
+    friction_model: Optional[FrictionModel] = None,
+    solver: Optional[Solver] = None,
+    supports: Optional[Supports] = None,
+    ground: Optional[bool] = None,
+    density: Optional[float] = None,
+    strength: Optional[float] = None,
+) -> tuple[Optional[Scene], dict[str, Any]]:
+    """`voussoir infill`: densities within `density_range` (kg/m³) that make the design stand —
+    the lightest ("stand") or carrying the largest horizontal load ("robust"), per block or per
+    cell (`cells` per axis); the infilled design (None when no density holds it, the report's
+    `mechanism` then says why) and the report (`infill --json`)."""
+
 def decompose(
     scene: Scene,
     *,

@@ -74,6 +74,7 @@ struct Label;
 const KEYS: &str = "left click select · right drag orbit\n\
 shift+right / middle drag pan · wheel zoom\n\
 1 2 3 diagram · T translucent · M centres\n\
+I blocks by density (infill)\n\
 V point forces · L labels · F frame\n\
 C cut selected · PgUp/PgDn move cut\n\
 arrows turn cut · Backspace drop cut\n\
@@ -92,6 +93,7 @@ const ACTION_ROWS: [&[(&str, ViewerAction)]; 3] = [
     &[
         ("T Translucent", ViewerAction::ToggleTranslucent),
         ("M Centres", ViewerAction::ToggleMassCentres),
+        ("I Density", ViewerAction::ToggleDensity),
         ("V Points", ViewerAction::ToggleVertexArrows),
         ("L Labels", ViewerAction::ToggleLabels),
     ],
@@ -214,6 +216,7 @@ fn is_on(action: &ViewerAction, state: &ViewerState) -> bool {
         A::SetMode(m) => std::mem::discriminant(m) == std::mem::discriminant(&state.mode),
         A::ToggleTranslucent => state.translucent,
         A::ToggleMassCentres => state.mass_centres,
+        A::ToggleDensity => state.density,
         A::ToggleVertexArrows => state.vertex_arrows,
         A::ToggleLabels => state.labels,
         A::ToggleMechanism => state.overlay == Overlay::Mechanism,

@@ -26,12 +26,26 @@ pub struct DiagramPicture<'a> {
     pub azimuth_deg: f64,
     pub elevation_deg: f64,
     pub size: (u32, u32),
+    /// Fill the free blocks by density ([`colors::density`], lightest to densest) instead of
+    /// translucent stone: an infill design.
+    pub densities: bool,
 }
 
 impl<'a> DiagramPicture<'a> {
-    /// The default view (azimuth −60°, elevation 25°, 1280 × 900 px).
+    /// The default view (azimuth −60°, elevation 25°, 1280 × 900 px); the blocks by density
+    /// when their densities differ.
     pub fn new(analysis: &'a Analysis, mode: DiagramMode) -> Self {
-        Self { analysis, mode, azimuth_deg: -60.0, elevation_deg: 25.0, size: (1280, 900) }
+        let mut p =
+            Self { analysis, mode, azimuth_deg: -60.0, elevation_deg: 25.0, size: (1280, 900), densities: false };
+        let (lo, hi) = p.density_range();
+        p.densities = hi > lo * (1.0 + 1e-9);
+        p
+    }
+
+    /// The free blocks' lightest and densest density, kg/m³.
+    fn density_range(&self) -> (f64, f64) {
+        let free = self.analysis.assembly.blocks.iter().filter(|b| !b.support);
+        free.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), b| (lo.min(b.density), hi.max(b.density)))
     }
 }
 
@@ -109,9 +123,14 @@ impl DiagramPicture<'_> {
         let a = self.analysis;
         let mut prims = Vec::new();
         let stone: Rgb = [0.85, 0.82, 0.76];
+        let (lo, hi) = self.density_range();
         for block in &a.assembly.blocks {
             let m = &block.mesh;
-            let (fill, alpha) = if block.support { ([0.4, 0.4, 0.43], 0.45) } else { (stone, 0.16) };
+            let (fill, alpha) = match (block.support, self.densities) {
+                (true, _) => ([0.4, 0.4, 0.43], 0.45),
+                (false, true) => (colors::density(block.density, lo, hi), 0.55),
+                (false, false) => (stone, 0.16),
+            };
             for face in &m.faces {
                 let pts: Vec<Point3<f64>> = face.iter().map(|&k| m.vertices[k]).collect();
                 let centre = Point3::from(pts.iter().map(|p| p.coords).sum::<Vector3<f64>>() / pts.len() as f64);
@@ -228,7 +247,12 @@ impl DiagramPicture<'_> {
             let colour = if k == 3 { rgb(colors::stands_on_white(s.stands)) } else { BLACK };
             root.draw(&Text::new(line.clone(), (x, 20 + 24 * k as i32), f.color(&colour)))?;
         }
-        let legend = crate::viz::legend(self.mode);
+        let mut legend = crate::viz::legend(self.mode);
+        if self.densities {
+            let (lo, hi) = self.density_range();
+            legend.push((colors::DENSITY_LOW, format!("lightest block {lo:.0} kg/m³")));
+            legend.push((colors::DENSITY_HIGH, format!("densest block {hi:.0} kg/m³")));
+        }
         let y0 = 20 + 24 * lines.len() as i32 + 20;
         for (k, (c, label)) in legend.iter().enumerate() {
             let y = y0 + 26 * k as i32;
