@@ -1,5 +1,8 @@
 //! Decomposition: cutting a 10 000-face mesh, replaying a 50-cut history cold, and re-applying
-//! it after moving one cut (with the content cache: about one cut's work, not fifty).
+//! it after moving one cut (with the content cache: about one cut's work, not fifty); and
+//! generation without hints (issue #42): the solid arch (`assets/shapes/solid_arch.json`) in 11
+//! blocks along the load path found (horizontal courses analysed, then radial about the fitted
+//! axis, analysed), and the Fig 9 box by a running bond extruded to its apex.
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use std::hint::black_box;
@@ -7,6 +10,8 @@ use voussoir::geometry::cut::split;
 use voussoir::geometry::{Mesh, Plane, Point3, Vector3};
 use voussoir::history::{CutCache, replay};
 use voussoir::model::{Block, Cut};
+use voussoir::pipeline::AnalysisSettings;
+use voussoir::synthesis::{BlockSize, found_courses, pattern};
 
 /// UV sphere of radius 1 with `n` × `n` faces (quads, triangles at the poles).
 fn sphere(n: usize) -> Mesh {
@@ -65,5 +70,23 @@ fn bench(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, bench);
+fn generate(c: &mut Criterion) {
+    let shape = |name: &str| {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/shapes").join(name);
+        voussoir::io::load_scene(&path).unwrap()
+    };
+    let (arch, fig9) = (shape("solid_arch.json"), shape("fig9_box.json"));
+    let settings = AnalysisSettings::default();
+    let mut g = c.benchmark_group("generate");
+    g.sample_size(20);
+    g.bench_function("solid_arch_found_11_blocks", |b| {
+        b.iter(|| black_box(found_courses(&arch, &BlockSize::Count(11), true, &settings).unwrap()))
+    });
+    g.bench_function("fig9_box_pattern_0.4", |b| {
+        b.iter(|| black_box(pattern(&fig9, [0.0, 0.0, -1.0], &BlockSize::Max(0.4), true).unwrap()))
+    });
+    g.finish();
+}
+
+criterion_group!(benches, bench, generate);
 criterion_main!(benches);

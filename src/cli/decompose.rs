@@ -1,4 +1,6 @@
-//! `voussoir decompose SHAPE (--blocks N | --max-size L) [--strategy courses|thrust] -o OUT.json`:
+//! `voussoir decompose SHAPE (--blocks N | --max-size L) [--strategy courses|thrust|pattern
+//! --apex x,y,z] -o OUT.json`: a running bond extruded to an apex with `pattern`
+//! ([`crate::synthesis::pattern`]), or
 //! a cut history for a source shape by courses ([`crate::synthesis::generate`]) — horizontal
 //! beds, or beds through an axis with `--center`/`--axis` (arches, vaults) — with staggered
 //! head joints, the beds turned normal to the thrust with `--strategy thrust`
@@ -10,9 +12,11 @@ use super::choice::Choice;
 use super::options::SolverOptions;
 use super::{BadInput, load, numbers, refuse_overwrite, scene_name, write_output};
 use crate::io::scene_json;
+use crate::model::Scene;
+use crate::pipeline::AnalysisSettings;
 use crate::pipeline::analyze;
 use crate::statics::Verdict;
-use crate::synthesis::{self, BlockSize, Field, RepairSettings, ThrustSettings};
+use crate::synthesis::{self, BlockSize, DesignError, Field, Generated, RepairSettings, ThrustSettings};
 use clap::Args;
 use clap::ValueEnum;
 use std::path::PathBuf;
@@ -29,16 +33,23 @@ pub struct DecomposeArgs {
     /// Largest block dimension along the cut directions, m.
     #[arg(long)]
     pub max_size: Option<f64>,
-    /// Courses through an axis (arches, barrel vaults): a point `x,y,z` on it.
+    /// Courses through an axis (arches, barrel vaults): a point `x,y,z` on it. Without it the
+    /// load path is found: horizontal beds, or when those do not stand, radial beds about the
+    /// axis the shape's curved faces turn about (an arch's centre).
     #[arg(long, allow_hyphen_values = true)]
     pub center: Option<String>,
     /// The axis' direction `x,y,z` (with `--center`).
     #[arg(long, allow_hyphen_values = true, default_value = "0,1,0", requires = "center")]
     pub axis: String,
     /// How the beds are placed: `courses` across the field, or `thrust`: turned normal to the
-    /// force an analysis finds crossing them (arches, vaults, buttresses).
+    /// force an analysis finds crossing them (arches, vaults, buttresses); or `pattern`: a
+    /// running bond on the outer surface extruded to `--apex` (shells, the seed's Fig 9).
     #[arg(long, value_enum, value_parser = Choice::<Strategy>::new(), default_value_t = Strategy::Courses)]
     pub strategy: Strategy,
+    /// The apex every joint of `--strategy pattern` passes through, `x,y,z` (outside the shape,
+    /// on the side away from the surface the pattern is drawn on).
+    #[arg(long, allow_hyphen_values = true, required_if_eq("strategy", "pattern"))]
+    pub apex: Option<String>,
     /// Head joints in line between courses (stack bond) instead of staggered.
     #[arg(long)]
     pub no_stagger: bool,
@@ -58,19 +69,13 @@ pub struct DecomposeArgs {
 pub enum Strategy {
     Courses,
     Thrust,
+    Pattern,
 }
 
 pub fn run(args: &DecomposeArgs) -> Result<i32, BadInput> {
     refuse_overwrite(Some(&args.scene), &args.output, "-o")?;
     let name = scene_name(Some(&args.scene)).to_string();
     let shape = load(Some(&args.scene))?;
-    let field = match &args.center {
-        None => Field::Vertical,
-        Some(c) => Field::Radial {
-            center: numbers::<3>("--center", c, "x,y,z")?,
-            axis: numbers::<3>("--axis", &args.axis, "x,y,z")?,
-        },
-    };
     let size = match (args.blocks, args.max_size) {
         (Some(n), _) => BlockSize::Count(n),
         (None, Some(l)) => BlockSize::Max(l),
@@ -78,13 +83,7 @@ pub fn run(args: &DecomposeArgs) -> Result<i32, BadInput> {
     };
     let bad = |e: synthesis::DesignError| BadInput(format!("{name}: {e}"));
     let settings = args.solver.settings();
-    let generated = match args.strategy {
-        Strategy::Courses => synthesis::courses(&shape, &field, &size, !args.no_stagger),
-        Strategy::Thrust => {
-            synthesis::thrust(&shape, &field, &size, !args.no_stagger, &ThrustSettings::default(), &settings)
-        }
-    }
-    .map_err(bad)?;
+    let (generated, found_field) = generate(args, &shape, &size, &settings)?.map_err(bad)?;
     println!(
         "{} courses, {} pieces (block size {:.4} m), {} cuts",
         generated.courses,
@@ -92,6 +91,9 @@ pub fn run(args: &DecomposeArgs) -> Result<i32, BadInput> {
         generated.max_size,
         generated.design.cuts.len()
     );
+    if let Some(found) = &found_field {
+        println!("load path: {}", describe(found));
+    }
     if let Some(r) = &generated.rounds {
         println!(
             "beds normal to the thrust after {} analyses ({}; last turn {:.3}°), at most {:.2}° from the field's{}",
@@ -121,4 +123,57 @@ pub fn run(args: &DecomposeArgs) -> Result<i32, BadInput> {
     write_output(&args.output, scene_json::scene_to_string(&design).as_bytes())?;
     println!("design written to {}", args.output.display());
     Ok(if stands { 0 } else { 1 })
+}
+
+/// The design by the chosen strategy, and the load path found when `--center` was not given
+/// (courses, thrust); the outer error is bad options, the inner the strategy's.
+fn generate(
+    args: &DecomposeArgs,
+    shape: &Scene,
+    size: &BlockSize,
+    settings: &AnalysisSettings,
+) -> Result<Result<(Generated, Option<Field>), DesignError>, BadInput> {
+    let given = match &args.center {
+        None => None,
+        Some(c) => Some(Field::Radial {
+            center: numbers::<3>("--center", c, "x,y,z")?,
+            axis: numbers::<3>("--axis", &args.axis, "x,y,z")?,
+        }),
+    };
+    let stagger = !args.no_stagger;
+    let found = || synthesis::found_courses(shape, size, stagger, settings);
+    Ok(match (args.strategy, given) {
+        (Strategy::Courses, None) => found().map(|(g, f)| (g, Some(f))),
+        (Strategy::Courses, Some(f)) => synthesis::courses(shape, &f, size, stagger).map(|g| (g, None)),
+        (Strategy::Thrust, given) => {
+            let (field, found) = match given {
+                Some(f) => (f, None),
+                None => match found() {
+                    Ok((_, f)) => (f, Some(f)),
+                    Err(e) => return Ok(Err(e)),
+                },
+            };
+            synthesis::thrust(shape, &field, size, stagger, &ThrustSettings::default(), settings).map(|g| (g, found))
+        }
+        (Strategy::Pattern, _) => {
+            let apex = numbers::<3>("--apex", args.apex.as_deref().unwrap_or_default(), "x,y,z")?;
+            synthesis::pattern(shape, apex, size, stagger).map(|g| (g, None))
+        }
+    })
+}
+
+/// A field in words, for the line saying which load path was found.
+fn describe(field: &Field) -> String {
+    match field {
+        Field::Vertical => "vertical (horizontal beds)".into(),
+        Field::Radial { center, axis } => format!(
+            "round the axis through ({:.4}, {:.4}, {:.4}) along ({:.3}, {:.3}, {:.3}), fitted to the curved faces (radial beds)",
+            center[0] + 0.0,
+            center[1] + 0.0,
+            center[2] + 0.0,
+            axis[0] + 0.0,
+            axis[1] + 0.0,
+            axis[2] + 0.0
+        ),
+    }
 }

@@ -706,7 +706,7 @@ fn decompose_by_thrust_settles() {
     ]);
     assert_eq!(o.status.code(), Some(2));
     assert!(
-        String::from_utf8_lossy(&o.stderr).contains("--strategy funicular: expected courses or thrust"),
+        String::from_utf8_lossy(&o.stderr).contains("--strategy funicular: expected courses, thrust"),
         "{}",
         String::from_utf8_lossy(&o.stderr)
     );

@@ -35,6 +35,7 @@ mod load_factor;
 mod mass_properties;
 mod no_panic_inputs;
 mod pattern_cut;
+mod pattern_generate;
 mod plane_cut;
 mod readers;
 mod real_data_interfaces;

@@ -274,3 +274,77 @@ fn catenary_by_thrust_joints_normal_to_the_centre_line() {
     assert!(after.iter().all(|&r| r < 1.0), "{after:?}");
     assert!(to_force.iter().all(|&f| f < 0.5), "{to_force:?}");
 }
+
+/// A pointed arch as one solid: two arcs of centre-line radius `r` whose centres are `c` either
+/// side of the middle (each half centred on the other side), thickness t, depth 0.25 m, on the
+/// ground.
+fn pointed_arch(r: f64, c: f64, t: f64) -> Scene {
+    let segments = 48;
+    // The right half: centre (−c, 0), from the springing (angle 0) to the crown at x = 0.
+    let half = |rho: f64| -> Vec<Point3> {
+        let top = (c / rho).acos();
+        (0..=segments)
+            .map(|k| {
+                let a = top * k as f64 / segments as f64;
+                Point3::new(rho * a.cos() - c, 0.0, rho * a.sin())
+            })
+            .collect()
+    };
+    let mirror = |p: &Point3| Point3::new(-p.x, p.y, p.z);
+    let (outer, inner) = (half(r + t / 2.0), half(r - t / 2.0));
+    let mut outline: Vec<Point3> = outer.clone();
+    outline.extend(outer.iter().rev().skip(1).map(mirror));
+    outline.extend(inner.iter().map(mirror));
+    outline.extend(inner.iter().rev().skip(1));
+    let mut scene =
+        Scene::new("pointed", vec![Block::new("pointed", Mesh::prism(&outline, Vector3::new(0.0, 0.25, 0.0)))]);
+    scene.ground = true;
+    scene
+}
+
+/// The largest angle (degrees) between a joint's plane and the radius from its centre
+/// (`centre(x)` of the joint's centroid x, z) through its centroid (0 for a radial joint), over
+/// the joints between pieces.
+fn off_radial(a: &voussoir::pipeline::Analysis, centre: impl Fn(f64) -> [f64; 2]) -> f64 {
+    a.interfaces
+        .iter()
+        .filter(|i| i.a.block().is_some() && i.b.block().is_some())
+        .map(|itf| {
+            let c = itf.centroid();
+            let o = centre(c.x);
+            let radial = Vector3::new(c.x - o[0], 0.0, c.z - o[1]).normalize();
+            itf.frame.n.dot(&radial).abs().asin().to_degrees()
+        })
+        .fold(0.0, f64::max)
+}
+
+/// Invariants (the load path found, `synthesis::found_courses`): the solid semicircular arch of
+/// t/R 0.15, decomposed with only a block count (9, 12, 15), comes out radial about its centre
+/// (fitted to its curved faces: joints within 1e-6° of radial) and stands, as the voussoir arch
+/// does; a pointed arch (centres 0.3 either side, t 0.2 on r 1.3) gets beds within 15° of radial
+/// about its halves' centres and stands; the L wall has no axis (its faces are flat) and keeps
+/// horizontal beds.
+#[test]
+fn the_load_path_is_found_without_hints() {
+    let settings = AnalysisSettings::default();
+    for n in [9, 12, 15] {
+        let (g, field) =
+            voussoir::synthesis::found_courses(&solid_arch(0.15), &BlockSize::Count(n), true, &settings).unwrap();
+        let Field::Radial { center, .. } = field else { panic!("N = {n}: {field:?}") };
+        assert!(Vector3::from(center).norm() < 1e-9, "N = {n}: centre {center:?}");
+        let a = analyze(&g.design, &settings).unwrap();
+        assert!(a.statics.stands, "N = {n}: {:?}", a.statics.verdict);
+        let off = off_radial(&a, |_| [0.0, 0.0]);
+        assert!(off < 1e-6, "N = {n}: {off}°");
+    }
+    let (g, field) =
+        voussoir::synthesis::found_courses(&pointed_arch(1.3, 0.3, 0.2), &BlockSize::Count(10), true, &settings)
+            .unwrap();
+    assert!(matches!(field, Field::Radial { .. }), "{field:?}");
+    let a = analyze(&g.design, &settings).unwrap();
+    assert!(a.statics.stands, "pointed: {:?}", a.statics.verdict);
+    // Each half's arcs are centred on the other side of the middle.
+    let off = off_radial(&a, |x| if x >= 0.0 { [-0.3, 0.0] } else { [0.3, 0.0] });
+    assert!(off < 15.0, "pointed: {off}°");
+    assert!(voussoir::synthesis::fitted_axis(&l_wall()).is_none(), "flat faces turn about no axis");
+}

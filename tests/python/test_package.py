@@ -279,7 +279,8 @@ def test_repair_from_python_is_the_cli_repair(tmp_path):
 def test_decompose_from_python_by_courses_and_by_thrust():
     """A 0.4 x 0.3 x 1.2 m pier as one solid, blocks of at most 0.4 m: 3 courses of one block
     each, by either strategy (the thrust is vertical: the beds settle at once, unturned), and
-    the design stands; a size given twice, or an unknown strategy, is an InputError."""
+    the design stands; a running bond extruded to an apex is one pattern cut; a size given
+    twice, an unknown strategy or a pattern without its apex is an InputError."""
     shape = voussoir.Scene.from_json(json.dumps(PIER))
     design, info = voussoir.decompose(shape, max_size=0.4)
     assert (info["courses"], info["pieces"], info["rounds"]) == (3, 3, None)
@@ -291,6 +292,11 @@ def test_decompose_from_python_by_courses_and_by_thrust():
         voussoir.decompose(shape, blocks=3, max_size=0.4)
     with pytest.raises(voussoir.InputError, match="strategy: 'funicular'"):
         voussoir.decompose(shape, max_size=0.4, strategy="funicular")
+    # A running bond on the top extruded to an apex far below: one pattern cut.
+    design, info = voussoir.decompose(shape, max_size=0.2, strategy="pattern", apex=[0.2, 0.15, -3.0])
+    assert design.cuts == 1 and info["pieces"] == len(design.pieces()) >= 4
+    with pytest.raises(voussoir.InputError, match="needs apex"):
+        voussoir.decompose(shape, max_size=0.4, strategy="pattern")
 
 
 def test_write_forces_refuses_what_it_cannot_write():

@@ -47,14 +47,16 @@ solve_function! {
 solve_function! {
     /// A cut history for the source shape `scene` (no history yet; `voussoir decompose`): about
     /// `blocks` blocks or none larger than `max_size` (m); beds horizontal, or through the axis
-    /// `center` + s·`axis` (default axis +y) for arches and vaults; `strategy` "courses" or
-    /// "thrust" (beds turned normal to the force an analysis finds crossing them); head joints
+    /// `center` + s·`axis` (default axis +y) for arches and vaults; `strategy` "courses",
+    /// "thrust" (beds turned normal to the force an analysis finds crossing them) or "pattern" (a
+    /// running bond on the outer surface extruded to `apex`: every joint through it); head joints
     /// staggered unless `stagger` is false. Returns the design and a dict: `courses`, `pieces`,
     /// `max_size` and, for "thrust", `rounds` (analyses, settled, last and largest turn in degrees).
     pub fn decompose<'py>(
         py, scene,
         blocks: Option<usize> = None, max_size: Option<f64> = None, strategy: &str = "courses",
         center: Option<[f64; 3]> = None, axis: Option<[f64; 3]> = None, stagger: bool = true,
+        apex: Option<[f64; 3]> = None,
         ..options(mu, friction_model, solver, supports, ground, density, strength)
     ) -> PyResult<(Scene, Bound<'py, PyDict>)> {
         let size = match (blocks, max_size) {
@@ -62,24 +64,35 @@ solve_function! {
             (None, Some(l)) => BlockSize::Max(l),
             _ => return Err(errors::setting("decompose: give exactly one of blocks and max_size")),
         };
+        // No center: the load path is found (horizontal beds, or radial about the fitted axis).
         let field = match (center, axis) {
-            (Some(center), axis) => Field::Radial { center, axis: axis.unwrap_or([0.0, 1.0, 0.0]) },
-            (None, None) => Field::Vertical,
+            (Some(center), axis) => Some(Field::Radial { center, axis: axis.unwrap_or([0.0, 1.0, 0.0]) }),
+            (None, None) => None,
             (None, Some(_)) => return Err(errors::setting("decompose: axis needs center (a point on it)")),
         };
-        let thrust = match strategy {
-            "courses" => false,
-            "thrust" => true,
-            other => return Err(errors::setting(format!("strategy: '{other}' is neither \"courses\" nor \"thrust\""))),
+        let (thrust, pattern) = match (strategy, apex) {
+            ("courses", _) => (false, None),
+            ("thrust", _) => (true, None),
+            ("pattern", Some(apex)) => (false, Some(apex)),
+            ("pattern", None) => return Err(errors::setting("decompose: strategy \"pattern\" needs apex")),
+            (other, _) => {
+                return Err(errors::setting(format!(
+                    "strategy: '{other}' is none of \"courses\", \"thrust\" and \"pattern\""
+                )));
+            }
         };
         let (shape, settings) = options.apply(scene)?;
         let source = scene.source.as_str();
         let generated = py
             .detach(|| {
-                if thrust {
-                    synthesis::thrust(&shape, &field, &size, stagger, &ThrustSettings::default(), &settings)
-                } else {
-                    synthesis::courses(&shape, &field, &size, stagger)
+                match (pattern, thrust, &field) {
+                    (Some(apex), _, _) => synthesis::pattern(&shape, apex, &size, stagger),
+                    (None, true, f) => {
+                        let f = f.unwrap_or(Field::Vertical);
+                        synthesis::thrust(&shape, &f, &size, stagger, &ThrustSettings::default(), &settings)
+                    }
+                    (None, false, Some(f)) => synthesis::courses(&shape, f, &size, stagger),
+                    (None, false, None) => synthesis::found_courses(&shape, &size, stagger, &settings).map(|(g, _)| g),
                 }
                 .map_err(|e| e.to_string())
             })

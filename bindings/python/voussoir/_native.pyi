@@ -286,10 +286,11 @@ def decompose(
     *,
     blocks: Optional[int] = None,
     max_size: Optional[float] = None,
-    strategy: Literal["courses", "thrust"] = "courses",
+    strategy: Literal["courses", "thrust", "pattern"] = "courses",
     center: Optional[Sequence[float]] = None,
     axis: Optional[Sequence[float]] = None,
     stagger: bool = True,
+    apex: Optional[Sequence[float]] = None,
     mu: Optional[float] = None,
     friction_model: Optional[FrictionModel] = None,
     solver: Optional[Solver] = None,
@@ -299,5 +300,6 @@ def decompose(
     strength: Optional[float] = None,
 ) -> tuple[Scene, dict[str, Any]]:
     """`voussoir decompose`: a cut history for a source shape (exactly one of `blocks` and
-    `max_size`; beds through the axis `center` + s·`axis` for arches); the design and
+    `max_size`; beds through the axis `center` + s·`axis` for arches; "pattern": a running bond
+    extruded to `apex`); the design and
     `{courses, pieces, max_size, rounds}` (`rounds` for "thrust")."""
