@@ -22,7 +22,7 @@ fn app_with(scene: Scene, target: &str, point: [f64; 3], normal: [f64; 3], cold:
     if cold {
         app.insert_resource(Settings(AnalysisSettings::default()));
     }
-    app.world_mut().write_message(EditDesign(Edit::Load(scene)));
+    app.world_mut().write_message(EditDesign(Edit::Load(Box::new(scene))));
     app.world_mut().write_message(EditDesign(Edit::AddCut(Cut::plane(point, normal).on(target))));
     app.update();
     let s = app.world().resource::<SceneStatus>();

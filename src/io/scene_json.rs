@@ -13,7 +13,8 @@
 //! "target": "name"?}`, …], default none: then `blocks` are the source shapes), `removed`
 //! (names of pieces left out after the history, default none), `supports` (names of pieces
 //! made supports after the history, default none), `densities` (`{"piece": kg/m³, …}`: densities
-//! of pieces after the history, an infill design's, default none), `loads` (default none: `[{"block": "top",
+//! of pieces after the history, an infill design's, default none), `density_ranges` (`{"piece":
+//! [low, high], …}`: bounds of an infill's densities per piece, kg/m³), `loads` (default none: `[{"block": "top",
 //! "point": [x,y,z], "force": [fx,fy,fz], "kind": "dead"}, {"acceleration": [ax,ay,az]}, …]`,
 //! forces in N, accelerations in g, `kind` dead or live — the default; [`crate::model::loads`]),
 //! `movements` (default none: `[{"block": "left", "translation": [dx,dy,dz], "rotation":
@@ -65,6 +66,8 @@ struct SceneFile {
     supports: Vec<String>,
     #[serde(default, skip_serializing_if = "std::collections::BTreeMap::is_empty")]
     densities: std::collections::BTreeMap<String, Density>,
+    #[serde(default, skip_serializing_if = "std::collections::BTreeMap::is_empty")]
+    density_ranges: std::collections::BTreeMap<String, [f64; 2]>,
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     order: Vec<String>,
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
@@ -165,6 +168,7 @@ const SCENE_KEYS: &[&str] = &[
     "removed",
     "supports",
     "densities",
+    "density_ranges",
     "order",
     "loads",
     "movements",
@@ -287,6 +291,7 @@ pub(crate) fn scene_from_value(path: &Path, mut value: serde_json::Value) -> Res
     scene.removed = file.removed;
     scene.supports = file.supports;
     scene.densities = file.densities;
+    scene.density_ranges = file.density_ranges;
     scene.order = file.order;
     scene.loads = file.loads.iter().enumerate().map(|(i, l)| l.to_load(path, i)).collect::<Result<_, _>>()?;
     scene.movements = file.movements;
@@ -329,6 +334,7 @@ pub fn scene_to_string(scene: &Scene) -> String {
         removed: scene.removed.clone(),
         supports: scene.supports.clone(),
         densities: scene.densities.clone(),
+        density_ranges: scene.density_ranges.clone(),
         order: scene.order.clone(),
         loads: scene.loads.iter().map(LoadFile::from_load).collect(),
         movements: scene.movements.clone(),

@@ -9,7 +9,7 @@ use thiserror::Error;
 #[derive(Clone, Debug, PartialEq)]
 pub enum Edit {
     /// Replace the whole design.
-    Load(Scene),
+    Load(Box<Scene>),
     /// Append a cut to the history.
     AddCut(Cut),
     /// Replace cut `index` of the history.
@@ -58,7 +58,7 @@ pub fn apply(scene: &mut Scene, edit: &Edit) -> Result<(), EditError> {
     let len = scene.cuts.len();
     let no_cut = |index: usize| EditError::NoCut { index, len };
     match edit {
-        Edit::Load(s) => *scene = s.clone(),
+        Edit::Load(s) => *scene = (**s).clone(),
         Edit::AddCut(cut) => scene.cuts.push(cut.clone()),
         Edit::MoveCut { index, cut } => *scene.cuts.get_mut(*index).ok_or_else(|| no_cut(*index))? = cut.clone(),
         Edit::RemoveCut(index) => {

@@ -135,6 +135,9 @@ pub struct Scene {
     /// Densities of pieces after the cut history (kg/m³, by name), overriding the source
     /// shape's and the material's: what an infill design sets ([`crate::synthesis::infill`]).
     pub densities: std::collections::BTreeMap<String, Density>,
+    /// Bounds of pieces' densities for an infill design (kg/m³, `[low, high]` by name), over
+    /// the infill's own range.
+    pub density_ranges: std::collections::BTreeMap<String, [f64; 2]>,
     /// An assembly order (piece names, or source-shape names standing for all their pieces
     /// bottom-up) for [`crate::studies::sequence`]; empty when none is given.
     pub order: Vec<String>,
@@ -160,6 +163,7 @@ impl Scene {
             removed: Vec::new(),
             supports: Vec::new(),
             densities: Default::default(),
+            density_ranges: Default::default(),
             order: Vec::new(),
             loads: Vec::new(),
             movements: Vec::new(),

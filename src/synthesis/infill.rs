@@ -42,8 +42,9 @@ pub enum InfillObjective {
 /// Settings of [`infill`]; each default written once, in `Default`.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct InfillSettings {
-    /// Every free block's density bounds, kg/m³; `None`: each block from a quarter of its
-    /// density to its density (a print from 25 % infill to solid).
+    /// Every free block's density bounds, kg/m³ (the scene's `density_ranges` first, per piece);
+    /// `None`: each block from a quarter of its density to its density (a print from 25 %
+    /// infill to solid).
     pub range: Option<(f64, f64)>,
     pub objective: InfillObjective,
     /// Cells per axis of each block's bounding box, each with its own density (1: one density
@@ -174,7 +175,7 @@ pub fn infill(
     let statics_settings = analysis.statics.resolved(&before.assembly);
     let (assembly, interfaces) = (&before.assembly, before.interfaces.as_slice());
     let mu = statics_settings.friction.unwrap_or(assembly.material.friction);
-    let ranges = ranges(&before, settings);
+    let ranges = ranges(scene, &before, settings)?;
     let cases = cases(&before, settings);
     let comps = statics::components(assembly, interfaces);
     let grids = grids(&before, settings.cells);
@@ -203,10 +204,30 @@ pub fn infill(
     Ok(report)
 }
 
-/// Each block's bounds, kg/m³ (supports too: never used).
-fn ranges(analysis: &Analysis, settings: &InfillSettings) -> Vec<(f64, f64)> {
+/// Each block's bounds, kg/m³ (supports too: never used): the scene's own for the pieces it
+/// names, else the settings' range, else from a quarter of the block's density to it.
+fn ranges(scene: &Scene, analysis: &Analysis, settings: &InfillSettings) -> Result<Vec<(f64, f64)>, DesignError> {
+    let blocks = &analysis.assembly.blocks;
+    if let Some(name) = scene.density_ranges.keys().find(|n| !blocks.iter().any(|b| &b.name == *n)) {
+        return Err(DesignError::Settings(format!("density range of '{name}': no piece of the design has that name")));
+    }
     let own = |b: &crate::model::AssemblyBlock| (0.25 * b.density, b.density);
-    analysis.assembly.blocks.iter().map(|b| settings.range.unwrap_or_else(|| own(b))).collect()
+    blocks
+        .iter()
+        .map(|b| {
+            let range = match scene.density_ranges.get(&b.name) {
+                Some(&[lo, hi]) => (lo, hi),
+                None => settings.range.unwrap_or_else(|| own(b)),
+            };
+            match range {
+                (lo, hi) if lo > 0.0 && lo <= hi && hi.is_finite() => Ok(range),
+                (lo, hi) => Err(DesignError::Settings(format!(
+                    "density range {lo},{hi} of '{}': need 0 < low ≤ high, finite (kg/m³)",
+                    b.name
+                ))),
+            }
+        })
+        .collect()
 }
 
 /// Each block's cells (k per axis; one, the block itself, for k = 1), supports left empty.

@@ -425,7 +425,7 @@ impl Effects<'_> {
         to.push(std::mem::replace(&mut s.design, scene.clone()));
         // A snapshot may predate the cut being edited: stop editing it.
         s.active_cut = None;
-        self.edits.write(EditDesign(Edit::Load(scene)));
+        self.edits.write(EditDesign(Edit::Load(Box::new(scene))));
     }
 
     fn reset_drop(&mut self) {

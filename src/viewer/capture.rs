@@ -142,7 +142,7 @@ fn run_script(
                 state.undo.clear();
                 state.redo.clear();
                 state.frame_pending = true;
-                edits.write(EditDesign(Edit::Load(scene)));
+                edits.write(EditDesign(Edit::Load(Box::new(scene))));
             }
             ScriptStep::Settle(frames) => {
                 runner.settling = true;

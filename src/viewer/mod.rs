@@ -114,7 +114,7 @@ impl Plugin for ViewerPlugin {
         // The bundled font replaces bevy's default (a subset without μ, ·, —).
         let font = bevy::text::Font::from_bytes(crate::viz::plot::FONT.to_vec());
         let _ = app.world_mut().resource_mut::<Assets<bevy::text::Font>>().insert(AssetId::default(), font);
-        app.world_mut().write_message(EditDesign(Edit::Load(o.scene.clone())));
+        app.world_mut().write_message(EditDesign(Edit::Load(Box::new(o.scene.clone()))));
         app.world_mut().write_message(crate::ecs::SetDiagram(o.mode));
     }
 }

@@ -47,7 +47,7 @@ fn loaded_scene_has_the_cores_verdict_and_forces() {
     let scene = builtin("arch?n=9&t=0.15").unwrap();
     let core = analyze(&scene, &AnalysisSettings::default()).unwrap();
     let mut app = app();
-    send(&mut app, Edit::Load(scene));
+    send(&mut app, Edit::Load(Box::new(scene)));
     let s = status(&app);
     assert_eq!(s.verdict, Some(core.statics.verdict));
     assert_eq!(s.tension_ratio, core.statics.tension_ratio);
@@ -73,7 +73,7 @@ fn two_beams() -> Scene {
 #[test]
 fn cut_edits_recompute_only_what_they_touch() {
     let mut app = app();
-    send(&mut app, Edit::Load(two_beams()));
+    send(&mut app, Edit::Load(Box::new(two_beams())));
     assert_eq!(counters(&app).components_resolved, 2);
     // Cut the left beam: two new pieces; only the left component is solved again.
     let cut = Cut::plane([2.0, 0.0, 0.0], [1.0, 0.0, 0.2]).on("left");
@@ -103,7 +103,7 @@ fn cut_edits_recompute_only_what_they_touch() {
 fn support_removal_and_friction_change_the_verdict() {
     // Slope of 30°: stands for μ = 0.7 > tan 30°, slides for μ = 0.5.
     let mut app = app();
-    send(&mut app, Edit::Load(builtin("slope?angle=30").unwrap()));
+    send(&mut app, Edit::Load(Box::new(builtin("slope?angle=30").unwrap())));
     send(&mut app, Edit::SetFriction(0.7));
     assert!(status(&app).stands);
     send(&mut app, Edit::SetFriction(0.5));
@@ -116,7 +116,7 @@ fn support_removal_and_friction_change_the_verdict() {
     // A stack: removing the bottom block leaves the top one hanging (unsupported); making the
     // top a support makes everything stand again.
     let mut app = self::app();
-    send(&mut app, Edit::Load(builtin("stack?n=3").unwrap()));
+    send(&mut app, Edit::Load(Box::new(builtin("stack?n=3").unwrap())));
     assert!(status(&app).stands);
     let names = block_names(&mut app);
     send(&mut app, Edit::RemoveBlock(names[1].clone()));
@@ -137,7 +137,7 @@ fn support_removal_and_friction_change_the_verdict() {
 fn fixed_number_of_updates_is_deterministic() {
     let run = || {
         let mut app = app();
-        send(&mut app, Edit::Load(builtin("arch?n=7").unwrap()));
+        send(&mut app, Edit::Load(Box::new(builtin("arch?n=7").unwrap())));
         send(&mut app, Edit::AddCut(Cut::plane([0.0, 0.0, 0.3], [0.0, 0.0, 1.0])));
         for _ in 0..5 {
             app.update();
@@ -163,7 +163,7 @@ fn drop_test_plugin_moves_a_falling_block_and_leaves_a_stack() {
     let mut app = app();
     // One fixed tick (1/64 s) per update, whatever the wall clock does.
     app.insert_resource(bevy::time::TimeUpdateStrategy::ManualDuration(Duration::from_secs_f64(1.0 / 64.0)));
-    send(&mut app, Edit::Load(scene));
+    send(&mut app, Edit::Load(Box::new(scene)));
     assert!(!status(&app).stands, "statics: the loose box touches nothing");
     app.world_mut().write_message(RunDropTest(DropSettings { duration: 1.0, ..Default::default() }));
     for _ in 0..100 {
@@ -189,7 +189,7 @@ fn drop_test_plugin_moves_a_falling_block_and_leaves_a_stack() {
 fn sequence_plugin_steps_through_an_order() {
     use voussoir::studies::sequence::OrderSpec;
     let mut app = app();
-    send(&mut app, Edit::Load(builtin("arch?n=5&t=0.15").unwrap()));
+    send(&mut app, Edit::Load(Box::new(builtin("arch?n=5&t=0.15").unwrap())));
     app.world_mut().write_message(StartSequence(OrderSpec::BottomUp));
     app.update();
     let placed = |app: &mut App| {
@@ -231,7 +231,7 @@ fn sequence_settings_add_the_drop_test_of_every_step() {
     let mut app = app();
     let dynamic = Some(DropSettings { duration: 0.5, ..Default::default() });
     app.insert_resource(SequenceSettings(voussoir::studies::sequence::StepChecks { dynamic, ..Default::default() }));
-    send(&mut app, Edit::Load(builtin("stack?n=3").unwrap()));
+    send(&mut app, Edit::Load(Box::new(builtin("stack?n=3").unwrap())));
     app.world_mut().write_message(StartSequence(OrderSpec::BottomUp));
     app.update();
     let status = app.world().resource::<SequenceStatus>();
@@ -247,7 +247,7 @@ fn sequence_settings_add_the_drop_test_of_every_step() {
 fn interfaces_are_coloured_by_the_diagram_mode() {
     use voussoir::viz::{DiagramMode, colors};
     let mut app = app();
-    send(&mut app, Edit::Load(builtin("slope?angle=35&b=2&h=0.5").unwrap()));
+    send(&mut app, Edit::Load(Box::new(builtin("slope?angle=35&b=2&h=0.5").unwrap())));
     let colours = |app: &mut App| -> Vec<(voussoir::statics::InterfaceResult, Vec<[f32; 3]>)> {
         let mut q = app.world_mut().query::<(&InterfaceForces, &InterfaceColors)>();
         q.iter(app.world()).map(|(f, c)| (f.0.clone(), c.0.clone())).collect()
@@ -289,7 +289,7 @@ fn the_load_factor_follows_edits_component_by_component() {
     scene.loads.push(Load::horizontal(0.0, 1.0));
     let mut app = app();
     app.insert_resource(RobustnessRequest::LiveLoads);
-    send(&mut app, Edit::Load(scene.clone()));
+    send(&mut app, Edit::Load(Box::new(scene.clone())));
     let r = app.world().resource::<RobustnessStatus>().clone();
     // The taller pillar tips first: λ* = b/h = 0.25.
     assert_close(r.load_factor(), 0.25, 1e-6, "the ECS load factor");
@@ -325,7 +325,7 @@ fn kinematic_plugin_reports_both_verdicts_and_the_mechanism() {
 
     let mut app = app();
     app.insert_resource(KinematicRequest::On(Default::default()));
-    send(&mut app, Edit::Load(scene));
+    send(&mut app, Edit::Load(Box::new(scene)));
     let k = app.world().resource::<KinematicStatus>().result.clone().expect("checked after the analysis");
     assert_eq!((k.verdict, k.statics_stands, k.agrees), (KinematicVerdict::Fails, true, false));
     assert_eq!(k.verdict, core.verdict);
@@ -334,7 +334,7 @@ fn kinematic_plugin_reports_both_verdicts_and_the_mechanism() {
     assert_eq!(m.blocks[0].block, c.blocks[0].block);
     assert_close(m.blocks[0].translation[2], -9.81, 1e-6 * 9.81, "the bar falls at g");
 
-    send(&mut app, Edit::Load(builtin("arch?n=9&t=0.15").unwrap()));
+    send(&mut app, Edit::Load(Box::new(builtin("arch?n=9&t=0.15").unwrap())));
     let k = app.world().resource::<KinematicStatus>().result.clone().expect("checked again after the edit");
     assert_eq!((k.verdict, k.agrees), (KinematicVerdict::Stands, true), "a thick arch");
     assert!(k.mechanism.is_none());
@@ -354,7 +354,7 @@ fn repair_plugin_moves_the_cut_into_place() {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/cases/fig4a_m_cut.json");
     let scene = voussoir::io::load_scene(&path).unwrap();
     let mut app = app();
-    send(&mut app, Edit::Load(scene.clone()));
+    send(&mut app, Edit::Load(Box::new(scene.clone())));
     assert!(!status(&app).stands);
     app.world_mut().write_message(RunRepair(Default::default()));
     let cut_point = |app: &App| match &app.world().resource::<Design>().0.as_ref().unwrap().cuts[0].shape {

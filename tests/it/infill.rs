@@ -165,3 +165,25 @@ fn bad_cell_densities_are_errors() {
         assert!(e.contains("'plank'") && e.contains(why), "{e}");
     }
 }
+
+/// The scene's own bounds per piece take precedence: with the tail held to [150, 250] in the
+/// scene, the range 150–600 given for all cannot make it stand (ρ_tail / ρ_plank ≥ 2 needs
+/// ρ_plank ≤ 125 < 150); a bound on a name that is no piece, or a bad bound, is one error naming it.
+#[test]
+fn the_scene_s_own_bounds_per_piece_hold() {
+    let mut scene = overhang(1.0);
+    scene.density_ranges.insert("tail".into(), [150.0, 250.0]);
+    let r = run_infill(&scene, &range(150.0, 600.0));
+    assert_eq!(r.outcome, InfillOutcome::Impossible);
+    scene.density_ranges.insert("tail".into(), [150.0, 400.0]);
+    let r = run_infill(&scene, &range(100.0, 600.0));
+    assert_close(density(&r, "plank"), 100.0, 1e-7, "plank at the settings' lower bound");
+    assert_close(density(&r, "tail"), 200.0, 2e-7, "tail at twice it, within its own bounds");
+    scene.density_ranges.insert("nowhere".into(), [1.0, 2.0]);
+    let e = infill(&scene, &AnalysisSettings::default(), &range(150.0, 600.0)).unwrap_err().to_string();
+    assert!(e.contains("'nowhere'"), "{e}");
+    scene.density_ranges.remove("nowhere");
+    scene.density_ranges.insert("tail".into(), [300.0, 200.0]);
+    let e = infill(&scene, &AnalysisSettings::default(), &range(150.0, 600.0)).unwrap_err().to_string();
+    assert!(e.contains("'tail'") && e.contains("density range"), "{e}");
+}
