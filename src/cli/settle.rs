@@ -61,14 +61,18 @@ pub fn run(args: &SettleArgs) -> Result<i32, BadInput> {
         ..Default::default()
     };
     let result = settle(&analysis, &scene.movements, &settings).map_err(|e| BadInput(format!("{name}: {e}")))?;
+    // The largest turn of a moved support over the whole path, degrees: a tilting base moves
+    // by its turn, not by its (zero) translation.
+    let turn = scene.movements.iter().map(|m| m.rotation.iter().map(|r| r * r).sum::<f64>().sqrt()).fold(0.0, f64::max);
     println!(
-        "SETTLE '{}': {} moved ({:.4e} m at the end of the path)",
+        "SETTLE '{}': {} moved ({:.4e} m{} at the end of the path)",
         analysis.assembly.name,
         result.supports.join(", "),
-        result.path_movement
+        result.path_movement,
+        if turn > 0.0 { format!(", turned {turn:.3}°") } else { String::new() }
     );
     for run in [Some(&result.quasi_static), result.exact.as_ref(), result.rapier.as_ref()].into_iter().flatten() {
-        println!("{}", line(run));
+        println!("{}", line(run, turn));
     }
     if let Some(out) = &args.json {
         let text = serde_json::to_string_pretty(&result).map_err(|e| BadInput(e.to_string()))?;
@@ -89,14 +93,16 @@ pub fn run(args: &SettleArgs) -> Result<i32, BadInput> {
     })
 }
 
-/// One run in a line: how it ended, and the joints of its mechanism.
-fn line(run: &Run) -> String {
+/// One run in a line: how it ended (with the supports' turn then, of `turn` degrees over the
+/// path), and the joints of its mechanism.
+fn line(run: &Run, turn: f64) -> String {
     let how = match run.outcome {
         Outcome::Stands => "stands to the end of the path".to_string(),
         Outcome::Collapses { fraction, movement, relative } => format!(
-            "collapses at {:.2} % of the path: {movement:.4e} m ({:.3} % of the model size)",
+            "collapses at {:.2} % of the path: {movement:.4e} m ({:.3} % of the model size){}",
             100.0 * fraction,
-            100.0 * relative
+            100.0 * relative,
+            if turn > 0.0 { format!(", turned {:.3}°", fraction * turn) } else { String::new() }
         ),
     };
     let joints: Vec<String> =

@@ -711,3 +711,25 @@ fn decompose_by_thrust_settles() {
         String::from_utf8_lossy(&o.stderr)
     );
 }
+
+/// Invariant: `settle` on a path that only turns the support says how far it turned — over the
+/// path and at the collapse — instead of a movement of 0 m: a cube on a base tilting 60° with
+/// μ = 0.8 slides at atan 0.8 = 38.66° (within 0.1°, as tests/it/settlement.rs measures).
+#[test]
+fn settle_reports_the_turn_of_a_tilting_support() {
+    let o = voussoir(&[
+        "settle",
+        "builtin:stack?n=1&a=0.5",
+        "--move",
+        "base:0,0,0:0,60,0",
+        "--quasi-static",
+        "--mu",
+        "0.8",
+    ]);
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(text.contains("turned 60.000° at the end of the path"), "{text}");
+    let at = text.split("turned ").nth(2).and_then(|t| t.split('°').next()).and_then(|t| t.parse::<f64>().ok());
+    let at = at.unwrap_or_else(|| panic!("a turn at the collapse: {text}"));
+    assert!((at - 0.8f64.atan().to_degrees()).abs() < 0.1, "{at}° against 38.66°: {text}");
+    assert_eq!(o.status.code(), Some(1), "{text}");
+}
