@@ -155,19 +155,9 @@ impl Loading {
     }
 }
 
-/// One copy of a component's problem and its density columns (row, cell, value).
-type Copy = (ConicProblem, Vec<(usize, usize, f64)>);
-
-/// The stage's conic problem over `sys` with its block rows' right-hand side from `loading`,
-/// and the triplets (row, cell, value) of the density columns in its rows.
-fn copy(
-    sys: &System,
-    stage: Stage,
-    settings: &StaticsSettings,
-    cells: &[DensityCell],
-    loading: &Loading,
-    length_scale: f64,
-) -> Copy {
+/// The stage's conic problem over `sys` (its block rows' right-hand side is each copy's, set
+/// by [`stack`]).
+fn stage_conic(sys: &System, stage: Stage, settings: &StaticsSettings, length_scale: f64) -> ConicProblem {
     let mut cp = contact_problem(sys, stage, settings);
     if matches!(stage, Stage::Strict) {
         // Feasibility: the objective is the densities' (the caller's).
@@ -177,32 +167,32 @@ fn copy(
     if let Some(s) = settings.strength {
         cp.crushing = Some(sys.crushing(Strength::Fixed(s * sys.strength_scale(length_scale))));
     }
-    let mut conic = cp.to_conic();
-    conic.b[..loading.rhs.len()].copy_from_slice(&loading.rhs);
-    let columns = cells
-        .iter()
-        .zip(&loading.columns)
-        .enumerate()
-        .flat_map(|(j, (cell, c))| (0..6).filter(|&k| c[k] != 0.0).map(move |k| (6 * cell.block + k, j, c[k])))
-        .collect();
-    (conic, columns)
+    cp.to_conic()
 }
 
-/// The copies side by side (block-diagonal), the densities as the last variables with their
+/// One copy of `base` per loading side by side (block-diagonal), each with its block rows'
+/// right-hand side and its density columns; the densities as the last variables with their
 /// bounds (non-dimensional) and linear cost `cost`.
-fn stack(copies: Vec<Copy>, bounds: &[(f64, f64)], cost: &[f64]) -> ConicProblem {
-    let n_own: usize = copies.iter().map(|c| c.0.n).sum();
+fn stack(
+    base: &ConicProblem,
+    loadings: &[Loading],
+    cells: &[DensityCell],
+    bounds: &[(f64, f64)],
+    cost: &[f64],
+) -> ConicProblem {
+    let n_own = base.n * loadings.len();
     let mut out = ConicProblem::default();
-    let (mut row0, mut col0) = (0, 0);
-    for (conic, columns) in copies {
-        out.a.extend(conic.a.iter().map(|&(r, c, v)| (row0 + r, col0 + c, v)));
-        out.a.extend(columns.iter().map(|&(r, i, v)| (row0 + r, n_own + i, v)));
-        out.b.extend(&conic.b);
-        out.cones.extend(&conic.cones);
-        out.p_diag.extend(&conic.p_diag);
-        out.q.extend(&conic.q);
-        row0 += conic.b.len();
-        col0 += conic.n;
+    for (copy, loading) in loadings.iter().enumerate() {
+        let (row0, col0) = (copy * base.b.len(), copy * base.n);
+        out.a.extend(base.a.iter().map(|&(r, c, v)| (row0 + r, col0 + c, v)));
+        for (j, (cell, c)) in cells.iter().zip(&loading.columns).enumerate() {
+            out.a.extend((0..6).filter(|&k| c[k] != 0.0).map(|k| (row0 + 6 * cell.block + k, n_own + j, c[k])));
+        }
+        out.b.extend(&loading.rhs);
+        out.b.extend(&base.b[loading.rhs.len()..]);
+        out.cones.extend(&base.cones);
+        out.p_diag.extend(&base.p_diag);
+        out.q.extend(&base.q);
     }
     for (i, &(lo, hi)) in bounds.iter().enumerate() {
         out.a.push((out.b.len(), n_own + i, -1.0));
@@ -238,16 +228,13 @@ pub fn component_densities(
     // The mass relative to the component's at ρ_ref.
     let total: f64 = cells.iter().map(|c| c.volume).sum();
     let cost: Vec<f64> = cells.iter().map(|c| c.volume / total).collect();
-    let dead = Loading::new(assembly, comp, &sys, cells, rho_ref, None);
-    let mut copies = vec![copy(&sys, Stage::Strict, settings, cells, &dead, assembly.scale)];
+    let mut loadings = vec![Loading::new(assembly, comp, &sys, cells, rho_ref, None)];
     if let DensityGoal::Carries { lambda, cases } = goal {
-        for case in cases {
-            let live = Loading::new(assembly, comp, &sys, cells, rho_ref, Some((lambda, case)));
-            copies.push(copy(&sys, Stage::Strict, settings, cells, &live, assembly.scale));
-        }
+        loadings
+            .extend(cases.iter().map(|case| Loading::new(assembly, comp, &sys, cells, rho_ref, Some((lambda, case)))));
     }
-    let n_dead = copies[0].0.n;
-    let problem = stack(copies, &bounds, &cost);
+    let base = stage_conic(&sys, Stage::Strict, settings, assembly.scale);
+    let problem = stack(&base, &loadings, cells, &bounds, &cost);
     let out = solve_conic(&problem, accuracy(settings), settings.max_iterations);
     let found = matches!(out.status, SolverStatus::Solved | SolverStatus::AlmostSolved);
     let mut outcome = DensityOutcome {
@@ -262,7 +249,7 @@ pub fn component_densities(
     if found {
         let r = &out.x[out.x.len() - cells.len()..];
         outcome.densities = r.iter().zip(cells).map(|(r, c)| (r * rho_ref).clamp(c.lo, c.hi)).collect();
-        outcome.residual = residual(&sys, cells, &dead, &out.x[..n_dead], r);
+        outcome.residual = residual(&sys, cells, &loadings[0], &out.x[..base.n], r);
     } else if out.status == SolverStatus::Infeasible && matches!(goal, DensityGoal::Lightest) {
         let cert = certificate(assembly, interfaces, comp, mu, settings, cells, rho_ref);
         outcome.iterations += cert.iterations;
@@ -313,7 +300,13 @@ fn certificate(
     let zero = vec![0.0; bounds.len()];
     let mut iterations = 0;
     for stage in [Stage::Tension, Stage::FrictionExcess { tension: 0.0, penalty: 0.0 }] {
-        let problem = stack(vec![copy(&sys, stage, settings, cells, &dead, assembly.scale)], &bounds, &zero);
+        let problem = stack(
+            &stage_conic(&sys, stage, settings, assembly.scale),
+            std::slice::from_ref(&dead),
+            cells,
+            &bounds,
+            &zero,
+        );
         let out = solve_conic(&problem, accuracy(settings), settings.max_iterations);
         iterations += out.iterations;
         let solved = matches!(out.status, SolverStatus::Solved | SolverStatus::AlmostSolved);
