@@ -2,7 +2,8 @@
 //! dome, running-bond walls of 100 … 4000 bricks and semicircular arches of 10 … 1000
 //! voussoirs, for each friction model (default backend: structured), and pyramid8 on clarabel
 //! (`pyramid8-clarabel`) for the ratio. Sizes can be narrowed with criterion's filter
-//! (`cargo bench --bench statics -- wall`).
+//! (`cargo bench --bench statics -- wall`); `statics/factorisation` compares S factored by 6×6
+//! blocks and by faer in one run.
 
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use std::hint::black_box;
@@ -12,7 +13,7 @@ use voussoir::interfaces::detect;
 use voussoir::io::load_scene;
 use voussoir::model::{Assembly, builtin};
 use voussoir::pipeline::{AnalysisSettings, analyze};
-use voussoir::statics::{self, Backend, FrictionModel, StaticsSettings};
+use voussoir::statics::{self, Backend, FrictionModel, StaticsSettings, kernel_profile};
 
 const MODELS: [FrictionModel; 3] = [FrictionModel::Pyramid8, FrictionModel::Cone, FrictionModel::Box4];
 
@@ -27,7 +28,16 @@ fn settings(model: FrictionModel) -> StaticsSettings {
 fn real_data(c: &mut Criterion) {
     let mut g = c.benchmark_group("statics/real");
     g.sample_size(10).measurement_time(Duration::from_secs(8));
+    let armadillo = load_scene(&compas_data("compas_cra/armadillo_cra.json")).unwrap();
+    let armadillo = Assembly::new(&armadillo, &Default::default()).unwrap();
+    let armadillo_ifs = detect(&armadillo);
     for model in MODELS {
+        // The solve alone (issue #43's goal: ≤ 45 ms for pyramid8).
+        let mut solve_settings = settings(model);
+        solve_settings.friction = Some(0.84);
+        g.bench_function(BenchmarkId::new("armadillo_solve", model), |b| {
+            b.iter(|| black_box(statics::solve(&armadillo, &armadillo_ifs, &solve_settings).unwrap()))
+        });
         g.bench_function(BenchmarkId::new("armadillo_pipeline", model), |b| {
             b.iter(|| {
                 let scene = load_scene(&compas_data("compas_cra/armadillo_cra.json")).unwrap();
@@ -118,5 +128,31 @@ fn skip(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, real_data, walls, arches, skip);
+/// S factored by 6×6 blocks (the default at these sizes) against faer's supernodal Cholesky,
+/// in one run: the Armadillo, the dome and a 1000-brick wall, pyramid8.
+fn factorisation(c: &mut Criterion) {
+    let mut g = c.benchmark_group("statics/factorisation");
+    g.sample_size(10).measurement_time(Duration::from_secs(8));
+    let scenes = [
+        ("armadillo", load_scene(&compas_data("compas_cra/armadillo_cra.json")).unwrap()),
+        ("dome", load_scene(&compas_data("compas_assembly/dome_assembly.json")).unwrap()),
+        ("wall1000", builtin("wall?courses=32&bricks=31").unwrap()),
+    ];
+    for (name, scene) in scenes {
+        let asm = Assembly::new(&scene, &Default::default()).unwrap();
+        let ifs = detect(&asm);
+        let mut s = settings(FrictionModel::Pyramid8);
+        s.friction = Some(0.84);
+        for (id, blocks) in [("blocks", true), ("faer", false)] {
+            g.bench_function(BenchmarkId::new(name, id), |b| {
+                kernel_profile::factor_by_blocks(blocks);
+                b.iter(|| black_box(statics::solve(&asm, &ifs, &s).unwrap()));
+                kernel_profile::factor_by_blocks(true);
+            });
+        }
+    }
+    g.finish();
+}
+
+criterion_group!(benches, real_data, walls, arches, skip, factorisation);
 criterion_main!(benches);

@@ -71,7 +71,7 @@ mod result;
 mod settings;
 mod stages;
 
-pub use backend::{Backend, ConicOutcome, solve_conic};
+pub use backend::{Backend, ConicOutcome, kernel_profile, solve_conic};
 pub(crate) use cache::component_key;
 pub use cache::{SolveStats, StaticsCache, solve_cached};
 pub use components::{Component, components};

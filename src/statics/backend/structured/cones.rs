@@ -248,13 +248,7 @@ impl Scaling {
     /// Largest step in (0, cap] keeping `v + α dv` in the cones.
     pub fn step_length(&self, v: &[f64], dv: &[f64], cap: f64) -> f64 {
         let mut a = cap;
-        self.layout.for_nonneg(|r| {
-            for i in r {
-                if dv[i] < 0.0 {
-                    a = a.min(-v[i] / dv[i]);
-                }
-            }
-        });
+        self.layout.for_nonneg(|r| a = nonneg_step(&v[r.clone()], &dv[r], a));
         if self.layout.soc {
             for p in 0..self.layout.points {
                 let at = self.layout.soc_at(p);
@@ -263,6 +257,26 @@ impl Scaling {
         }
         a
     }
+}
+
+/// Largest step in (0, cap] keeping `v + α dv ≥ 0`: the least −v/dv over dv < 0, in four
+/// lanes without branches so that the compiler vectorises it (the minimum of the same set,
+/// so the same bits as a scalar loop).
+fn nonneg_step(v: &[f64], dv: &[f64], cap: f64) -> f64 {
+    let mut lanes = [cap; 4];
+    let (vc, dc) = (v.chunks_exact(4), dv.chunks_exact(4));
+    let (v_rest, d_rest) = (vc.remainder(), dc.remainder());
+    for (v4, d4) in vc.zip(dc) {
+        for k in 0..4 {
+            let r = if d4[k] < 0.0 { -v4[k] / d4[k] } else { f64::INFINITY };
+            lanes[k] = if r < lanes[k] { r } else { lanes[k] };
+        }
+    }
+    for (vi, di) in v_rest.iter().zip(d_rest) {
+        let r = if *di < 0.0 { -vi / di } else { f64::INFINITY };
+        lanes[0] = if r < lanes[0] { r } else { lanes[0] };
+    }
+    lanes.iter().fold(cap, |a, l| if *l < a { *l } else { a })
 }
 
 /// clarabel's step to the boundary of one second-order cone.

@@ -23,14 +23,17 @@
 //! `Lᵀ z_E + H_λ x_λ = r̃x_λ` give `x_λ = (r̃x_λ − Lᵀy) / (Lᵀw + H_λ)`, `z_E = y + w x_λ` —
 //! no division by a vanishing H_λ.
 
+use super::block_cholesky::{BlockFactor, BlockSymbolic};
 use super::cones::Scaling;
+use super::profile::{Kernel, Timer};
 use super::shape::Shape;
 use crate::statics::problem::{Side as ContactSide, motion_at, wrench};
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::cholesky::llt::factor::LltRegularization;
 use faer::sparse::linalg::SupernodalThreshold;
 use faer::sparse::linalg::cholesky::{
-    CholeskySymbolicParams, LltRef, SymbolicCholesky, SymmetricOrdering, factorize_symbolic_cholesky,
+    CholeskySymbolicParams, LltRef, SymbolicCholesky, SymbolicCholeskyRaw, SymmetricOrdering,
+    factorize_symbolic_cholesky,
 };
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, MatMut, Par, Side};
@@ -38,7 +41,7 @@ use std::sync::Arc;
 
 /// Entries of S's Cholesky factor from which its numeric factorisation and solves run on the
 /// threads the problem allows: faer's supernodal kernels on rayon pay only on large supernodes.
-pub(super) const PARALLEL_FROM: usize = 100_000_000;
+const PARALLEL_FROM: usize = 100_000_000;
 
 /// Regularisation of H only, against round-off (its elimination is exact: every variable sits
 /// in an inequality row). S gets none: refinement would have to undo a static εI there every
@@ -115,13 +118,45 @@ struct ContactSlots {
     off: [usize; 6],
 }
 
+/// Block updates (432 flops each) up to which S is factored by 6×6 blocks
+/// ([`super::block_cholesky`]); beyond, the fill makes dense fronts where faer's supernodal
+/// kernels are faster (docs/benchmarks.md).
+const BLOCKS_UP_TO: usize = 2_000_000;
+
+/// How S is factored: by 6×6 blocks up to `blocks_up_to` block updates (and without budget
+/// rows), else by faer, on the problem's threads from `parallel_from` entries of the factor.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct FactorPlan {
+    pub blocks_up_to: usize,
+    pub parallel_from: usize,
+}
+
+impl Default for FactorPlan {
+    fn default() -> Self {
+        let blocks_up_to = if super::profile::blocks_on() { BLOCKS_UP_TO } else { 0 };
+        Self { blocks_up_to, parallel_from: PARALLEL_FROM }
+    }
+}
+
 /// S's pattern (lower triangle, CSC) and its symbolic factorisation — AMD ordering,
 /// elimination tree, supernodes: a function of the contact graph only, so a warm start carries
 /// it to the next problem of the same layout (it is most of a solve's set-up).
 pub struct Pattern {
     col_ptr: Vec<usize>,
     row_idx: Vec<usize>,
-    symbolic: SymbolicCholesky<usize>,
+    symbolic: Symbolic,
+}
+
+/// Which factorisation S gets: by 6×6 blocks (no budget rows, few enough updates) or faer's.
+enum Symbolic {
+    Blocks(BlockSymbolic),
+    Faer(SymbolicCholesky<usize>),
+}
+
+/// The numeric side of [`Symbolic`]: the factor's values and its work space.
+enum Numeric {
+    Blocks { factor: BlockFactor, work: Vec<[f64; 6]> },
+    Faer { l_values: Vec<f64>, buffer: MemBuffer, par: Par },
 }
 
 pub struct Kkt<const C: usize> {
@@ -136,11 +171,9 @@ pub struct Kkt<const C: usize> {
     /// S's pattern and symbolic factorisation, and its values.
     pattern: Arc<Pattern>,
     values: Vec<f64>,
-    /// Serial, or the problem's threads for a factor of `parallel_from` entries or more
-    /// ([`PARALLEL_FROM`] by default).
-    par: Par,
-    l_values: Vec<f64>,
-    buffer: MemBuffer,
+    /// S's factor (faer's on the problem's threads for a factor of `parallel_from` entries or
+    /// more, [`PARALLEL_FROM`] by default).
+    numeric: Numeric,
     /// Work: the right-hand side of S, r̃x per point.
     rhs_s: Vec<f64>,
     rt: Vec<[f64; C]>,
@@ -331,13 +364,28 @@ fn contact_slots<const C: usize>(sh: &Shape<C>, below: &[Vec<usize>], col_ptr: &
 
 impl Pattern {
     /// The pattern `col_ptr`, `row_idx` of an `m_e`-row S with its symbolic factorisation:
-    /// `reuse`'s when it has the same pattern, else a new analysis.
-    fn analysed(m_e: usize, col_ptr: Vec<usize>, row_idx: Vec<usize>, reuse: Option<&Arc<Self>>) -> Option<Arc<Self>> {
+    /// `reuse`'s when it has the same pattern, else a new analysis — by blocks (`nb` of them,
+    /// off-diagonal ones at `below`) when there are no budget rows (`nk`) and few enough
+    /// updates, else faer's.
+    fn analysed(
+        (m_e, nb, nk): (usize, usize, usize),
+        blocks_up_to: usize,
+        below: &[Vec<usize>],
+        col_ptr: Vec<usize>,
+        row_idx: Vec<usize>,
+        reuse: Option<&Arc<Self>>,
+    ) -> Option<Arc<Self>> {
         if let Some(p) = reuse
             && p.col_ptr == col_ptr
             && p.row_idx == row_idx
         {
             return Some(Arc::clone(p));
+        }
+        if nk == 0
+            && blocks_up_to > 0
+            && let Some(blocks) = BlockSymbolic::new(nb, below, blocks_up_to)
+        {
+            return Some(Arc::new(Self { col_ptr, row_idx, symbolic: Symbolic::Blocks(blocks) }));
         }
         let sym = SymbolicSparseColMatRef::new_checked(m_e, m_e, &col_ptr, None, &row_idx);
         let symbolic = factorize_symbolic_cholesky(
@@ -352,26 +400,55 @@ impl Pattern {
             },
         )
         .ok()?;
-        Some(Arc::new(Self { col_ptr, row_idx, symbolic }))
+        Some(Arc::new(Self { col_ptr, row_idx, symbolic: Symbolic::Faer(symbolic) }))
+    }
+
+    /// Stored entries of S's lower triangle and of its factor, and the flops of one numeric
+    /// factorisation: Σ over the factor's columns of their entry count squared.
+    pub fn sizes(&self) -> (usize, usize, f64) {
+        let symbolic = match &self.symbolic {
+            Symbolic::Blocks(b) => return (self.row_idx.len(), 36 * b.storage_blocks(), 432.0 * b.updates() as f64),
+            Symbolic::Faer(s) => s,
+        };
+        let counts: Vec<f64> = match symbolic.raw() {
+            SymbolicCholeskyRaw::Simplicial(s) => s.col_ptr().windows(2).map(|w| (w[1] - w[0]) as f64).collect(),
+            SymbolicCholeskyRaw::Supernodal(s) => {
+                let (begin, end, rows) = (s.supernode_begin(), s.supernode_end(), s.col_ptr_for_row_idx());
+                let mut counts = Vec::new();
+                for k in 0..s.n_supernodes() {
+                    let (width, below) = (end[k] - begin[k], rows[k + 1] - rows[k]);
+                    counts.extend((0..width).map(|j| (width - j + below) as f64));
+                }
+                counts
+            }
+        };
+        (self.row_idx.len(), symbolic.len_val(), counts.iter().map(|c| c * c).sum())
     }
 }
 
 impl<const C: usize> Kkt<C> {
     /// The system of `sh`; with `reuse`, its symbolic factorisation when the pattern is the same.
-    pub fn new(sh: &Shape<C>, threads: usize, parallel_from: usize, reuse: Option<&Arc<Pattern>>) -> Option<Self> {
+    pub fn new(sh: &Shape<C>, threads: usize, plan: FactorPlan, reuse: Option<&Arc<Pattern>>) -> Option<Self> {
         let nk = sh.budget_vars.len();
         let m_e = 6 * sh.blocks + nk;
         let below = pairs_below(sh);
         let (col_ptr, row_idx) = lower_pattern(sh.blocks, nk, &below);
         let slots = contact_slots(sh, &below, &col_ptr);
-        let pattern = Pattern::analysed(m_e, col_ptr, row_idx, reuse)?;
-        let symbolic = &pattern.symbolic;
-        let par = if threads > 1 && symbolic.len_val() >= parallel_from { Par::rayon(threads) } else { Par::Seq };
-        let req = symbolic
-            .factorize_numeric_llt_scratch::<f64>(par, Default::default())
-            .or(symbolic.solve_in_place_scratch::<f64>(1, par));
-        let buffer = MemBuffer::new(req);
-        let l_values = vec![0.0; symbolic.len_val()];
+        let pattern = Pattern::analysed((m_e, sh.blocks, nk), plan.blocks_up_to, &below, col_ptr, row_idx, reuse)?;
+        let numeric = match &pattern.symbolic {
+            Symbolic::Blocks(b) => Numeric::Blocks { factor: BlockFactor::new(b), work: Vec::new() },
+            Symbolic::Faer(symbolic) => {
+                let par = if threads > 1 && symbolic.len_val() >= plan.parallel_from {
+                    Par::rayon(threads)
+                } else {
+                    Par::Seq
+                };
+                let req = symbolic
+                    .factorize_numeric_llt_scratch::<f64>(par, Default::default())
+                    .or(symbolic.solve_in_place_scratch::<f64>(1, par));
+                Numeric::Faer { l_values: vec![0.0; symbolic.len_val()], buffer: MemBuffer::new(req), par }
+            }
+        };
         let values = vec![0.0; pattern.row_idx.len()];
         let (n, mg) = (sh.n(), sh.m_g());
         Some(Self {
@@ -382,9 +459,7 @@ impl<const C: usize> Kkt<C> {
             m_e,
             values,
             pattern,
-            par,
-            l_values,
-            buffer,
+            numeric,
             rhs_s: vec![0.0; m_e],
             rt: vec![[0.0; C]; sh.points()],
             refinement: Refinement { residual: Blocks::zeros(n, m_e, mg), candidate: Blocks::zeros(n, m_e, mg) },
@@ -426,6 +501,7 @@ impl<const C: usize> Kkt<C> {
     /// interface's 6×6 wrench matrix K, mapped to its blocks; then the budget rows. `false` when
     /// an H_p or S cannot be factored.
     pub fn factor(&mut self, sh: &Shape<C>, sc: &Scaling) -> bool {
+        let form = Timer::start(Kernel::FormS);
         self.values.iter_mut().for_each(|v| *v = 0.0);
         // The budget rows' own block (at most two budgets), accumulated over all points.
         let mut bb = [[0.0f64; 2]; 2];
@@ -436,6 +512,8 @@ impl<const C: usize> Kkt<C> {
             self.add_contact(sh, ci, &contact.sides, &k6, &v);
         }
         self.add_budgets(sh, sc, &mut bb);
+        drop(form);
+        let _factor = Timer::start(Kernel::FactorS);
         self.factor_numeric() && self.load_factor_update(sh, sc)
     }
 
@@ -636,50 +714,51 @@ impl<const C: usize> Kkt<C> {
         }
     }
 
-    /// faer's numeric Cholesky of S on the symbolic analysis made once per problem (dynamic
-    /// regularisation only for the zero pivots of a singular S).
+    /// S's numeric Cholesky on the symbolic analysis made once per problem (dynamic
+    /// regularisation only for the zero pivots of a singular S): by blocks, or faer's.
     fn factor_numeric(&mut self) -> bool {
-        let mat = SparseColMatRef::new(
-            SymbolicSparseColMatRef::new_checked(
-                self.m_e,
-                self.m_e,
-                &self.pattern.col_ptr,
-                None,
-                &self.pattern.row_idx,
-            ),
-            &self.values,
-        );
-        let reg = LltRegularization { dynamic_regularization_delta: 2e-7, dynamic_regularization_epsilon: 1e-13 };
-        self.pattern
-            .symbolic
-            .factorize_numeric_llt(
-                &mut self.l_values,
-                mat,
-                Side::Lower,
-                reg,
-                self.par,
-                MemStack::new(&mut self.buffer),
-                Default::default(),
-            )
-            .is_ok()
+        let (symbolic, numeric) = (&self.pattern.symbolic, &mut self.numeric);
+        match (symbolic, numeric) {
+            (Symbolic::Blocks(b), Numeric::Blocks { factor, .. }) => b.factor(&self.values, factor),
+            (Symbolic::Faer(symbolic), Numeric::Faer { l_values, buffer, par }) => {
+                let pattern = &self.pattern;
+                let mat = SparseColMatRef::new(
+                    SymbolicSparseColMatRef::new_checked(self.m_e, self.m_e, &pattern.col_ptr, None, &pattern.row_idx),
+                    &self.values,
+                );
+                let reg =
+                    LltRegularization { dynamic_regularization_delta: 2e-7, dynamic_regularization_epsilon: 1e-13 };
+                let stack = MemStack::new(buffer);
+                symbolic.factorize_numeric_llt(l_values, mat, Side::Lower, reg, *par, stack, Default::default()).is_ok()
+            }
+            _ => false,
+        }
     }
 
+    /// z_E = S⁻¹ `rhs_s` with the factor.
     fn solve_s(&mut self, ze: &mut [f64]) {
-        let llt = LltRef::new(&self.pattern.symbolic, &self.l_values);
-        llt.solve_in_place_with_conj(
-            Conj::No,
-            MatMut::from_column_major_slice_mut(&mut self.rhs_s, self.m_e, 1),
-            self.par,
-            MemStack::new(&mut self.buffer),
-        );
+        match (&self.pattern.symbolic, &mut self.numeric) {
+            (Symbolic::Blocks(b), Numeric::Blocks { factor, work }) => b.solve(factor, &mut self.rhs_s, work),
+            (Symbolic::Faer(symbolic), Numeric::Faer { l_values, buffer, par }) => {
+                let llt = LltRef::new(symbolic, l_values);
+                let rhs = MatMut::from_column_major_slice_mut(&mut self.rhs_s, self.m_e, 1);
+                llt.solve_in_place_with_conj(Conj::No, rhs, *par, MemStack::new(buffer));
+            }
+            _ => {}
+        }
         ze.copy_from_slice(&self.rhs_s);
     }
 
     /// One solve of the regularised system: `rhs` (r_x, r_E, r_G) → `out` (x, z_E, z_G).
     fn solve_reg(&mut self, sh: &Shape<C>, sc: &Scaling, rhs: Rhs, out: &mut Step) {
+        let reduce = Timer::start(Kernel::ReduceRhs);
         let rt_sigma = self.reduce_rhs(sh, sc, rhs);
+        drop(reduce);
+        let triangular = Timer::start(Kernel::TriangularSolve);
         self.solve_s(out.eq);
         self.solve_load_factor(sh, sc, rhs, out);
+        drop(triangular);
+        let _back = Timer::start(Kernel::BackSubstitute);
         self.back_substitute(sh, sc, rhs, out);
         self.budget_slacks(sh, sc, rhs, &rt_sigma, out);
     }
@@ -832,32 +911,29 @@ impl<const C: usize> Kkt<C> {
     }
 
     /// Iterative refinement of `out` (clarabel's defaults: relative 1e-13, absolute 1e-12,
-    /// ≤ 10 steps, stop when a step gains less than 5×); a candidate is kept when it lowers
-    /// the residual.
+    /// ≤ 10 steps, stop when a step gains less than 5×); a correction is kept when it lowers
+    /// the residual. It is added in place and taken back off when it does not (rare, and
+    /// the last step): no copies of the solution.
     fn refine(&mut self, sh: &Shape<C>, sc: &Scaling, rhs: Rhs, out: &mut Step, work: &mut Refinement) {
         let norm_b = rhs.x.iter().chain(rhs.eq).chain(rhs.ineq).fold(0.0f64, |a, v| a.max(v.abs()));
-        let Refinement { residual, candidate } = work;
+        let Refinement { residual, candidate: correction } = work;
         let mut norm_e = residual_of(sh, sc, rhs, out.view(), residual);
+        let add = |out: &mut [f64], d: &[f64], sign: f64| out.iter_mut().zip(d).for_each(|(o, d)| *o += sign * d);
         for _ in 0..10 {
             if norm_e <= 1e-12 + 1e-13 * norm_b {
                 break;
             }
-            self.solve_reg(sh, sc, residual.rhs(), &mut candidate.step());
-            // The candidate: out + the correction.
-            for (d, v) in candidate.x.iter_mut().zip(out.x.iter()) {
-                *d += v;
-            }
-            for (d, v) in candidate.eq.iter_mut().zip(out.eq.iter()) {
-                *d += v;
-            }
-            for (d, v) in candidate.ineq.iter_mut().zip(out.ineq.iter()) {
-                *d += v;
-            }
-            let new_e = residual_of(sh, sc, rhs, candidate.rhs(), residual);
-            if new_e < norm_e {
-                out.x.copy_from_slice(&candidate.x);
-                out.eq.copy_from_slice(&candidate.eq);
-                out.ineq.copy_from_slice(&candidate.ineq);
+            self.solve_reg(sh, sc, residual.rhs(), &mut correction.step());
+            add(out.x, &correction.x, 1.0);
+            add(out.eq, &correction.eq, 1.0);
+            add(out.ineq, &correction.ineq, 1.0);
+            let new_e = residual_of(sh, sc, rhs, out.view(), residual);
+            // Not lower (or NaN): taken back off.
+            let kept = new_e < norm_e;
+            if !kept {
+                add(out.x, &correction.x, -1.0);
+                add(out.eq, &correction.eq, -1.0);
+                add(out.ineq, &correction.ineq, -1.0);
             }
             if new_e * 5.0 > norm_e {
                 break;
@@ -869,6 +945,7 @@ impl<const C: usize> Kkt<C> {
 
 /// The residual `rhs` − K `sol` into `into`; returns its largest magnitude.
 fn residual_of<const C: usize>(sh: &Shape<C>, sc: &Scaling, rhs: Rhs, sol: Rhs, into: &mut Blocks) -> f64 {
+    let _t = Timer::start(Kernel::RefineResidual);
     sh.apply(sc, sol.x, sol.eq, sol.ineq, &mut into.x, &mut into.eq, &mut into.ineq);
     let mut e = 0.0f64;
     let pairs = into.x.iter_mut().zip(rhs.x).chain(into.eq.iter_mut().zip(rhs.eq));

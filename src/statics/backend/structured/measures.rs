@@ -86,7 +86,8 @@ pub(super) fn info<const C: usize>(sh: &Shape<C>, v: &Vars, info: &mut Info, wor
     for (i, r) in info.re.iter_mut().enumerate() {
         *r = ex[i] - v.tau * sh.b_e[i];
     }
-    info.rg.copy_from_slice(gx);
+    // gx is scratch, rewritten whole by the next A x: swapped, not copied.
+    std::mem::swap(&mut info.rg, gx);
     let tinv = 1.0 / v.tau;
     let half_xpx = xpx * tinv * tinv / 2.0;
     let cost_primal = qx * tinv + half_xpx;

@@ -14,38 +14,41 @@
 // Numerical kernels index several parallel arrays with one loop variable.
 #![allow(clippy::needless_range_loop)]
 
+mod block_cholesky;
 mod cones;
 mod iterate;
 mod kkt;
 mod measures;
+pub mod profile;
 mod shape;
 mod solver;
 
 use crate::statics::problem::{Accuracy, ContactProblem};
+pub(crate) use kkt::FactorPlan;
 use solver::solve_c;
 pub use solver::{IpmOutcome, Warm, WarmStart};
 
 /// Solves `cp`; `None` when it has a shape this solver does not take (it then goes to
 /// clarabel).
 pub fn solve(cp: &ContactProblem, acc: Accuracy, max_iter: u32, warm: Warm) -> Option<IpmOutcome> {
-    solve_from(cp, acc, max_iter, kkt::PARALLEL_FROM, warm)
+    solve_from(cp, acc, max_iter, FactorPlan::default(), warm)
 }
 
-/// [`solve`], its factorisation on `cp.threads` threads from `parallel_from` entries of the
-/// factor (tests force the parallel path on small problems with 0).
+/// [`solve`] with S factored as `plan` says (tests force faer, and its parallel path on small
+/// problems).
 pub(crate) fn solve_from(
     cp: &ContactProblem,
     acc: Accuracy,
     max_iter: u32,
-    parallel_from: usize,
+    plan: FactorPlan,
     warm: Warm,
 ) -> Option<IpmOutcome> {
     match cp.per_point() {
-        1 => solve_c::<1>(cp, acc, max_iter, parallel_from, warm),
-        2 => solve_c::<2>(cp, acc, max_iter, parallel_from, warm),
-        3 => solve_c::<3>(cp, acc, max_iter, parallel_from, warm),
-        4 => solve_c::<4>(cp, acc, max_iter, parallel_from, warm),
-        5 => solve_c::<5>(cp, acc, max_iter, parallel_from, warm),
+        1 => solve_c::<1>(cp, acc, max_iter, plan, warm),
+        2 => solve_c::<2>(cp, acc, max_iter, plan, warm),
+        3 => solve_c::<3>(cp, acc, max_iter, plan, warm),
+        4 => solve_c::<4>(cp, acc, max_iter, plan, warm),
+        5 => solve_c::<5>(cp, acc, max_iter, plan, warm),
         _ => None,
     }
 }

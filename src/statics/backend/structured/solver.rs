@@ -6,8 +6,9 @@
 
 use super::cones::{Layout, Scaling, shift_to_interior};
 use super::iterate::{Vars, dot};
-use super::kkt::{Blocks, Kkt, Pattern, Rhs, Step};
+use super::kkt::{Blocks, FactorPlan, Kkt, Pattern, Rhs, Step};
 use super::measures::{Info, Tolerances, convergence, info};
+use super::profile::{self, Dims, Kernel, Timer};
 use super::shape::Shape;
 use crate::statics::problem::{Accuracy, ContactProblem, SolverStatus};
 use std::sync::Arc;
@@ -74,16 +75,34 @@ pub(super) fn solve_c<const C: usize>(
     cp: &ContactProblem,
     acc: Accuracy,
     max_iter: u32,
-    parallel_from: usize,
+    plan: FactorPlan,
     warm: Warm,
 ) -> Option<IpmOutcome> {
+    let _solve = Timer::start(Kernel::Solve);
+    let setup = Timer::start(Kernel::Setup);
     let sh = Shape::<C>::new(cp)?;
     let reuse = match warm {
         Warm::From(ws) => Some(&ws.pattern),
         _ => None,
     };
-    let kkt = Kkt::<C>::new(&sh, cp.threads, parallel_from, reuse)?;
+    let kkt = Kkt::<C>::new(&sh, cp.threads, plan, reuse)?;
     let pattern = kkt.pattern();
+    drop(setup);
+    profile::record_dims(|| {
+        let (s_values, l_values, factor_flops) = pattern.sizes();
+        Dims {
+            points: sh.points(),
+            per_point: C,
+            rows_per_point: sh.m_p,
+            soc: sh.soc.is_some(),
+            contacts: sh.contacts.len(),
+            blocks: sh.blocks,
+            m_e: sh.m_e(),
+            s_values,
+            l_values,
+            factor_flops,
+        }
+    });
     let mut ip = Solver::new(&sh, kkt, acc);
     let keep = !matches!(warm, Warm::Off);
     let mut spent = 0;
@@ -263,7 +282,10 @@ impl<'a, const C: usize> Solver<'a, C> {
             if let Some(status) = status {
                 break status;
             }
-            if !self.sc.update(&self.v.s, &self.v.z) {
+            let scaling = Timer::start(Kernel::Scaling);
+            let updated = self.sc.update(&self.v.s, &self.v.z);
+            drop(scaling);
+            if !updated {
                 break SolverStatus::NumericalError;
             }
             iter += 1;
@@ -358,7 +380,9 @@ impl<'a, const C: usize> Solver<'a, C> {
     /// Measures the current iterate; a status when the solve ends here: converged or
     /// infeasible, insufficient progress (clarabel's tests), or the iteration limit.
     fn check_termination(&mut self, iter: u32, max_iter: u32) -> Option<SolverStatus> {
+        let measures = Timer::start(Kernel::Measures);
         info(self.sh, &self.v, &mut self.inf, &mut self.info_work);
+        drop(measures);
         let inf = &self.inf;
         self.mu = (inf.dot_sz + self.v.tau * self.v.kappa) / (self.layout.degree() as f64 + 1.0);
         if let Some(s) = convergence(inf, &self.tol, false) {
@@ -435,6 +459,7 @@ impl<'a, const C: usize> Solver<'a, C> {
 
     /// The longest step in [0, 1] along `dv` that keeps τ, κ, s and z in their cones.
     fn step_length(&self, dv: &Vars) -> f64 {
+        let _t = Timer::start(Kernel::StepLength);
         let v = &self.v;
         let mut a: f64 = 1.0;
         if dv.tau < 0.0 {
