@@ -163,6 +163,11 @@ impl Scaling {
         [(w[0] * x[0] - zeta) / eta, (c * w[1] + x[1]) / eta, (c * w[2] + x[2]) / eta]
     }
 
+    /// `Hs x = W W x` for point p's cone.
+    pub fn hs_mul(&self, p: usize, x: &[f64; 3]) -> [f64; 3] {
+        self.w_mul(p, &self.w_mul(p, x))
+    }
+
     /// `Hs⁻¹ x = W⁻¹ W⁻¹ x` for point p's cone.
     pub fn hs_inv_mul(&self, p: usize, x: &[f64; 3]) -> [f64; 3] {
         self.winv_mul(p, &self.winv_mul(p, x))
@@ -179,10 +184,24 @@ impl Scaling {
         if self.layout.soc {
             for p in 0..self.layout.points {
                 let at = self.layout.soc_at(p);
-                let hz = self.w_mul(p, &self.w_mul(p, &[z[at], z[at + 1], z[at + 2]]));
+                let hz = self.hs_mul(p, &[z[at], z[at + 1], z[at + 2]]);
                 for r in 0..3 {
                     out[at + r] -= hz[r];
                 }
+            }
+        }
+    }
+
+    /// `og −= Hs z` over point p's rows (`zp`, `og`: its rows of z and of the output).
+    pub fn hs_mul_sub_point(&self, p: usize, zp: &[f64], og: &mut [f64]) {
+        let (at, nn) = (p * self.layout.per_point, self.layout.nonneg);
+        for r in 0..nn {
+            og[r] -= self.d[at + r] * zp[r];
+        }
+        if self.layout.soc {
+            let hz = self.hs_mul(p, &[zp[nn], zp[nn + 1], zp[nn + 2]]);
+            for r in 0..3 {
+                og[nn + r] -= hz[r];
             }
         }
     }

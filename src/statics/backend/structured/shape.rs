@@ -116,48 +116,24 @@ impl<'a, const C: usize> Shape<'a, C> {
 
     /// `out_e = E x`, `out_g = G x`.
     pub fn a_mul(&self, x: &[f64], out_e: &mut [f64], out_g: &mut [f64]) {
-        let nb = self.blocks;
-        let (np, mp, nn) = (self.points(), self.m_p, self.nonneg.len());
+        let mp = self.m_p;
         out_e.iter_mut().for_each(|v| *v = 0.0);
         for contact in self.contacts {
             let mut w6 = [0.0f64; 6];
             for p in contact.points.clone() {
                 let xp: [f64; C] = fixed(&x[p * C..(p + 1) * C]);
-                let mut f = [0.0; 3];
-                for (i, fi) in f.iter_mut().enumerate() {
-                    for k in 0..C {
-                        *fi += self.fmap[i][k] * xp[k];
-                    }
-                }
-                let w = wrench(&self.rho[p], &f);
-                for i in 0..6 {
-                    w6[i] += w[i];
-                }
-                for (kb, &col) in self.budget_vars.iter().enumerate() {
-                    out_e[6 * nb + kb] += xp[col];
-                }
-                let og = &mut out_g[p * mp..(p + 1) * mp];
-                for (r, g) in self.nonneg.iter().enumerate() {
-                    let mut s = 0.0;
-                    for k in 0..C {
-                        s += g[k] * xp[k];
-                    }
-                    og[r] = s;
-                }
-                if let Some(soc) = &self.soc {
-                    for i in 0..3 {
-                        let mut s = 0.0;
-                        for k in 0..C {
-                            s += soc[i][k] * xp[k];
-                        }
-                        og[nn + i] = s;
-                    }
-                }
+                self.point_products(p, &xp, &mut w6, out_e, &mut out_g[p * mp..(p + 1) * mp]);
             }
             for side in contact.sides.iter().flatten() {
                 side.add_wrench(&w6, &mut out_e[6 * side.block..6 * side.block + 6]);
             }
         }
+        self.tail_products(x, out_e, out_g);
+    }
+
+    /// The scalar variables' columns of E x and G x (after the points').
+    fn tail_products(&self, x: &[f64], out_e: &mut [f64], out_g: &mut [f64]) {
+        let (nb, np, mp) = (self.blocks, self.points(), self.m_p);
         for kb in 0..self.budgets() {
             let xs = x[np * C + kb];
             out_e[6 * nb + kb] += xs;
@@ -170,42 +146,65 @@ impl<'a, const C: usize> Shape<'a, C> {
         }
     }
 
-    /// `out = Eᵀ z_E + Gᵀ z_G`.
-    pub fn at_mul(&self, ze: &[f64], zg: &[f64], out: &mut [f64]) {
-        let nb = self.blocks;
-        let (np, mp, nn) = (self.points(), self.m_p, self.nonneg.len());
-        for contact in self.contacts {
-            let mut u = [0.0f64; 6];
-            for side in contact.sides.iter().flatten() {
-                side.add_seen(&ze[6 * side.block..6 * side.block + 6], &mut u);
-            }
-            for p in contact.points.clone() {
-                let g3 = motion_at(&u, &self.rho[p]);
-                let mut t = [0.0f64; C];
-                for k in 0..C {
-                    t[k] = self.fmap[0][k] * g3[0] + self.fmap[1][k] * g3[1] + self.fmap[2][k] * g3[2];
-                }
-                for (kb, &col) in self.budget_vars.iter().enumerate() {
-                    t[col] += ze[6 * nb + kb];
-                }
-                let zp = &zg[p * mp..(p + 1) * mp];
-                for (r, g) in self.nonneg.iter().enumerate() {
-                    let zr = zp[r];
-                    for k in 0..C {
-                        t[k] += g[k] * zr;
-                    }
-                }
-                if let Some(soc) = &self.soc {
-                    for i in 0..3 {
-                        let zr = zp[nn + i];
-                        for k in 0..C {
-                            t[k] += soc[i][k] * zr;
-                        }
-                    }
-                }
-                out[p * C..(p + 1) * C].copy_from_slice(&t);
+    /// One point's part of E x (its wrench into `w6`, its budget columns into `out_e`) and its
+    /// rows of G x into `og`.
+    fn point_products(&self, p: usize, xp: &[f64; C], w6: &mut [f64; 6], out_e: &mut [f64], og: &mut [f64]) {
+        let (nb, nn) = (self.blocks, self.nonneg.len());
+        let mut f = [0.0; 3];
+        for (i, fi) in f.iter_mut().enumerate() {
+            for k in 0..C {
+                *fi += self.fmap[i][k] * xp[k];
             }
         }
+        let w = wrench(&self.rho[p], &f);
+        for i in 0..6 {
+            w6[i] += w[i];
+        }
+        for (kb, &col) in self.budget_vars.iter().enumerate() {
+            out_e[6 * nb + kb] += xp[col];
+        }
+        for (r, g) in self.nonneg.iter().enumerate() {
+            let mut s = 0.0;
+            for k in 0..C {
+                s += g[k] * xp[k];
+            }
+            og[r] = s;
+        }
+        if let Some(soc) = &self.soc {
+            for i in 0..3 {
+                let mut s = 0.0;
+                for k in 0..C {
+                    s += soc[i][k] * xp[k];
+                }
+                og[nn + i] = s;
+            }
+        }
+    }
+
+    /// `out = Eᵀ z_E + Gᵀ z_G`.
+    pub fn at_mul(&self, ze: &[f64], zg: &[f64], out: &mut [f64]) {
+        let mp = self.m_p;
+        for contact in self.contacts {
+            let u = self.seen(contact, ze);
+            for p in contact.points.clone() {
+                self.transpose_point(p, &u, ze, &zg[p * mp..(p + 1) * mp], &mut out[p * C..(p + 1) * C]);
+            }
+        }
+        self.tail_transposed(ze, zg, out);
+    }
+
+    /// A contact's block rows of `ze` seen in its interface frame.
+    fn seen(&self, contact: &Contact, ze: &[f64]) -> [f64; 6] {
+        let mut u = [0.0f64; 6];
+        for side in contact.sides.iter().flatten() {
+            side.add_seen(&ze[6 * side.block..6 * side.block + 6], &mut u);
+        }
+        u
+    }
+
+    /// The scalar variables' rows of Eᵀ z_E + Gᵀ z_G.
+    fn tail_transposed(&self, ze: &[f64], zg: &[f64], out: &mut [f64]) {
+        let (nb, np, mp) = (self.blocks, self.points(), self.m_p);
         for kb in 0..self.budgets() {
             out[np * C + kb] = ze[6 * nb + kb] - zg[np * mp + kb];
         }
@@ -259,7 +258,10 @@ impl<'a, const C: usize> Shape<'a, C> {
         s
     }
 
-    /// The unregularised KKT matrix times [x; z_E; z_G] (module docs of the kkt).
+    /// The unregularised KKT matrix times [x; z_E; z_G] (module docs of the kkt): E x, G x −
+    /// Hs z_G and Eᵀz_E + Gᵀz_G + P x in one sweep over the points, each point's data read
+    /// once. Each entry is the same expression, in the same order, as [`Self::a_mul`], then
+    /// [`Scaling::hs_mul_sub`], then [`Self::at_mul`] and `+ P x` give: the same bits.
     #[allow(clippy::too_many_arguments)]
     pub fn apply(
         &self,
@@ -271,14 +273,61 @@ impl<'a, const C: usize> Shape<'a, C> {
         out_e: &mut [f64],
         out_g: &mut [f64],
     ) {
-        self.a_mul(x, out_e, out_g);
-        sc.hs_mul_sub(zg, out_g);
-        self.at_mul(ze, zg, out_x);
-        let np = self.points();
-        for p in 0..np {
-            for k in 0..C {
-                out_x[p * C + k] += self.p[k] * x[p * C + k];
+        let mp = self.m_p;
+        out_e.iter_mut().for_each(|v| *v = 0.0);
+        for contact in self.contacts {
+            let u = self.seen(contact, ze);
+            let mut w6 = [0.0f64; 6];
+            for p in contact.points.clone() {
+                let xp: [f64; C] = fixed(&x[p * C..(p + 1) * C]);
+                let (og, zp) = (&mut out_g[p * mp..(p + 1) * mp], &zg[p * mp..(p + 1) * mp]);
+                self.point_products(p, &xp, &mut w6, out_e, og);
+                sc.hs_mul_sub_point(p, zp, og);
+                let tp = &mut out_x[p * C..(p + 1) * C];
+                self.transpose_point(p, &u, ze, zp, tp);
+                for k in 0..C {
+                    tp[k] += self.p[k] * xp[k];
+                }
+            }
+            for side in contact.sides.iter().flatten() {
+                side.add_wrench(&w6, &mut out_e[6 * side.block..6 * side.block + 6]);
             }
         }
+        self.tail_products(x, out_e, out_g);
+        let tail = self.points() * mp;
+        for i in tail..tail + self.tail() {
+            out_g[i] -= sc.d[i] * zg[i];
+        }
+        self.tail_transposed(ze, zg, out_x);
+    }
+
+    /// One point's Eᵀz_E + Gᵀz_G into `out` (`u`: its contact's block rows seen in the
+    /// interface frame; `zp`: its rows of z_G).
+    fn transpose_point(&self, p: usize, u: &[f64; 6], ze: &[f64], zp: &[f64], out: &mut [f64]) {
+        let nb = self.blocks;
+        let nn = self.nonneg.len();
+        let g3 = motion_at(u, &self.rho[p]);
+        let mut t = [0.0f64; C];
+        for k in 0..C {
+            t[k] = self.fmap[0][k] * g3[0] + self.fmap[1][k] * g3[1] + self.fmap[2][k] * g3[2];
+        }
+        for (kb, &col) in self.budget_vars.iter().enumerate() {
+            t[col] += ze[6 * nb + kb];
+        }
+        for (r, g) in self.nonneg.iter().enumerate() {
+            let zr = zp[r];
+            for k in 0..C {
+                t[k] += g[k] * zr;
+            }
+        }
+        if let Some(soc) = &self.soc {
+            for i in 0..3 {
+                let zr = zp[nn + i];
+                for k in 0..C {
+                    t[k] += soc[i][k] * zr;
+                }
+            }
+        }
+        out.copy_from_slice(&t);
     }
 }
