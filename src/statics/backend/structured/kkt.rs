@@ -12,8 +12,9 @@
 //! the rows of its two blocks, so their contributions are summed in the interface's own frame
 //! first — `K = Σ_p T_p N H_p⁻¹ Nᵀ T_pᵀ`, a 6×6 wrench matrix — and mapped to the blocks once
 //! (`Ψ_a K Ψ_bᵀ`). Each H_p is kept as its Cholesky factor, never inverted explicitly
-//! ([`cholesky`]). S is factorised by faer's sparse Cholesky (AMD ordering and
-//! symbolic analysis once per problem). Iterative refinement against the unregularised
+//! ([`factor_points`]). S is factorised by 6×6 blocks ([`super::block_cholesky`]) or, for
+//! large fronts and budget rows, by faer's sparse Cholesky (ordering and symbolic analysis once
+//! per problem). Iterative refinement against the unregularised
 //! system removes what ε and round-off leave.
 //!
 //! A load factor λ ≥ 0 (its column L in the block rows) would add `L H_λ⁻¹ Lᵀ` to S: rank
@@ -25,6 +26,7 @@
 
 use super::block_cholesky::{BlockFactor, BlockSymbolic};
 use super::cones::Scaling;
+use super::points::factor_points;
 use super::profile::{Kernel, Timer};
 use super::shape::Shape;
 use crate::statics::problem::{Side as ContactSide, motion_at, wrench};
@@ -160,8 +162,10 @@ enum Numeric {
 }
 
 pub struct Kkt<const C: usize> {
-    /// H_p's Cholesky factor per point ([`cholesky`]).
+    /// H_p's Cholesky factor per point (lower, its diagonal inverted: [`factor_points`]).
     chol: Vec<[[f64; C]; C]>,
+    /// Y_p = N H_p⁻¹ Nᵀ per point (the local force covariance).
+    y: Vec<[[f64; 3]; 3]>,
     /// H_σ⁻¹ per budget slack.
     hinv_sigma: Vec<f64>,
     /// With a load factor: its part of the bordered solves.
@@ -180,36 +184,7 @@ pub struct Kkt<const C: usize> {
     refinement: Refinement,
 }
 
-/// The Cholesky factor of a symmetric positive definite C×C `h`: lower L with H = L Lᵀ, its
-/// diagonal stored inverted (the solves multiply). `None` when `h` is not numerically positive
-/// definite.
-///
-/// A factor, not H⁻¹: near the optimum H_p's eigenvalues spread over many decades, where
-/// substitution with the factor stays backward stable and the explicit inverse does not.
-fn cholesky<const C: usize>(h: &[[f64; C]; C]) -> Option<[[f64; C]; C]> {
-    let mut l = [[0.0f64; C]; C];
-    for j in 0..C {
-        let mut d = h[j][j];
-        for k in 0..j {
-            d -= l[j][k] * l[j][k];
-        }
-        if d <= 0.0 || !d.is_finite() {
-            return None;
-        }
-        let dinv = 1.0 / d.sqrt();
-        l[j][j] = dinv;
-        for i in j + 1..C {
-            let mut v = h[i][j];
-            for k in 0..j {
-                v -= l[i][k] * l[j][k];
-            }
-            l[i][j] = v * dinv;
-        }
-    }
-    Some(l)
-}
-
-/// L⁻¹ r, `l` from [`cholesky`].
+/// L⁻¹ r, `l` a factor from [`factor_points`] (lower, its diagonal inverted).
 fn forward<const C: usize>(l: &[[f64; C]; C], r: &[f64; C]) -> [f64; C] {
     let mut y = [0.0; C];
     for i in 0..C {
@@ -222,7 +197,7 @@ fn forward<const C: usize>(l: &[[f64; C]; C], r: &[f64; C]) -> [f64; C] {
     y
 }
 
-/// L⁻ᵀ y, `l` from [`cholesky`].
+/// L⁻ᵀ y, `l` a factor from [`factor_points`].
 fn backward<const C: usize>(l: &[[f64; C]; C], y: &[f64; C]) -> [f64; C] {
     let mut x = [0.0; C];
     for i in (0..C).rev() {
@@ -453,6 +428,7 @@ impl<const C: usize> Kkt<C> {
         let (n, mg) = (sh.n(), sh.m_g());
         Some(Self {
             chol: vec![[[0.0; C]; C]; sh.points()],
+            y: vec![[[0.0; 3]; 3]; sh.points()],
             hinv_sigma: vec![0.0; nk],
             factor: None,
             slots,
@@ -502,13 +478,14 @@ impl<const C: usize> Kkt<C> {
     /// an H_p or S cannot be factored.
     pub fn factor(&mut self, sh: &Shape<C>, sc: &Scaling) -> bool {
         let form = Timer::start(Kernel::FormS);
+        if !factor_points(sh, sc, EPS, &mut self.chol, &mut self.y) {
+            return false;
+        }
         self.values.iter_mut().for_each(|v| *v = 0.0);
         // The budget rows' own block (at most two budgets), accumulated over all points.
         let mut bb = [[0.0f64; 2]; 2];
         for (ci, contact) in sh.contacts.iter().enumerate() {
-            let Some((k6, v)) = self.contact_matrix(sh, sc, contact.points.clone(), &mut bb) else {
-                return false;
-            };
+            let (k6, v) = self.contact_matrix(sh, contact.points.clone(), &mut bb);
             self.add_contact(sh, ci, &contact.sides, &k6, &v);
         }
         self.add_budgets(sh, sc, &mut bb);
@@ -530,83 +507,24 @@ impl<const C: usize> Kkt<C> {
         lw.is_finite()
     }
 
-    /// H_p = P + εI + G_pᵀ Hs_p⁻¹ G_p of point `p` (C×C, symmetric, full).
-    fn point_hessian(sh: &Shape<C>, sc: &Scaling, p: usize) -> [[f64; C]; C] {
-        let mp = sh.m_p;
-        let mut h = [[0.0f64; C]; C];
-        for k in 0..C {
-            h[k][k] = sh.p[k] + EPS;
-        }
-        let dinv = &sc.dinv[p * mp..p * mp + sh.nonneg.len()];
-        for (r, g) in sh.nonneg.iter().enumerate() {
-            let w = dinv[r];
-            for a in 0..C {
-                let ga = g[a] * w;
-                if ga != 0.0 {
-                    for b in 0..=a {
-                        h[a][b] += ga * g[b];
-                    }
-                }
-            }
-        }
-        if let Some(soc) = &sh.soc {
-            // Gᵀ Hs⁻¹ G = MᵀM with M = W⁻¹ G: a Gram matrix, positive semidefinite whatever the
-            // rounding.
-            let mut mm = [[0.0f64; C]; 3];
-            for k in 0..C {
-                let col = sc.winv_mul(p, &[soc[0][k], soc[1][k], soc[2][k]]);
-                for i in 0..3 {
-                    mm[i][k] = col[i];
-                }
-            }
-            for a in 0..C {
-                for b in 0..=a {
-                    h[a][b] += mm[0][a] * mm[0][b] + mm[1][a] * mm[1][b] + mm[2][a] * mm[2][b];
-                }
-            }
-        }
-        for a in 0..C {
-            for b in 0..a {
-                h[b][a] = h[a][b];
-            }
-        }
-        h
-    }
-
-    /// One contact's points: H_p's factor kept per point, and summed in the interface frame the wrench
-    /// matrix K = Σ_p T_p N H_p⁻¹ Nᵀ T_pᵀ (6×6, symmetric), the budget columns' wrenches `v`
-    /// and their block `bb`. `None` when an H_p cannot be inverted.
+    /// One contact's points summed in the interface frame: the wrench matrix K = Σ_p T_p Y_p
+    /// T_pᵀ (6×6, symmetric; Y_p = N H_p⁻¹ Nᵀ from [`factor_points`]), the budget columns'
+    /// wrenches `v` and their block `bb`.
     fn contact_matrix(
-        &mut self,
+        &self,
         sh: &Shape<C>,
-        sc: &Scaling,
         points: std::ops::Range<usize>,
         bb: &mut [[f64; 2]; 2],
-    ) -> Option<(Mat6, [[f64; 6]; 2])> {
+    ) -> (Mat6, [[f64; 6]; 2]) {
         let mut k6 = [[0.0f64; 6]; 6];
         let mut v = [[0.0f64; 6]; 2];
         for p in points {
-            let h = Self::point_hessian(sh, sc, p);
-            let l = cholesky(&h)?;
-            self.chol[p] = l;
-            // Y = N H⁻¹ Nᵀ = MᵀM with M = L⁻¹Nᵀ (local force covariance; a Gram matrix,
-            // positive semidefinite whatever the rounding), then K += T Y Tᵀ.
-            let m = [forward(&l, &sh.fmap[0]), forward(&l, &sh.fmap[1]), forward(&l, &sh.fmap[2])];
-            let mut y = [[0.0f64; 3]; 3];
-            for i in 0..3 {
-                for j in 0..=i {
-                    let mut s = 0.0;
-                    for k in 0..C {
-                        s += m[i][k] * m[j][k];
-                    }
-                    y[i][j] = s;
-                    y[j][i] = s;
-                }
-            }
-            add_point_wrench(&mut k6, &y, &sh.rho[p]);
+            add_point_wrench(&mut k6, &self.y[p], &sh.rho[p]);
             if sh.budget_vars.is_empty() {
                 continue;
             }
+            let l = self.chol[p];
+            let m = [forward(&l, &sh.fmap[0]), forward(&l, &sh.fmap[1]), forward(&l, &sh.fmap[2])];
             // The budget columns: (N H⁻¹)[i][col] = (L⁻ᵀ M)[col][i], and H⁻¹'s own entries.
             let hn = [backward(&l, &m[0]), backward(&l, &m[1]), backward(&l, &m[2])];
             for (kb, &col) in sh.budget_vars.iter().enumerate() {
@@ -628,7 +546,7 @@ impl<const C: usize> Kkt<C> {
                 k6[j][i] = k6[i][j];
             }
         }
-        Some((k6, v))
+        (k6, v)
     }
 
     /// Maps a contact's K to its blocks: S_jj += Ψ_j K Ψ_jᵀ for each free side, S_ab += Ψ_a K

@@ -19,6 +19,7 @@ mod cones;
 mod iterate;
 mod kkt;
 mod measures;
+mod points;
 pub mod profile;
 mod shape;
 mod solver;
