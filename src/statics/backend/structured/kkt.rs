@@ -26,10 +26,10 @@
 
 use super::block_cholesky::{BlockFactor, BlockSymbolic};
 use super::cones::Scaling;
-use super::points::factor_points;
+use super::points::{back_points, factor_points, reduce_points};
 use super::profile::{Kernel, Timer};
 use super::shape::Shape;
-use crate::statics::problem::{Side as ContactSide, motion_at, wrench};
+use crate::statics::problem::{Side as ContactSide, wrench};
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::cholesky::llt::factor::LltRegularization;
 use faer::sparse::linalg::SupernodalThreshold;
@@ -161,6 +161,26 @@ enum Numeric {
     Faer { l_values: Vec<f64>, buffer: MemBuffer, par: Par },
 }
 
+/// The per-point solves' work space: H_p⁻¹ r̃x and its wrench per point, each contact's block
+/// rows of z_E seen in its frame, and each point's contact.
+struct PointWork<const C: usize> {
+    w: Vec<[f64; C]>,
+    wrench: Vec<[f64; 6]>,
+    seen: Vec<[f64; 6]>,
+    contact_of: Vec<u32>,
+}
+
+impl<const C: usize> PointWork<C> {
+    fn new(sh: &Shape<C>) -> Self {
+        let mut contact_of = vec![0u32; sh.points()];
+        for (ci, contact) in sh.contacts.iter().enumerate() {
+            contact_of[contact.points.clone()].fill(ci as u32);
+        }
+        let np = sh.points();
+        Self { w: vec![[0.0; C]; np], wrench: vec![[0.0; 6]; np], seen: vec![[0.0; 6]; sh.contacts.len()], contact_of }
+    }
+}
+
 pub struct Kkt<const C: usize> {
     /// H_p's Cholesky factor per point (lower, its diagonal inverted: [`factor_points`]).
     chol: Vec<[[f64; C]; C]>,
@@ -181,6 +201,7 @@ pub struct Kkt<const C: usize> {
     /// Work: the right-hand side of S, r̃x per point.
     rhs_s: Vec<f64>,
     rt: Vec<[f64; C]>,
+    points: PointWork<C>,
     refinement: Refinement,
 }
 
@@ -240,32 +261,6 @@ fn add_point_wrench(k6: &mut Mat6, y: &[[f64; 3]; 3], rho: &[f64; 3]) {
             k6[3 + i][3 + j] -= rr[j];
         }
     }
-}
-
-/// `Nᵀ (U_top + U_bot × ρ)`: a contact's block motions seen by one point's variables.
-fn point_motion<const C: usize>(sh: &Shape<C>, u: &[f64; 6], rho: &[f64; 3]) -> [f64; C] {
-    let g = motion_at(u, rho);
-    let mut t = [0.0; C];
-    for k in 0..C {
-        t[k] = sh.fmap[0][k] * g[0] + sh.fmap[1][k] * g[1] + sh.fmap[2][k] * g[2];
-    }
-    t
-}
-
-fn point_force<const C: usize>(sh: &Shape<C>, x: &[f64; C]) -> [f64; 3] {
-    let mut f = [0.0; 3];
-    for (i, fi) in f.iter_mut().enumerate() {
-        for k in 0..C {
-            *fi += sh.fmap[i][k] * x[k];
-        }
-    }
-    f
-}
-
-fn as_point<const C: usize>(v: &[f64], p: usize) -> [f64; C] {
-    let mut out = [0.0; C];
-    out.copy_from_slice(&v[p * C..(p + 1) * C]);
-    out
 }
 
 /// Per block column of S, the larger blocks it shares an interface with, in order: the
@@ -438,6 +433,7 @@ impl<const C: usize> Kkt<C> {
             numeric,
             rhs_s: vec![0.0; m_e],
             rt: vec![[0.0; C]; sh.points()],
+            points: PointWork::new(sh),
             refinement: Refinement { residual: Blocks::zeros(n, m_e, mg), candidate: Blocks::zeros(n, m_e, mg) },
         })
     }
@@ -688,19 +684,16 @@ impl<const C: usize> Kkt<C> {
         for (o, r) in self.rhs_s.iter_mut().zip(rhs.eq) {
             *o = -r;
         }
+        let work = &mut self.points;
+        reduce_points(sh, sc, &self.chol, (rhs.x, rhs.ineq), &mut self.rt, &mut work.w, &mut work.wrench);
         for contact in sh.contacts {
             let mut w6 = [0.0f64; 6];
             for p in contact.points.clone() {
-                let rt = Self::point_rhs(sh, sc, rhs, p);
-                self.rt[p] = rt;
-                let w = chol_solve(&self.chol[p], &rt);
-                let f = point_force(sh, &w);
-                let wr = wrench(&sh.rho[p], &f);
                 for i in 0..6 {
-                    w6[i] += wr[i];
+                    w6[i] += work.wrench[p][i];
                 }
                 for (kb, &col) in sh.budget_vars.iter().enumerate() {
-                    self.rhs_s[6 * nb + kb] += w[col];
+                    self.rhs_s[6 * nb + kb] += work.w[p][col];
                 }
             }
             for side in contact.sides.iter().flatten() {
@@ -718,29 +711,6 @@ impl<const C: usize> Kkt<C> {
         rt_sigma
     }
 
-    /// r̃x = r_x + G_pᵀ Hs_p⁻¹ r_G of point `p`.
-    fn point_rhs(sh: &Shape<C>, sc: &Scaling, rhs: Rhs, p: usize) -> [f64; C] {
-        let (mp, nn) = (sh.m_p, sh.nonneg.len());
-        let mut rt: [f64; C] = as_point(rhs.x, p);
-        let rgp = &rhs.ineq[p * mp..(p + 1) * mp];
-        let dinv = &sc.dinv[p * mp..p * mp + nn];
-        for (r, g) in sh.nonneg.iter().enumerate() {
-            let f = rgp[r] * dinv[r];
-            for k in 0..C {
-                rt[k] += g[k] * f;
-            }
-        }
-        if let Some(soc) = &sh.soc {
-            let f = sc.hs_inv_mul(p, &[rgp[nn], rgp[nn + 1], rgp[nn + 2]]);
-            for i in 0..3 {
-                for k in 0..C {
-                    rt[k] += soc[i][k] * f[i];
-                }
-            }
-        }
-        rt
-    }
-
     /// λ's bordered solve (module docs), with y = S⁻¹ r already in z_E: x_λ and its z_G, and
     /// z_E += w x_λ. Nothing without a load factor.
     fn solve_load_factor(&self, sh: &Shape<C>, sc: &Scaling, rhs: Rhs, out: &mut Step) {
@@ -756,53 +726,17 @@ impl<const C: usize> Kkt<C> {
     }
 
     /// The points' x = H⁻¹ (r̃x − Eᵀ z_E) and z_G = Hs⁻¹ (G x − r_G), from z_E.
-    fn back_substitute(&self, sh: &Shape<C>, sc: &Scaling, rhs: Rhs, out: &mut Step) {
+    fn back_substitute(&mut self, sh: &Shape<C>, sc: &Scaling, rhs: Rhs, out: &mut Step) {
         let nb = sh.blocks;
-        for contact in sh.contacts {
-            let mut u = [0.0f64; 6];
+        let work = &mut self.points;
+        for (u, contact) in work.seen.iter_mut().zip(sh.contacts) {
+            *u = [0.0f64; 6];
             for side in contact.sides.iter().flatten() {
-                side.add_seen(&out.eq[6 * side.block..6 * side.block + 6], &mut u);
-            }
-            for p in contact.points.clone() {
-                let mut t = point_motion(sh, &u, &sh.rho[p]);
-                for (kb, &col) in sh.budget_vars.iter().enumerate() {
-                    t[col] += out.eq[6 * nb + kb];
-                }
-                let mut r = self.rt[p];
-                for k in 0..C {
-                    r[k] -= t[k];
-                }
-                let xp = chol_solve(&self.chol[p], &r);
-                out.x[p * C..(p + 1) * C].copy_from_slice(&xp);
-                Self::point_duals(sh, sc, rhs, p, &xp, out.ineq);
+                side.add_seen(&out.eq[6 * side.block..6 * side.block + 6], u);
             }
         }
-    }
-
-    /// z_G = Hs_p⁻¹ (G_p x_p − r_G) of point `p` into `zg`.
-    fn point_duals(sh: &Shape<C>, sc: &Scaling, rhs: Rhs, p: usize, xp: &[f64; C], zg: &mut [f64]) {
-        let (mp, nn) = (sh.m_p, sh.nonneg.len());
-        let rgp = &rhs.ineq[p * mp..(p + 1) * mp];
-        let dinv = &sc.dinv[p * mp..p * mp + nn];
-        let zgp = &mut zg[p * mp..(p + 1) * mp];
-        for (r, g) in sh.nonneg.iter().enumerate() {
-            let mut gx = 0.0;
-            for k in 0..C {
-                gx += g[k] * xp[k];
-            }
-            zgp[r] = (gx - rgp[r]) * dinv[r];
-        }
-        if let Some(soc) = &sh.soc {
-            let mut gx = [0.0; 3];
-            for i in 0..3 {
-                let mut s = -rgp[nn + i];
-                for k in 0..C {
-                    s += soc[i][k] * xp[k];
-                }
-                gx[i] = s;
-            }
-            zgp[nn..nn + 3].copy_from_slice(&sc.hs_inv_mul(p, &gx));
-        }
+        let (seen, budgets) = ((work.seen.as_slice(), work.contact_of.as_slice()), (&out.eq[6 * nb..], rhs.ineq));
+        back_points(sh, sc, &self.chol, &self.rt, seen, budgets, out.x, out.ineq);
     }
 
     /// The budget slacks' x = H_σ⁻¹ (r̃x_σ − z_E) and z_G, `rt_sigma` from [`Self::reduce_rhs`].
