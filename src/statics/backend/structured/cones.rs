@@ -173,25 +173,6 @@ impl Scaling {
         self.winv_mul(p, &self.winv_mul(p, x))
     }
 
-    /// `out −= Hs z`.
-    pub fn hs_mul_sub(&self, z: &[f64], out: &mut [f64]) {
-        let d = &self.d;
-        self.layout.for_nonneg(|r| {
-            for i in r {
-                out[i] -= d[i] * z[i];
-            }
-        });
-        if self.layout.soc {
-            for p in 0..self.layout.points {
-                let at = self.layout.soc_at(p);
-                let hz = self.hs_mul(p, &[z[at], z[at + 1], z[at + 2]]);
-                for r in 0..3 {
-                    out[at + r] -= hz[r];
-                }
-            }
-        }
-    }
-
     /// `og −= Hs z` over point p's rows (`zp`, `og`: its rows of z and of the output).
     pub fn hs_mul_sub_point(&self, p: usize, zp: &[f64], og: &mut [f64]) {
         let (at, nn) = (p * self.layout.per_point, self.layout.nonneg);
@@ -208,10 +189,21 @@ impl Scaling {
 
     /// `Δs = −(Hs Δz + c)`.
     pub fn ds_from_dz(&self, dz: &[f64], c: &[f64], ds: &mut [f64]) {
-        for (o, ci) in ds.iter_mut().zip(c) {
-            *o = -ci;
+        let d = &self.d;
+        self.layout.for_nonneg(|r| {
+            for i in r {
+                ds[i] = -c[i] - d[i] * dz[i];
+            }
+        });
+        if self.layout.soc {
+            for p in 0..self.layout.points {
+                let at = self.layout.soc_at(p);
+                let hz = self.hs_mul(p, &[dz[at], dz[at + 1], dz[at + 2]]);
+                for r in 0..3 {
+                    ds[at + r] = -c[at + r] - hz[r];
+                }
+            }
         }
-        self.hs_mul_sub(dz, ds);
     }
 
     /// The Δs constant term of the combined step, `Wᵀ(λ \ ds)` with

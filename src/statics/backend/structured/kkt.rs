@@ -26,6 +26,7 @@
 
 use super::block_cholesky::{BlockFactor, BlockSymbolic};
 use super::cones::Scaling;
+use super::iterate::{all_finite, norm_inf};
 use super::points::{back_points, factor_points, reduce_points};
 use super::profile::{Kernel, Timer};
 use super::shape::Shape;
@@ -759,7 +760,7 @@ impl<const C: usize> Kkt<C> {
             self.refine(sh, sc, rhs, &mut out, &mut work);
             self.refinement = work;
         }
-        out.x.iter().chain(out.eq.iter()).chain(out.ineq.iter()).all(|v| v.is_finite())
+        all_finite(out.x) && all_finite(out.eq) && all_finite(out.ineq)
     }
 
     /// Iterative refinement of `out` (clarabel's defaults: relative 1e-13, absolute 1e-12,
@@ -767,7 +768,7 @@ impl<const C: usize> Kkt<C> {
     /// the residual. It is added in place and taken back off when it does not (rare, and
     /// the last step): no copies of the solution.
     fn refine(&mut self, sh: &Shape<C>, sc: &Scaling, rhs: Rhs, out: &mut Step, work: &mut Refinement) {
-        let norm_b = rhs.x.iter().chain(rhs.eq).chain(rhs.ineq).fold(0.0f64, |a, v| a.max(v.abs()));
+        let norm_b = norm_inf(rhs.x).max(norm_inf(rhs.eq)).max(norm_inf(rhs.ineq));
         let Refinement { residual, candidate: correction } = work;
         let mut norm_e = residual_of(sh, sc, rhs, out.view(), residual);
         let add = |out: &mut [f64], d: &[f64], sign: f64| out.iter_mut().zip(d).for_each(|(o, d)| *o += sign * d);

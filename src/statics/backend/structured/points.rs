@@ -378,3 +378,142 @@ fn point_duals<const C: usize>(
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    //! Invariant: the four-lane kernels give, for every point (the short last batch included),
+    //! what the algebra gives one point at a time, written out here with nalgebra: H_p from its
+    //! rows (L Lᵀ = H_p), Y_p = N H_p⁻¹ Nᵀ, r̃x and H_p⁻¹ r̃x and its wrench, x_p and z_G of
+    //! the back substitution — pyramid8, box4 and the cone, each to 1e-12 of its largest entry
+    //! (the 1e-14 holds for the factor; the solves carry H_p's condition number).
+    use super::*;
+    use crate::interfaces::detect;
+    use crate::model::{Assembly, builtin};
+    use crate::statics::assemble::{Stage, System, contact_problem};
+    use crate::statics::backend::structured::cones::Layout;
+    use crate::statics::components::components;
+    use crate::statics::problem::FrictionModel;
+    use crate::statics::settings::StaticsSettings;
+    use nalgebra::{DMatrix, DVector};
+
+    struct Lcg(u64);
+    impl Lcg {
+        fn next(&mut self) -> f64 {
+            self.0 = self.0.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            (self.0 >> 11) as f64 / (1u64 << 53) as f64
+        }
+    }
+
+    /// G_p as a dense (rows × C) matrix and Hs_p⁻¹ applied to a vector of its rows.
+    fn rows<const C: usize>(sh: &Shape<C>) -> DMatrix<f64> {
+        let soc = sh.soc.map(|s| s.to_vec()).unwrap_or_default();
+        let all: Vec<[f64; C]> = sh.nonneg.iter().copied().chain(soc).collect();
+        DMatrix::from_fn(all.len(), C, |r, k| all[r][k])
+    }
+
+    fn hs_inv<const C: usize>(sh: &Shape<C>, sc: &Scaling, p: usize, v: &DVector<f64>) -> DVector<f64> {
+        let (mp, nn) = (sh.m_p, sh.nonneg.len());
+        let mut out = DVector::from_fn(v.len(), |r, _| if r < nn { v[r] * sc.dinv[p * mp + r] } else { 0.0 });
+        if sh.soc.is_some() {
+            let f = sc.hs_inv_mul(p, &[v[nn], v[nn + 1], v[nn + 2]]);
+            for i in 0..3 {
+                out[nn + i] = f[i];
+            }
+        }
+        out
+    }
+
+    fn check<const C: usize>(model: FrictionModel) {
+        let asm = Assembly::new(&builtin("wall?courses=3&bricks=3").unwrap(), &Default::default()).unwrap();
+        let ifs = detect(&asm);
+        let sys = System::new(&asm, &ifs, &components(&asm, &ifs)[0], 0.6, model, false);
+        let cp = contact_problem(&sys, Stage::Strict, &StaticsSettings::default());
+        let mut sh = Shape::<C>::new(&cp).expect("the strict QP's shape");
+        // The wall's faces have four points each: its last point dropped, the last batch is short.
+        let mut contacts = sh.contacts.to_vec();
+        contacts.last_mut().expect("contacts").points.end -= 1;
+        let rho = &sh.rho[..sh.rho.len() - 1];
+        (sh.contacts, sh.rho) = (&contacts, rho);
+        let (np, mp, nn) = (sh.points(), sh.m_p, sh.nonneg.len());
+        assert_ne!(np % LANES, 0, "a short last batch is exercised");
+        let layout = Layout { points: np, per_point: mp, nonneg: nn, soc: sh.soc.is_some(), tail: sh.tail() };
+        let mut rng = Lcg(11);
+        // Interior s and z: non-negative rows in [0.5, 1.5], cones with s₀ > |s₁|.
+        let mut interior =
+            |i: usize| if i % mp >= nn && (i % mp - nn) == 0 { 2.0 + rng.next() } else { 0.5 + rng.next() };
+        let (s, z): (Vec<f64>, Vec<f64>) = (0..sh.m_g()).map(|i| (interior(i), interior(i))).unzip();
+        let mut sc = Scaling::identity(layout);
+        assert!(sc.update(&s, &z));
+        let eps = 1e-13;
+        let (mut chol, mut y) = (vec![[[0.0; C]; C]; np], vec![[[0.0; 3]; 3]; np]);
+        assert!(factor_points(&sh, &sc, eps, &mut chol, &mut y));
+        let rx: Vec<f64> = (0..sh.n()).map(|_| rng.next() - 0.5).collect();
+        let rg: Vec<f64> = (0..sh.m_g()).map(|_| rng.next() - 0.5).collect();
+        let (mut rt, mut w, mut wr) = (vec![[0.0; C]; np], vec![[0.0; C]; np], vec![[0.0; 6]; np]);
+        reduce_points(&sh, &sc, &chol, (&rx, &rg), &mut rt, &mut w, &mut wr);
+        let u: Vec<[f64; 6]> = sh.contacts.iter().map(|_| std::array::from_fn(|_| rng.next() - 0.5)).collect();
+        let mut contact_of = vec![0u32; np];
+        for (ci, c) in sh.contacts.iter().enumerate() {
+            contact_of[c.points.clone()].fill(ci as u32);
+        }
+        let (mut x, mut zg) = (vec![0.0; sh.n()], vec![0.0; sh.m_g()]);
+        back_points(&sh, &sc, &chol, &rt, (&u, &contact_of), (&[], &rg), &mut x, &mut zg);
+
+        let g = rows(&sh);
+        let n = DMatrix::from_fn(3, C, |i, k| sh.fmap[i][k]);
+        let close = |a: &[f64], b: &[f64], what: &str, p: usize| {
+            let scale = b.iter().fold(1e-300f64, |m, v| m.max(v.abs()));
+            let off = a.iter().zip(b).fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+            assert!(off <= 1e-12 * scale, "{model:?} point {p}: {what} off by {off:e} of {scale:e}");
+        };
+        for p in 0..np {
+            // H_p = P + εI + Gᵀ Hs⁻¹ G, column by column.
+            let mut h = DMatrix::from_fn(C, C, |a, b| if a == b { sh.p[a] + eps } else { 0.0 });
+            for k in 0..C {
+                h.set_column(k, &(h.column(k) + g.transpose() * hs_inv(&sh, &sc, p, &g.column(k).into_owned())));
+            }
+            let l = DMatrix::from_fn(C, C, |i, j| match i.cmp(&j) {
+                std::cmp::Ordering::Less => 0.0,
+                std::cmp::Ordering::Equal => 1.0 / chol[p][i][i],
+                std::cmp::Ordering::Greater => chol[p][i][j],
+            });
+            close((&l * l.transpose()).as_slice(), h.as_slice(), "L Lᵀ", p);
+            let hinv = h.clone().try_inverse().expect("H_p invertible");
+            close(y[p].as_flattened(), (&n * &hinv * n.transpose()).as_slice(), "Y", p);
+            let rgp = DVector::from_fn(mp, |r, _| rg[p * mp + r]);
+            let rt_ref = DVector::from_fn(C, |k, _| rx[p * C + k]) + g.transpose() * hs_inv(&sh, &sc, p, &rgp);
+            close(&rt[p], rt_ref.as_slice(), "r̃x", p);
+            let w_ref = &hinv * &rt_ref;
+            close(&w[p], w_ref.as_slice(), "H⁻¹ r̃x", p);
+            let f = &n * &w_ref;
+            let rho = sh.rho[p];
+            let m = [rho[1] * f[2] - rho[2] * f[1], rho[2] * f[0] - rho[0] * f[2], rho[0] * f[1] - rho[1] * f[0]];
+            let wr_ref = [f[0], f[1], f[2], m[0], m[1], m[2]];
+            close(&wr[p], &wr_ref, "wrench", p);
+            let uc = u[contact_of[p] as usize];
+            let motion = DVector::from_fn(3, |i, _| {
+                let (a, b) = ((i + 1) % 3, (i + 2) % 3);
+                uc[i] + uc[3 + a] * rho[b] - uc[3 + b] * rho[a]
+            });
+            let x_ref = &hinv * (rt_ref - n.transpose() * motion);
+            close(&x[p * C..(p + 1) * C], x_ref.as_slice(), "x_p", p);
+            let zg_ref = hs_inv(&sh, &sc, p, &(&g * &x_ref - rgp));
+            close(&zg[p * mp..(p + 1) * mp], zg_ref.as_slice(), "z_G", p);
+        }
+    }
+
+    #[test]
+    fn four_lanes_give_each_points_algebra() {
+        for model in [FrictionModel::Pyramid8, FrictionModel::Box4, FrictionModel::Cone] {
+            let asm = Assembly::new(&builtin("wall?courses=3&bricks=3").unwrap(), &Default::default()).unwrap();
+            let ifs = detect(&asm);
+            let sys = System::new(&asm, &ifs, &components(&asm, &ifs)[0], 0.6, model, false);
+            match contact_problem(&sys, Stage::Strict, &StaticsSettings::default()).per_point() {
+                3 => check::<3>(model),
+                4 => check::<4>(model),
+                5 => check::<5>(model),
+                c => panic!("{c} variables per point"),
+            }
+        }
+    }
+}

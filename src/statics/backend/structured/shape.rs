@@ -261,7 +261,7 @@ impl<'a, const C: usize> Shape<'a, C> {
     /// The unregularised KKT matrix times [x; z_E; z_G] (module docs of the kkt): E x, G x −
     /// Hs z_G and Eᵀz_E + Gᵀz_G + P x in one sweep over the points, each point's data read
     /// once. Each entry is the same expression, in the same order, as [`Self::a_mul`], then
-    /// [`Scaling::hs_mul_sub`], then [`Self::at_mul`] and `+ P x` give: the same bits.
+    /// `− Hs z` per row, then [`Self::at_mul`] and `+ P x` give: the same bits.
     #[allow(clippy::too_many_arguments)]
     pub fn apply(
         &self,
