@@ -799,7 +799,7 @@ impl<const C: usize> Kkt<C> {
 /// The residual `rhs` − K `sol` into `into`; returns its largest magnitude.
 fn residual_of<const C: usize>(sh: &Shape<C>, sc: &Scaling, rhs: Rhs, sol: Rhs, into: &mut Blocks) -> f64 {
     let _t = Timer::start(Kernel::RefineResidual);
-    sh.apply(sc, sol.x, sol.eq, sol.ineq, &mut into.x, &mut into.eq, &mut into.ineq);
+    sh.apply(Some(sc), sol.x, sol.eq, sol.ineq, &mut into.x, &mut into.eq, &mut into.ineq);
     let mut e = 0.0f64;
     let pairs = into.x.iter_mut().zip(rhs.x).chain(into.eq.iter_mut().zip(rhs.eq));
     for (k, r) in pairs.chain(into.ineq.iter_mut().zip(rhs.ineq)) {

@@ -68,9 +68,8 @@ pub(super) fn info<const C: usize>(sh: &Shape<C>, v: &Vars, info: &mut Info, wor
     let xpx = dot(&v.x, px);
     let (qx, bz, sz) = (sh.q_dot(&v.x), dot(&sh.b_e, &v.ze), dot(&v.s, &v.z));
     // rx_inf = −Aᵀz (kept in info.rx first), rz_inf = A x + s.
-    sh.at_mul(&v.ze, &v.z, &mut info.rx);
+    sh.apply(None, &v.x, &v.ze, &v.z, &mut info.rx, ex, gx);
     info.rx.iter_mut().for_each(|r| *r = -*r);
-    sh.a_mul(&v.x, ex, gx);
     for (g, s) in gx.iter_mut().zip(&v.s) {
         *g += s;
     }

@@ -181,18 +181,6 @@ impl<'a, const C: usize> Shape<'a, C> {
         }
     }
 
-    /// `out = Eᵀ z_E + Gᵀ z_G`.
-    pub fn at_mul(&self, ze: &[f64], zg: &[f64], out: &mut [f64]) {
-        let mp = self.m_p;
-        for contact in self.contacts {
-            let u = self.seen(contact, ze);
-            for p in contact.points.clone() {
-                self.transpose_point(p, &u, ze, &zg[p * mp..(p + 1) * mp], &mut out[p * C..(p + 1) * C]);
-            }
-        }
-        self.tail_transposed(ze, zg, out);
-    }
-
     /// A contact's block rows of `ze` seen in its interface frame.
     fn seen(&self, contact: &Contact, ze: &[f64]) -> [f64; 6] {
         let mut u = [0.0f64; 6];
@@ -259,13 +247,15 @@ impl<'a, const C: usize> Shape<'a, C> {
     }
 
     /// The unregularised KKT matrix times [x; z_E; z_G] (module docs of the kkt): E x, G x −
-    /// Hs z_G and Eᵀz_E + Gᵀz_G + P x in one sweep over the points, each point's data read
-    /// once. Each entry is the same expression, in the same order, as [`Self::a_mul`], then
-    /// `− Hs z` per row, then [`Self::at_mul`] and `+ P x` give: the same bits.
+    /// Hs z_G and Eᵀz_E + Gᵀz_G + P x (with the scaling `kkt`), or the constraint products
+    /// E x, G x and Eᵀz_E + Gᵀz_G (without) — in one sweep over the points, each point's data
+    /// read once. Each entry takes the same expressions in the same order as separate passes
+    /// would ([`Self::a_mul`], then `− Hs z` per row; Eᵀz_E + Gᵀz_G, then `+ P x`): the same
+    /// bits.
     #[allow(clippy::too_many_arguments)]
     pub fn apply(
         &self,
-        sc: &Scaling,
+        kkt: Option<&Scaling>,
         x: &[f64],
         ze: &[f64],
         zg: &[f64],
@@ -282,11 +272,13 @@ impl<'a, const C: usize> Shape<'a, C> {
                 let xp: [f64; C] = fixed(&x[p * C..(p + 1) * C]);
                 let (og, zp) = (&mut out_g[p * mp..(p + 1) * mp], &zg[p * mp..(p + 1) * mp]);
                 self.point_products(p, &xp, &mut w6, out_e, og);
-                sc.hs_mul_sub_point(p, zp, og);
                 let tp = &mut out_x[p * C..(p + 1) * C];
                 self.transpose_point(p, &u, ze, zp, tp);
-                for k in 0..C {
-                    tp[k] += self.p[k] * xp[k];
+                if let Some(sc) = kkt {
+                    sc.hs_mul_sub_point(p, zp, og);
+                    for k in 0..C {
+                        tp[k] += self.p[k] * xp[k];
+                    }
                 }
             }
             for side in contact.sides.iter().flatten() {
@@ -294,9 +286,11 @@ impl<'a, const C: usize> Shape<'a, C> {
             }
         }
         self.tail_products(x, out_e, out_g);
-        let tail = self.points() * mp;
-        for i in tail..tail + self.tail() {
-            out_g[i] -= sc.d[i] * zg[i];
+        if let Some(sc) = kkt {
+            let tail = self.points() * mp;
+            for i in tail..tail + self.tail() {
+                out_g[i] -= sc.d[i] * zg[i];
+            }
         }
         self.tail_transposed(ze, zg, out_x);
     }
