@@ -97,11 +97,11 @@ impl Blocks {
     }
 }
 
-/// Iterative refinement's work: the residual of the current solution, and a candidate one.
+/// Iterative refinement's work: the residual of the current solution, and a correction to it.
 #[derive(Default)]
 struct Refinement {
     residual: Blocks,
-    candidate: Blocks,
+    correction: Blocks,
 }
 
 /// The load factor's part of the bordered solves (module docs).
@@ -173,11 +173,11 @@ struct PointWork<const C: usize> {
 
 impl<const C: usize> PointWork<C> {
     fn new(sh: &Shape<C>) -> Self {
-        let mut contact_of = vec![0u32; sh.points()];
+        let np = sh.points();
+        let mut contact_of = vec![0u32; np];
         for (ci, contact) in sh.contacts.iter().enumerate() {
             contact_of[contact.points.clone()].fill(ci as u32);
         }
-        let np = sh.points();
         Self { w: vec![[0.0; C]; np], wrench: vec![[0.0; 6]; np], seen: vec![[0.0; 6]; sh.contacts.len()], contact_of }
     }
 }
@@ -435,7 +435,7 @@ impl<const C: usize> Kkt<C> {
             rhs_s: vec![0.0; m_e],
             rt: vec![[0.0; C]; sh.points()],
             points: PointWork::new(sh),
-            refinement: Refinement { residual: Blocks::zeros(n, m_e, mg), candidate: Blocks::zeros(n, m_e, mg) },
+            refinement: Refinement { residual: Blocks::zeros(n, m_e, mg), correction: Blocks::zeros(n, m_e, mg) },
         })
     }
 
@@ -769,7 +769,7 @@ impl<const C: usize> Kkt<C> {
     /// the last step): no copies of the solution.
     fn refine(&mut self, sh: &Shape<C>, sc: &Scaling, rhs: Rhs, out: &mut Step, work: &mut Refinement) {
         let norm_b = norm_inf(rhs.x).max(norm_inf(rhs.eq)).max(norm_inf(rhs.ineq));
-        let Refinement { residual, candidate: correction } = work;
+        let Refinement { residual, correction } = work;
         let mut norm_e = residual_of(sh, sc, rhs, out.view(), residual);
         let add = |out: &mut [f64], d: &[f64], sign: f64| out.iter_mut().zip(d).for_each(|(o, d)| *o += sign * d);
         for _ in 0..10 {

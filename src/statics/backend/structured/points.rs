@@ -1,5 +1,7 @@
-//! Each force point's share of S, four points at a time: H_p = P + εI + G_pᵀ Hs_p⁻¹ G_p, its
-//! Cholesky factor and the local force covariance Y_p = N H_p⁻¹ Nᵀ (module docs of the kkt).
+//! Each force point's algebra, four points at a time (module docs of the kkt): forming S —
+//! H_p = P + εI + G_pᵀ Hs_p⁻¹ G_p, its Cholesky factor and the local force covariance
+//! Y_p = N H_p⁻¹ Nᵀ ([`factor_points`]); S's right-hand side ([`reduce_points`]); and the back
+//! substitution from z_E ([`back_points`]).
 //!
 //! One point's algebra is a C×C Cholesky with C ≤ 5: a chain of square roots and divisions
 //! that no vector lane count divides, so one point at a time runs at the latency of that chain
@@ -404,13 +406,14 @@ mod tests {
         }
     }
 
-    /// G_p as a dense (rows × C) matrix and Hs_p⁻¹ applied to a vector of its rows.
+    /// G_p as a dense (rows × C) matrix.
     fn rows<const C: usize>(sh: &Shape<C>) -> DMatrix<f64> {
         let soc = sh.soc.map(|s| s.to_vec()).unwrap_or_default();
         let all: Vec<[f64; C]> = sh.nonneg.iter().copied().chain(soc).collect();
         DMatrix::from_fn(all.len(), C, |r, k| all[r][k])
     }
 
+    /// Hs_p⁻¹ applied to a vector of point p's rows.
     fn hs_inv<const C: usize>(sh: &Shape<C>, sc: &Scaling, p: usize, v: &DVector<f64>) -> DVector<f64> {
         let (mp, nn) = (sh.m_p, sh.nonneg.len());
         let mut out = DVector::from_fn(v.len(), |r, _| if r < nn { v[r] * sc.dinv[p * mp + r] } else { 0.0 });
