@@ -23,7 +23,7 @@
 
 use super::broad;
 use crate::geometry::{Mesh, Point3, Vector3};
-use crate::model::{Assembly, Overlap};
+use crate::model::{Assembly, AssemblyBlock, Overlap};
 use rapier3d::math::{Pose, Vector};
 use rapier3d::parry::query::contact;
 use rapier3d::parry::shape::SharedShape;
@@ -66,6 +66,26 @@ fn hull_of<'a>(points: impl Iterator<Item = &'a Point3>, origin: &Point3, unit: 
     SharedShape::convex_hull(&local)
 }
 
+/// Block `b`'s exact convex parts (convex up to `tol` m) as parry shapes relative to its
+/// centroid in units of `unit` m; `None` when it has more than [`MAX_TRIANGLES`] triangles or
+/// needs more than [`MAX_PARTS`] parts.
+pub(crate) fn convex_shapes(b: &AssemblyBlock, tol: f64, unit: f64) -> Option<Vec<SharedShape>> {
+    // Triangles are exactly planar (warped faces within the planarity tolerance are not), so
+    // the splits stay exact.
+    let triangles = b.mesh.triangles();
+    if triangles.len() > MAX_TRIANGLES {
+        return None;
+    }
+    let tri = Mesh::new(b.mesh.vertices.clone(), triangles.iter().map(|(t, _)| t.to_vec()).collect());
+    let parts = crate::geometry::convex::convex_parts(&tri, tol, MAX_PARTS)?;
+    parts.iter().map(|m| hull_of(m.vertices.iter(), &b.mass.centroid, unit)).collect()
+}
+
+/// Block `b`'s convex hull relative to its centroid in units of `unit` m.
+pub(crate) fn hull_shape(b: &AssemblyBlock, unit: f64) -> Option<SharedShape> {
+    hull_of(b.mesh.vertices.iter(), &b.mass.centroid, unit)
+}
+
 /// The shapes of one block, built when a pair first needs them.
 #[derive(Default)]
 struct Shapes {
@@ -92,27 +112,14 @@ impl<'a> Checker<'a> {
     fn hull(&mut self, i: usize) -> Option<SharedShape> {
         let b = &self.assembly.blocks[i];
         let unit = self.unit;
-        self.shapes[i].hull.get_or_insert_with(|| hull_of(b.mesh.vertices.iter(), &b.mass.centroid, unit)).clone()
+        self.shapes[i].hull.get_or_insert_with(|| hull_shape(b, unit)).clone()
     }
 
     /// Block `i`'s convex parts, convex up to `tol` (m).
     fn parts(&mut self, i: usize, tol: f64) -> Option<Vec<SharedShape>> {
         let b = &self.assembly.blocks[i];
         let unit = self.unit;
-        self.shapes[i]
-            .parts
-            .get_or_insert_with(|| {
-                // Triangles are exactly planar (warped faces within the planarity tolerance
-                // are not), so the splits stay exact.
-                let triangles = b.mesh.triangles();
-                if triangles.len() > MAX_TRIANGLES {
-                    return None;
-                }
-                let tri = Mesh::new(b.mesh.vertices.clone(), triangles.iter().map(|(t, _)| t.to_vec()).collect());
-                let parts = crate::geometry::convex::convex_parts(&tri, tol, MAX_PARTS)?;
-                parts.iter().map(|m| hull_of(m.vertices.iter(), &b.mass.centroid, unit)).collect()
-            })
-            .clone()
+        self.shapes[i].parts.get_or_insert_with(|| convex_shapes(b, tol, unit)).clone()
     }
 
     /// Whether one of block `i`'s face planes separates its vertices from block `j`'s up to

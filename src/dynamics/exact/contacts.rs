@@ -50,6 +50,9 @@ pub(super) enum Origin {
     Interface { interface: usize, vertex: usize },
     /// Vertex `vertex` of the free block's mesh, on the ground.
     Ground { vertex: usize },
+    /// Point `point` of the manifold of convex parts `parts` of the contact's two blocks, closing
+    /// under large motion ([`super::touches`]); a contact of one step.
+    Touch { parts: [usize; 2], point: usize },
 }
 
 #[derive(Clone, Debug)]
@@ -57,6 +60,8 @@ pub(super) struct Contact {
     pub a: Side,
     pub b: Side,
     pub origin: Origin,
+    /// The two blocks (assembly indices, ascending); None on the ground.
+    pub pair: Option<[usize; 2]>,
     /// The material points on a and on b: offsets from the body's start centroid (a fixed
     /// side's: the world point).
     pub ra: Vector3,
@@ -105,11 +110,16 @@ pub(super) fn build(assembly: &Assembly, interfaces: &[Interface], sides: &[Side
             continue;
         }
         let reach = diameter(&itf.polygon);
+        let pair = match (itf.a, itf.b) {
+            (Side0::Block(i), Side0::Block(j)) => Some([i.0.min(j.0), i.0.max(j.0)]),
+            _ => None,
+        };
         for (vertex, &p) in itf.polygon.iter().enumerate() {
             out.push(Contact {
                 a,
                 b,
                 origin: Origin::Interface { interface: k, vertex },
+                pair,
                 ra: offset(a, p),
                 rb: offset(b, p),
                 frame: [itf.frame.n, itf.frame.u, itf.frame.v],
@@ -125,6 +135,7 @@ pub(super) fn build(assembly: &Assembly, interfaces: &[Interface], sides: &[Side
                     a: Side::Fixed,
                     b: Side::Free(k),
                     origin: Origin::Ground { vertex },
+                    pair: None,
                     ra: Vector3::new(p.x, p.y, 0.0),
                     rb: p - body.start,
                     frame: [Vector3::z(), Vector3::x(), Vector3::y()],
@@ -158,14 +169,16 @@ impl Contact {
         // On the ground, a's point is b's vertex projected onto the plane.
         let pa = match self.origin {
             Origin::Ground { .. } => Point3::new(pb.x, pb.y, 0.0),
-            Origin::Interface { .. } => at(self.a, &self.ra),
+            Origin::Interface { .. } | Origin::Touch { .. } => at(self.a, &self.ra),
         };
         let d = pb - pa;
         let gap = frame[0].dot(&d);
         let slip = (d - frame[0] * gap).norm();
-        let facing = match poses.of(self.b) {
-            Some(b) => frame[0].dot(&(b.q * self.frame[0])),
-            None => frame[0].dot(&self.frame[0]),
+        // A touch is a point of the parts' manifold: no face pair whose turning to measure.
+        let facing = match (self.origin, poses.of(self.b)) {
+            (Origin::Touch { .. }, _) => 1.0,
+            (_, Some(b)) => frame[0].dot(&(b.q * self.frame[0])),
+            (_, None) => frame[0].dot(&self.frame[0]),
         };
         Geometry { point: pa + d * 0.5, frame, gap, slip, facing }
     }

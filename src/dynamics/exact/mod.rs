@@ -42,6 +42,7 @@ mod bodies;
 mod contacts;
 mod problem;
 mod step;
+mod touches;
 
 use crate::dynamics::settings::Coulomb;
 use crate::dynamics::{DropSettings, SupportPath};
@@ -110,7 +111,12 @@ pub struct World {
     /// Per moved support, the force (N) and moment about its centroid (N·m) the blocks put on
     /// it over the last step.
     reactions: Vec<[Vector3; 2]>,
+    /// The interface and ground contacts (the first `persistent`), then the step's touches.
     contacts: Vec<Contact>,
+    persistent: usize,
+    /// Each assembly block's side in a contact.
+    sides: Vec<Side>,
+    solids: touches::Solids,
     ctx: StepContext,
     acc: Accuracy,
     settings: crate::dynamics::settings::ExactSettings,
@@ -151,6 +157,7 @@ impl World {
         let interfaces = crate::interfaces::detect(assembly);
         let contacts = contacts::build(assembly, &interfaces, &sides, Poses { bodies: &bodies, movers: &movers });
         let size = assembly.median_block_size().unwrap_or(1.0).max(f64::MIN_POSITIVE);
+        let solids = touches::Solids::new(&assembly.blocks, size);
         let weight: f64 = bodies.iter().map(|b| b.mass * g).sum();
         let units = Units { length: assembly.scale.max(f64::MIN_POSITIVE), force: weight.max(f64::MIN_POSITIVE), g };
         let ctx = StepContext {
@@ -182,7 +189,10 @@ impl World {
             movers,
             paths: paths.to_vec(),
             reactions,
+            persistent: contacts.len(),
             contacts,
+            sides,
+            solids,
             ctx,
             acc,
             settings: s.clone(),
@@ -221,6 +231,7 @@ impl World {
             }
         }
         self.reactions.iter_mut().for_each(|r| *r = [Vector3::zeros(); 2]);
+        self.find_touches();
         let near = self.near_contacts();
         for comp in self.components(&near) {
             if comp.iter().all(|&k| self.bodies[k].asleep) {
@@ -329,7 +340,7 @@ impl World {
                     let (x, y) = measure(c, &c.geometry(poses), poses);
                     Some((interface, vertex, x, y))
                 }
-                contacts::Origin::Ground { .. } => None,
+                contacts::Origin::Ground { .. } | contacts::Origin::Touch { .. } => None,
             })
             .collect()
     }
@@ -378,7 +389,9 @@ impl World {
         let g = c.geometry(poses);
         let closing = -c.relative_velocity(poses, &g.point).dot(&g.frame[0]);
         let faces = g.slip <= c.reach && g.facing >= FACING && g.gap >= -DEEP * self.size;
-        (faces && g.gap <= envelope + 2.0 * self.ctx.h * closing.max(0.0)).then_some(Active {
+        // A touch is near by being found (its pair is within reach).
+        let touch = matches!(c.origin, contacts::Origin::Touch { .. });
+        (faces && (touch || g.gap <= envelope + 2.0 * self.ctx.h * closing.max(0.0))).then_some(Active {
             contact: i,
             geometry: g,
             prescribed: c.prescribed_velocity(poses, &g.point),

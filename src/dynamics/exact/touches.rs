@@ -1,0 +1,227 @@
+//! Contacts that close under large motion: between two blocks that no interface contact holds —
+//! they did not touch at the start, or their interface's contacts were released — from the
+//! blocks' exact convex parts (parry's contact manifolds between convex pieces, with a
+//! prediction distance). Rebuilt every step, after the persistent contacts, so a corner that
+//! lands on a face, a voussoir that falls onto another, or a block that slid off its joint and
+//! hits its neighbour is a contact of the step in which it closes, and is released when it opens.
+//!
+//! Only a pair one of whose blocks has moved by more than the envelope since the start is
+//! queried: at the start every contact is an interface's (the statics' force points), so the
+//! first step stays the kinematic check's rate problem, and edges that merely touch in the
+//! design (a stack bond's diagonal neighbours) carry nothing until the blocks move.
+//!
+//! Shapes are given to parry (f32) relative to each block's centroid in units of the median
+//! block size, and the pair's relative pose is formed in f64 first: a contact point is exact to
+//! ~1e-7 of a block whatever the model's size or distance from the origin.
+
+use super::World;
+use super::contacts::{Contact, Origin, Side};
+use crate::geometry::polygon::Frame;
+use crate::geometry::{Point3, Vector3};
+use crate::interfaces::penetration::{convex_shapes, hull_shape, v32};
+use crate::model::AssemblyBlock;
+use nalgebra::UnitQuaternion;
+use rapier3d::math::{Pose, Rotation, Vector};
+use rapier3d::parry::query::{DefaultQueryDispatcher, QueryDispatcher};
+use rapier3d::parry::shape::SharedShape;
+use std::collections::BTreeSet;
+use std::sync::Arc;
+
+/// Every block's convex parts, built when a pair first needs them.
+#[derive(Clone)]
+pub(super) struct Solids {
+    blocks: Arc<[AssemblyBlock]>,
+    /// Per block: its start centroid (m) and the farthest vertex from it (m).
+    centres: Vec<(Point3, f64)>,
+    parts: Vec<Option<Arc<[SharedShape]>>>,
+    /// The shapes' length unit, m (the median block size).
+    unit: f64,
+}
+
+impl Solids {
+    pub fn new(blocks: &[AssemblyBlock], unit: f64) -> Self {
+        let centres = blocks
+            .iter()
+            .map(|b| {
+                let c = b.mass.centroid;
+                (c, b.mesh.vertices.iter().map(|p| (p - c).norm()).fold(0.0, f64::max))
+            })
+            .collect();
+        Self { blocks: blocks.into(), centres, parts: vec![None; blocks.len()], unit }
+    }
+
+    /// Block `i`'s convex parts (its hull when it has no exact decomposition within the limits).
+    fn parts(&mut self, i: usize) -> Arc<[SharedShape]> {
+        let (b, unit) = (&self.blocks[i], self.unit);
+        self.parts[i]
+            .get_or_insert_with(|| {
+                let tol = 1e-3 * b.aabb.diagonal();
+                let shapes = convex_shapes(b, tol, unit).or_else(|| hull_shape(b, unit).map(|h| vec![h]));
+                shapes.unwrap_or_default().into()
+            })
+            .clone()
+    }
+}
+
+/// A block's pose now: centroid (m) and rotation since the start, and a bound on its points'
+/// speed (m/s).
+struct Placed {
+    x: Point3,
+    q: UnitQuaternion<f64>,
+    speed: f64,
+}
+
+impl World {
+    /// Drops the last step's touches and finds this step's (module docs).
+    pub(super) fn find_touches(&mut self) {
+        self.contacts.truncate(self.persistent);
+        let envelope = self.settings.envelope * self.size;
+        let held = self.held_pairs();
+        let mut found = Vec::new();
+        for (i, j) in self.touch_candidates(envelope) {
+            if held.contains(&[i, j]) {
+                continue;
+            }
+            let (pi, pj) = (self.placed(i), self.placed(j));
+            let prediction = envelope + 2.0 * self.ctx.h * (pi.speed + pj.speed);
+            let (ri, rj) = (self.solids.centres[i].1, self.solids.centres[j].1);
+            if (pj.x - pi.x).norm() > ri + rj + prediction {
+                continue;
+            }
+            self.pair_touches(i, j, &pi, &pj, prediction, &mut found);
+        }
+        self.contacts.extend(found);
+    }
+
+    /// The pairs of blocks (ascending) one of which is awake and has moved by more than
+    /// `envelope` since the start, the other any block.
+    fn touch_candidates(&self, envelope: f64) -> BTreeSet<(usize, usize)> {
+        let moved = |b: &super::Body| (b.x - b.start).norm() + b.q.angle() * b.radius > envelope;
+        let mut pairs = BTreeSet::new();
+        let movers = self.bodies.iter().filter(|b| !b.asleep).chain(&self.movers);
+        for b in movers.filter(|b| moved(b)) {
+            for j in (0..self.solids.centres.len()).filter(|&j| j != b.block) {
+                pairs.insert((b.block.min(j), b.block.max(j)));
+            }
+        }
+        pairs
+    }
+
+    /// The pairs of blocks (ascending) an interface contact holds this step: one not released
+    /// and within the envelope (or closing it), as the step's persistent contacts are chosen.
+    fn held_pairs(&self) -> BTreeSet<[usize; 2]> {
+        self.contacts
+            .iter()
+            .enumerate()
+            .filter(|(_, c)| matches!(c.origin, Origin::Interface { .. }))
+            .filter_map(|(i, c)| self.near(i, c).and(c.pair))
+            .collect()
+    }
+
+    fn placed(&self, i: usize) -> Placed {
+        let body = match self.sides[i] {
+            Side::Free(k) => Some(&self.bodies[k]),
+            Side::Moved(m) => Some(&self.movers[m]),
+            Side::Fixed => None,
+        };
+        match body {
+            Some(b) => Placed { x: b.x, q: b.q, speed: b.v.norm() + b.w.norm() * b.radius },
+            None => Placed { x: self.solids.centres[i].0, q: UnitQuaternion::identity(), speed: 0.0 },
+        }
+    }
+
+    /// The contact points of blocks `i` and `j` within `prediction` (m), from every pair of
+    /// their convex parts, as contacts from i (side a) into j (side b).
+    fn pair_touches(&mut self, i: usize, j: usize, pi: &Placed, pj: &Placed, prediction: f64, out: &mut Vec<Contact>) {
+        let unit = self.solids.unit;
+        let (si, sj) = (self.solids.parts(i), self.solids.parts(j));
+        let inv = pi.q.inverse();
+        let rot = inv * pj.q;
+        let t = v32(inv * (pj.x - pi.x) / unit);
+        let rot = Rotation::from_xyzw(rot.i as f32, rot.j as f32, rot.k as f32, rot.w as f32).normalize();
+        let pos12 = Pose::from_parts(t, rot);
+        let (a, b) = (self.sides[i], self.sides[j]);
+        // A fixed side's material point is the world point; a moving one's its offset.
+        let anchor =
+            |s: Side, k: usize| if s == Side::Fixed { self.solids.centres[k].0.coords } else { Vector3::zeros() };
+        let (oa, ob) = (anchor(a, i), anchor(b, j));
+        let reach = (prediction / unit) as f32;
+        for (pa, part_a) in si.iter().enumerate() {
+            for (pb, part_b) in sj.iter().enumerate() {
+                for (k, point) in part_touches(part_a, part_b, &pos12, reach).into_iter().enumerate() {
+                    // b's material point back in b's own frame, in f64.
+                    let on_b = pj.q.inverse() * (pi.x + pi.q * (point.on_b * unit) - pj.x);
+                    out.push(Contact {
+                        a,
+                        b,
+                        origin: Origin::Touch { parts: [pa, pb], point: k },
+                        pair: Some([i, j]),
+                        ra: oa + point.on_a * unit,
+                        rb: ob + on_b,
+                        frame: point.frame,
+                        reach: f64::INFINITY,
+                        last_normal: 0.0,
+                    });
+                }
+            }
+        }
+    }
+}
+
+/// A contact point of two convex parts, in a's frame (a's shape units).
+struct PartPoint {
+    /// The material points on a and on b, both in a's frame (b's at the pair's pose).
+    on_a: Vector3,
+    on_b: Vector3,
+    /// n (from a into b), u, v.
+    frame: [Vector3; 3],
+}
+
+/// The contact points of convex parts `a` and `b` (b placed at `pos12` in a's frame) when they
+/// are within `reach`: with parry's normal n of their closest (or deepest) pair, every vertex
+/// of either part within `reach` of the other part, its gap measured along n from the other
+/// part's support plane; parry's pair itself when no vertex is (two edges crossing). A contact manifold by clipping faces can miss the far end of an edge
+/// lying on a face (the end that then swings in); the vertices cannot.
+fn part_touches(a: &SharedShape, b: &SharedShape, pos12: &Pose, reach: f32) -> Vec<PartPoint> {
+    let Ok(Some(c)) = DefaultQueryDispatcher.contact(pos12, a.as_ref(), b.as_ref(), reach) else {
+        return Vec::new();
+    };
+    let f64v = |v: Vector| Vector3::new(v.x as f64, v.y as f64, v.z as f64);
+    let n = f64v(c.normal1);
+    if n.norm().is_nan() || n.norm() <= 0.5 {
+        return Vec::new();
+    }
+    let n = n.normalize();
+    let f = Frame::from_normal(Point3::origin(), n);
+    let frame = [f.n, f.u, f.v];
+    let vertices = |s: &SharedShape| s.as_convex_polyhedron().map(|p| p.points().to_vec()).unwrap_or_default();
+    let va = vertices(a);
+    let vb: Vec<Vector> = vertices(b).into_iter().map(|w| pos12.transform_point(w)).collect();
+    let top_a = va.iter().map(|v| n.dot(&f64v(*v))).fold(f64::NEG_INFINITY, f64::max);
+    let bottom_b = vb.iter().map(|w| n.dot(&f64v(*w))).fold(f64::INFINITY, f64::min);
+    let mut out: Vec<PartPoint> = Vec::new();
+    // Coincident points (a corner on a corner) would make the step's problem degenerate.
+    let mut push = |p: PartPoint| {
+        if !out.iter().any(|q| (q.on_b - p.on_b).norm() <= 1e-6) {
+            out.push(p);
+        }
+    };
+    for w in &vb {
+        if a.distance_to_local_point(*w, true) <= reach {
+            let w = f64v(*w);
+            push(PartPoint { on_a: w - n * (n.dot(&w) - top_a), on_b: w, frame });
+        }
+    }
+    let inv = pos12.inverse();
+    for v in &va {
+        if b.distance_to_local_point(inv.transform_point(*v), true) <= reach {
+            let v = f64v(*v);
+            push(PartPoint { on_a: v, on_b: v + n * (bottom_b - n.dot(&v)), frame });
+        }
+    }
+    // Two edges crossing, no vertex near: parry's pair is the contact.
+    if out.is_empty() {
+        out.push(PartPoint { on_a: f64v(c.point1), on_b: f64v(pos12.transform_point(c.point2)), frame });
+    }
+    out
+}
