@@ -43,6 +43,10 @@ pub struct AnalyzeArgs {
     /// second; any glTF viewer plays it) — a collapse seen in motion.
     #[arg(long, value_name = "OUT.glb")]
     pub frames: Option<PathBuf>,
+    /// With the drop test: draw its motion as a strip of six key frames, evenly spaced in time
+    /// (.png or .svg).
+    #[arg(long, value_name = "OUT.png")]
+    pub strip: Option<PathBuf>,
     /// Also run the kinematic check (released from rest with no squeeze: do the forces RBE
     /// found actually arise?) and compare the verdicts.
     #[arg(long)]
@@ -84,14 +88,40 @@ impl AnalyzeArgs {
 /// The frame rate of `--frames` (per simulated second).
 const FRAMES_PER_SECOND: f64 = 30.0;
 
+/// Writes the recorded motion as `--frames`' animation and `--strip`'s key frames.
+fn write_motion(
+    args: &AnalyzeArgs,
+    assembly: &crate::model::Assembly,
+    motion: &crate::dynamics::Trajectory,
+) -> Result<(), BadInput> {
+    if let Some(out) = &args.frames {
+        write_output(out, &crate::viz::gltf::animation_glb(assembly, motion))?;
+        println!("motion written to {} ({} frames)", out.display(), motion.times.len());
+    }
+    if let Some(out) = &args.strip {
+        let strip = crate::viz::plot::FrameStrip::new(assembly, motion);
+        crate::viz::plot::write_strip(&strip, out).map_err(|e| BadInput(e.to_string()))?;
+        println!(
+            "key frames written to {} (t = {})",
+            out.display(),
+            strip.key_frames().iter().map(|&f| format!("{:.2}", motion.times[f])).collect::<Vec<_>>().join(", ")
+        );
+    }
+    Ok(())
+}
+
 pub fn run(args: &AnalyzeArgs) -> Result<i32, BadInput> {
     if let Some(out) = &args.compas_out {
         refuse_overwrite(args.scene.as_deref(), out, "--compas-out")?;
     }
-    if let Some(out) = &args.frames {
-        refuse_overwrite(args.scene.as_deref(), out, "--frames")?;
-        if !args.dynamic {
-            return Err(BadInput("--frames: the motion is the drop test's (use `drop` or `analyze --dynamic`)".into()));
+    for (out, option) in [(&args.frames, "--frames"), (&args.strip, "--strip")] {
+        if let Some(out) = out {
+            refuse_overwrite(args.scene.as_deref(), out, option)?;
+            if !args.dynamic {
+                return Err(BadInput(format!(
+                    "{option}: the motion is the drop test's (use `drop` or `analyze --dynamic`)"
+                )));
+            }
         }
     }
     if let Some(out) = &args.json {
@@ -110,15 +140,13 @@ pub fn run(args: &AnalyzeArgs) -> Result<i32, BadInput> {
     }
     let dynamic = if args.dynamic {
         let settings = args.drop.settings(args.solver.mu, args.solver.friction_model);
-        let d = match &args.frames {
-            Some(out) => {
-                let (d, motion) = crate::dynamics::record(&analysis.assembly, &settings, FRAMES_PER_SECOND)
-                    .map_err(|e| BadInput(e.to_string()))?;
-                write_output(out, &crate::viz::gltf::animation_glb(&analysis.assembly, &motion))?;
-                println!("motion written to {} ({} frames)", out.display(), motion.times.len());
-                d
-            }
-            None => crate::dynamics::drop_test(&analysis.assembly, &settings).map_err(|e| BadInput(e.to_string()))?,
+        let d = if args.frames.is_some() || args.strip.is_some() {
+            let (d, motion) = crate::dynamics::record(&analysis.assembly, &settings, FRAMES_PER_SECOND)
+                .map_err(|e| BadInput(e.to_string()))?;
+            write_motion(args, &analysis.assembly, &motion)?;
+            d
+        } else {
+            crate::dynamics::drop_test(&analysis.assembly, &settings).map_err(|e| BadInput(e.to_string()))?
         };
         print!("{}", text_report::side_by_side(&analysis, &d));
         Some(d)

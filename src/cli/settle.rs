@@ -9,7 +9,7 @@ use super::{BadInput, load, refuse_overwrite, scene_name, write_output};
 use crate::model::Movement;
 use crate::pipeline::analyze;
 use crate::studies::settlement::{Outcome, Run, SettleSettings, settle};
-use crate::viz::plot::{ThrustPlot, write_thrust};
+use crate::viz::plot::{Clock, FrameStrip, ThrustPlot, write_strip, write_thrust};
 use clap::Args;
 use std::path::PathBuf;
 
@@ -40,10 +40,20 @@ pub struct SettleArgs {
     /// The horizontal reaction on the first moved support against its movement (.png, .svg).
     #[arg(long)]
     pub plot: Option<PathBuf>,
+    /// The quasi-static run's increments as a glTF animation (.glb; the whole path plays in
+    /// 5 s, the moved supports with it, up to just past the collapse).
+    #[arg(long, value_name = "OUT.glb")]
+    pub frames: Option<PathBuf>,
+    /// The quasi-static run as a strip of six key frames along the path (.png, .svg).
+    #[arg(long, value_name = "OUT.png")]
+    pub strip: Option<PathBuf>,
 }
 
+/// Seconds the whole path takes in `--frames`' animation.
+const PATH_SECONDS: f64 = 5.0;
+
 pub fn run(args: &SettleArgs) -> Result<i32, BadInput> {
-    for out in [&args.json, &args.plot].into_iter().flatten() {
+    for out in [&args.json, &args.plot, &args.frames, &args.strip].into_iter().flatten() {
         refuse_overwrite(args.scene.as_deref(), out, "output")?;
     }
     let name = scene_name(args.scene.as_deref()).to_string();
@@ -87,10 +97,27 @@ pub fn run(args: &SettleArgs) -> Result<i32, BadInput> {
         write_thrust(&plot, out).map_err(|e| BadInput(e.to_string()))?;
         println!("thrust plot written to {}", out.display());
     }
+    write_motion(args, &analysis.assembly, &result.quasi_static)?;
     Ok(match result.quasi_static.outcome {
         Outcome::Stands => 0,
         Outcome::Collapses { .. } => 1,
     })
+}
+
+/// Writes `run`'s motion as `--frames`' animation and `--strip`'s key frames.
+fn write_motion(args: &SettleArgs, assembly: &crate::model::Assembly, run: &Run) -> Result<(), BadInput> {
+    if let Some(out) = &args.frames {
+        let mut motion = run.motion.clone();
+        motion.times.iter_mut().for_each(|t| *t *= PATH_SECONDS);
+        write_output(out, &crate::viz::gltf::animation_glb(assembly, &motion))?;
+        println!("increments written to {} ({} frames)", out.display(), motion.times.len());
+    }
+    if let Some(out) = &args.strip {
+        let strip = FrameStrip { clock: Clock::Path, ..FrameStrip::new(assembly, &run.motion) };
+        write_strip(&strip, out).map_err(|e| BadInput(e.to_string()))?;
+        println!("key frames written to {}", out.display());
+    }
+    Ok(())
 }
 
 /// One run in a line: how it ended (with the supports' turn then, of `turn` degrees over the

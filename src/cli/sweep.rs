@@ -4,8 +4,9 @@
 use super::choice::Choice;
 use super::options::DropOptions;
 use super::{BadInput, load, refuse_overwrite, write_output};
+use crate::dynamics::Engine;
 use crate::model::{FrictionModel, Material};
-use crate::studies::threshold::{Family, bisect_thresholds, scan};
+use crate::studies::threshold::{Family, compare_engines, scan};
 use clap::{Args, ValueEnum};
 use std::path::PathBuf;
 
@@ -42,7 +43,12 @@ pub struct SweepArgs {
     pub scene: Option<String>,
     #[command(flatten)]
     pub drop: DropOptions,
-    /// Write the result as JSON here (atomically).
+    /// Find the drop-test threshold with both engines (rapier and exact; the statics' once),
+    /// side by side. The plot's scan stays with `--engine`.
+    #[arg(long)]
+    pub both_engines: bool,
+    /// Write the result as JSON here (atomically): one study, or with `--both-engines` one per
+    /// engine (an array).
     #[arg(long)]
     pub json: Option<PathBuf>,
     /// Also plot both verdicts and margins against the parameter (.png or .svg), from a scan
@@ -118,18 +124,34 @@ pub fn run(args: &SweepArgs) -> Result<i32, BadInput> {
         return Err(BadInput(format!("--lo {} must be below --hi {}", range.0, range.1)));
     }
     let drop = args.drop.settings(None, FrictionModel::default());
-    let bar = indicatif::ProgressBar::new(2 * (args.iterations as u64 + 2));
+    let engines = if args.both_engines { vec![Engine::Rapier, Engine::Exact] } else { vec![drop.engine] };
+    let bar = indicatif::ProgressBar::new((1 + engines.len() as u64) * (args.iterations as u64 + 2));
     bar.set_message(format!("sweeping {name}"));
-    let result = bisect_thresholds(&family, range, args.iterations, &drop, &mut || bar.inc(1));
+    let result = compare_engines(&family, range, args.iterations, &drop, &engines, &mut || bar.inc(1));
     bar.finish_and_clear();
-    let r = result.map_err(|e| BadInput(e.to_string()))?;
-    for (what, t) in [("statics", &r.statics), ("drop-test", &r.dynamic)] {
-        println!("{name}: {what} threshold {:.5} (stands at {:.5}, falls at {:.5})", t.mid(), t.stands_at, t.fails_at);
+    let studies = result.map_err(|e| BadInput(e.to_string()))?;
+    let t = &studies[0].statics;
+    println!("{name}: statics threshold {:.5} (stands at {:.5}, falls at {:.5})", t.mid(), t.stands_at, t.fails_at);
+    for r in &studies {
+        let t = &r.dynamic;
+        println!(
+            "{name}: drop-test threshold ({}) {:.5} (stands at {:.5}, falls at {:.5}); gap (drop test − statics) {:+.5}, {} evaluations",
+            r.engine,
+            t.mid(),
+            t.stands_at,
+            t.fails_at,
+            r.gap,
+            r.evaluations
+        );
     }
-    println!("gap (drop test − statics): {:+.5}, {} evaluations", r.gap, r.evaluations);
     if let Some(out) = &args.json {
-        write_output(out, serde_json::to_string_pretty(&r).unwrap_or_default().as_bytes())?;
+        let json = match studies.as_slice() {
+            [one] => serde_json::to_string_pretty(one),
+            all => serde_json::to_string_pretty(all),
+        };
+        write_output(out, json.unwrap_or_default().as_bytes())?;
     }
+    let r = studies.iter().find(|r| r.engine == drop.engine).unwrap_or(&studies[0]);
     if let Some(out) = &args.plot {
         let bar = indicatif::ProgressBar::new(args.points as u64);
         bar.set_message("scanning for the plot");
@@ -140,7 +162,7 @@ pub fn run(args: &SweepArgs) -> Result<i32, BadInput> {
             title: format!("{name} sweep: statics vs drop test"),
             parameter: name.parameter().into(),
             scan: &scan,
-            result: Some(&r),
+            result: Some(r),
         };
         crate::viz::plot::write_thresholds(&plot, out).map_err(|e| BadInput(e.to_string()))?;
         println!("plot written to {}", out.display());

@@ -21,7 +21,7 @@
 //! size. Units SI, z up; rotations of the paths in degrees (input) about the support's centroid.
 
 use crate::dynamics::exact::World;
-use crate::dynamics::{DropSettings, Engine, Stepper, SupportPath};
+use crate::dynamics::{DropSettings, Engine, Stepper, SupportPath, Trajectory};
 use crate::geometry::Vector3;
 use crate::interfaces::Interface;
 use crate::model::{Assembly, Movement};
@@ -159,6 +159,23 @@ pub struct Run {
     pub mechanism: Vec<Joint>,
     /// Engine steps taken.
     pub steps: usize,
+    /// The blocks' poses at the start, at every stage and just past a collapse, the times
+    /// being fractions of the path (none in rapier's run).
+    #[serde(skip)]
+    pub motion: Trajectory,
+}
+
+impl Run {
+    fn new(method: &'static str, engine: Engine) -> Self {
+        let motion = Trajectory { engine, times: Vec::new(), poses: Vec::new() };
+        Self { method, outcome: Outcome::Stands, stages: Vec::new(), mechanism: Vec::new(), steps: 0, motion }
+    }
+
+    /// Records `world`'s poses at `fraction` of the path.
+    fn frame(&mut self, world: &World, fraction: f64) {
+        self.motion.times.push(fraction);
+        self.motion.poses.push(world.all_poses());
+    }
 }
 
 /// The analysis of a design on moving supports ([`settle`]).
@@ -288,8 +305,7 @@ fn engine_settings(settings: &SettleSettings, engine: Engine) -> DropSettings {
 fn quasi_static(analysis: &Analysis, paths: &[SupportPath], scale: &PathScale, settings: &SettleSettings) -> Run {
     let assembly = &analysis.assembly;
     let mut world = World::with_paths(assembly, &engine_settings(settings, Engine::Exact), paths);
-    let mut run =
-        Run { method: "quasi-static", outcome: Outcome::Stands, stages: Vec::new(), mechanism: Vec::new(), steps: 0 };
+    let mut run = Run::new("quasi-static", Engine::Exact);
     let n = settings.increments;
     let mut done = 0.0;
     let g = assembly.gravity.norm().max(f64::MIN_POSITIVE);
@@ -297,6 +313,7 @@ fn quasi_static(analysis: &Analysis, paths: &[SupportPath], scale: &PathScale, s
     // in it: the blocks follow the supports under their weight instead of being left behind.
     let step = |fraction: f64| (10.0 * fraction * scale.travel / g).sqrt().max(settings.dt);
     world.set_step(step(1.0 / n as f64));
+    run.frame(&world, 0.0);
     if !increment(&mut world, 0.0, &mut run.steps) {
         return collapsed(run, analysis, world, 0.0, scale);
     }
@@ -306,6 +323,7 @@ fn quasi_static(analysis: &Analysis, paths: &[SupportPath], scale: &PathScale, s
         if increment(&mut world, fraction - done, &mut run.steps) {
             done = fraction;
             run.stages.push(stage(assembly, &analysis.interfaces, &world, done, scale));
+            run.frame(&world, done);
             continue;
         }
         let h = step(1.0 / n as f64);
@@ -315,6 +333,7 @@ fn quasi_static(analysis: &Analysis, paths: &[SupportPath], scale: &PathScale, s
             let mut s = stage(assembly, &analysis.interfaces, &world, done, scale);
             s.snapped = true;
             run.stages.push(s);
+            run.frame(&world, done);
             continue;
         }
         let (mut lo, mut hi, mut held) = (done, fraction, before);
@@ -416,6 +435,7 @@ fn increment(world: &mut World, fraction: f64, steps: &mut usize) -> bool {
 /// blocks start to fall (the last hold step's velocities, as the kinematic check's).
 fn collapsed(mut run: Run, analysis: &Analysis, world: World, fraction: f64, scale: &PathScale) -> Run {
     let assembly = &analysis.assembly;
+    run.frame(&world, fraction);
     let fastest = world.fastest_vertex();
     run.mechanism = classify(assembly, &analysis.interfaces, world.joint_rates(), MECHANISM_TOLERANCE * fastest);
     let movement = fraction * scale.movement;
@@ -501,8 +521,11 @@ fn in_engine(
     let steps = ((duration / settings.dt).ceil() as usize).max(1);
     let every = (steps / settings.increments).max(1);
     let method = if engine == Engine::Exact { "exact" } else { "rapier" };
-    let mut run = Run { method, outcome: Outcome::Stands, stages: Vec::new(), mechanism: Vec::new(), steps: 0 };
+    let mut run = Run::new(method, engine);
     let mut stepper = Stepper::with_paths(assembly, &drop, paths);
+    if let Stepper::Exact(w) = &stepper {
+        run.frame(w, 0.0);
+    }
     let mut speeds = Vec::with_capacity(steps);
     for k in 1..=steps {
         stepper.step_supports(1.0 / steps as f64);
@@ -514,13 +537,17 @@ fn in_engine(
             run.outcome = Outcome::Collapses { fraction, movement, relative: movement / assembly.scale };
             if let Stepper::Exact(w) = &stepper {
                 run.mechanism = joints(assembly, &analysis.interfaces, w);
+                run.frame(w, k as f64 / steps as f64);
             }
             return run;
         }
         if k % every == 0 {
             let fraction = k as f64 / steps as f64;
-            run.stages.push(match &stepper {
-                Stepper::Exact(w) => stage(assembly, &analysis.interfaces, w, fraction, scale),
+            let s = match &stepper {
+                Stepper::Exact(w) => {
+                    run.frame(w, fraction);
+                    stage(assembly, &analysis.interfaces, w, fraction, scale)
+                }
                 // rapier's contacts are not read: the stage has its movement only.
                 Stepper::Rapier(_) => Stage {
                     fraction,
@@ -530,7 +557,8 @@ fn in_engine(
                     rotation: f64::NAN,
                     snapped: false,
                 },
-            });
+            };
+            run.stages.push(s);
         }
     }
     run

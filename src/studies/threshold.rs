@@ -5,7 +5,7 @@
 //! small stands), `tilt` (ground tilt in degrees for any scene: gravity turned about y; upright
 //! stands).
 
-use crate::dynamics::{DropSettings, drop_test};
+use crate::dynamics::{DropSettings, Engine, drop_test};
 use crate::model::{Assembly, Scene, builtin};
 use crate::pipeline::{AnalysisSettings, analyze};
 use serde::Serialize;
@@ -73,6 +73,8 @@ impl Threshold {
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct ThresholdStudy {
     pub statics: Threshold,
+    /// The drop test's engine.
+    pub engine: Engine,
     pub dynamic: Threshold,
     pub gap: f64,
     pub evaluations: usize,
@@ -116,6 +118,20 @@ pub fn bisect_thresholds(
     drop: &DropSettings,
     tick: &mut dyn FnMut(),
 ) -> Result<ThresholdStudy, ThresholdError> {
+    let mut studies = compare_engines(family, range, iterations, drop, &[drop.engine], tick)?;
+    Ok(studies.remove(0))
+}
+
+/// [`bisect_thresholds`] for each of `engines` (the rest of `drop` the same), the statics'
+/// threshold found once: one study per engine, in that order.
+pub fn compare_engines(
+    family: &Family,
+    range: (f64, f64),
+    iterations: usize,
+    drop: &DropSettings,
+    engines: &[Engine],
+    tick: &mut dyn FnMut(),
+) -> Result<Vec<ThresholdStudy>, ThresholdError> {
     let mut evaluations = 0;
     let settings = AnalysisSettings::default();
     let mut statics = |p: f64| -> Result<bool, ThresholdError> {
@@ -124,16 +140,21 @@ pub fn bisect_thresholds(
         Ok(a.statics.stands)
     };
     let s = bisect("statics", family, range, iterations, &mut statics, tick)?;
-    // Only the verdict is wanted: a run ends once a block has fallen.
-    let drop = &DropSettings { stop_when_falls: true, ..drop.clone() };
-    let mut dynamic = |p: f64| -> Result<bool, ThresholdError> {
-        evaluations += 1;
-        let asm = Assembly::new(&family.scene(p)?, &settings.tolerances)
-            .map_err(|e| ThresholdError::Design(e.to_string()))?;
-        Ok(drop_test(&asm, drop).map_err(|e| ThresholdError::Design(e.to_string()))?.stands)
-    };
-    let d = bisect("drop test", family, range, iterations, &mut dynamic, tick)?;
-    Ok(ThresholdStudy { statics: s, dynamic: d, gap: d.mid() - s.mid(), evaluations })
+    let mut studies = Vec::with_capacity(engines.len());
+    for &engine in engines {
+        let mut evaluations = evaluations;
+        // Only the verdict is wanted: a run ends once a block has fallen.
+        let drop = &DropSettings { engine, stop_when_falls: true, ..drop.clone() };
+        let mut dynamic = |p: f64| -> Result<bool, ThresholdError> {
+            evaluations += 1;
+            let asm = Assembly::new(&family.scene(p)?, &settings.tolerances)
+                .map_err(|e| ThresholdError::Design(e.to_string()))?;
+            Ok(drop_test(&asm, drop).map_err(|e| ThresholdError::Design(e.to_string()))?.stands)
+        };
+        let d = bisect("drop test", family, range, iterations, &mut dynamic, tick)?;
+        studies.push(ThresholdStudy { statics: s, engine, dynamic: d, gap: d.mid() - s.mid(), evaluations });
+    }
+    Ok(studies)
 }
 
 /// Both answers at one parameter value of a family.

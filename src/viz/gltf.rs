@@ -157,9 +157,10 @@ fn write(mut b: Builder, name: &str, materials: Value, animation: Option<Value>)
     out
 }
 
-/// The .glb bytes of a drop test's motion: every block a node at its centroid (its mesh
-/// relative to it), the free blocks animated by the recorded poses (linear translation,
-/// spherical rotation between frames), supports still. glTF players loop it.
+/// The .glb bytes of a drop test's (or a settlement's) motion: every block a node at its
+/// centroid (its mesh relative to it), the free blocks and any support that moves animated by
+/// the recorded poses (linear translation, spherical rotation between frames), the other
+/// supports still. glTF players loop it.
 pub fn animation_glb(assembly: &crate::model::Assembly, motion: &crate::dynamics::Trajectory) -> Vec<u8> {
     let mut b = Builder::default();
     for block in &assembly.blocks {
@@ -175,7 +176,9 @@ pub fn animation_glb(assembly: &crate::model::Assembly, motion: &crate::dynamics
     let times: Vec<f32> = motion.times.iter().map(|&t| t as f32).collect();
     let input = b.floats(&times, "SCALAR", true);
     let (mut samplers, mut channels) = (Vec::new(), Vec::new());
-    for (i, block) in assembly.blocks.iter().enumerate().filter(|(_, b)| !b.support) {
+    // Supports are still in a drop test; a settlement's moved supports move with the blocks.
+    let moves = |i: usize| motion.poses.iter().any(|f| f.get(i) != motion.poses.first().and_then(|f0| f0.get(i)));
+    for (i, block) in assembly.blocks.iter().enumerate().filter(|&(i, b)| !b.support || moves(i)) {
         let translation: Vec<[f32; 3]> = motion.poses.iter().map(|f| y_up(f[i].0.coords.into())).collect();
         let rotation: Vec<f32> = motion
             .poses
@@ -198,7 +201,6 @@ pub fn animation_glb(assembly: &crate::model::Assembly, motion: &crate::dynamics
         {"name": "block", "pbrMetallicRoughness": {"baseColorFactor": [0.85, 0.82, 0.76, 1.0], "metallicFactor": 0.0, "roughnessFactor": 0.9}},
         {"name": "support", "pbrMetallicRoughness": {"baseColorFactor": [0.35, 0.35, 0.38, 1.0], "metallicFactor": 0.0, "roughnessFactor": 0.9}}
     ]);
-    let animation =
-        json!({"name": format!("drop test ({})", motion.engine), "samplers": samplers, "channels": channels});
+    let animation = json!({"name": format!("motion ({})", motion.engine), "samplers": samplers, "channels": channels});
     write(b, &assembly.name, materials, Some(animation))
 }

@@ -18,10 +18,12 @@ fn exact() -> DropSettings {
     DropSettings { engine: Engine::Exact, ..Default::default() }
 }
 
+/// The drop test, its energy balance checked: an identity of the scheme, so its error is the
+/// solves' (tolerance 1e-10; a block that tips over and lands on the ground, 2e-8).
 fn drop(scene: &Scene, settings: &DropSettings) -> DropResult {
     let r = drop_test(&assembly(scene), settings).expect("the drop test runs");
     let e = r.exact.as_ref().expect("the exact engine's account");
-    assert!(e.energy.error < 1e-8, "{}: energy balance {:?}", scene.name, e.energy);
+    assert!(e.energy.error < 1e-7, "{}: energy balance {:?}", scene.name, e.energy);
     r
 }
 
@@ -280,4 +282,32 @@ fn a_collapsing_arch_keeps_its_blocks_apart() {
     assert!(!r.stands && r.max_rotation > 0.5, "{r:?}");
     let e = r.exact.as_ref().unwrap();
     assert!(deepest < 0.01 && e.max_penetration < 0.01, "overlap {deepest} (engine: {})", e.max_penetration);
+}
+
+/// Invariant: a thin arch (t/R 0.08) collapsing onto the ground comes to rest there within 2 s
+/// — blocks that turn over keep their ground contacts, voussoirs landing on each other and on
+/// the springers do not pass through — every vertex of every block ends above the ground
+/// (within 1 % of a block), the engine's deepest overlap stays below 1 %, and the energy
+/// balance holds to 1e-5 through the impacts.
+#[test]
+fn a_thin_arch_collapses_onto_the_ground_and_rests_there() {
+    let mut scene = builtin("arch?n=15&t=0.08").unwrap();
+    scene.ground = true;
+    let asm = assembly(&scene);
+    let settings = DropSettings { duration: 2.0, ..exact() };
+    let mut run = DropRun::new(&asm, &settings).unwrap();
+    run.advance(run.total_steps());
+    let r = run.result();
+    let e = r.exact.as_ref().unwrap();
+    assert!(!r.stands && r.at_rest && r.max_rotation > 1.5, "{r:?}");
+    assert!(e.max_penetration < 0.01 && e.energy.error < 1e-5, "{e:?}");
+    let size = asm.median_block_size().unwrap();
+    for (i, block) in asm.blocks.iter().enumerate() {
+        let (x, q) = run.pose(i);
+        let q = nalgebra::UnitQuaternion::from_quaternion(nalgebra::Quaternion::new(q[0], q[1], q[2], q[3]));
+        let lowest =
+            block.mesh.vertices.iter().map(|p| (x + q * (p - block.mass.centroid)).z).fold(f64::INFINITY, f64::min);
+        let floor = if block.support { -0.08 } else { 0.0 };
+        assert!(lowest > floor - 0.01 * size, "{} reaches {lowest}", block.name);
+    }
 }

@@ -141,3 +141,38 @@ fn a_collapse_exports_as_an_animation() {
         }
     }
 }
+
+/// Invariant: a collapse's key-frame strip takes evenly spaced recorded frames, the first and
+/// the last included (16 frames, 6 keys: every third), one 360 × 420 panel each; a block is
+/// drawn in the mechanism's colour once it has moved a tenth of a block, so the first panel
+/// (at rest) has none of it and the last (fallen) much.
+#[test]
+fn a_collapse_draws_as_a_strip_of_key_frames() {
+    use voussoir::dynamics::{DropSettings, Engine, record};
+    use voussoir::viz::plot::{FrameStrip, write_strip};
+    let scene = builtin("arch?n=7&t=0.06").unwrap();
+    let asm = voussoir::model::Assembly::new(&scene, &Default::default()).unwrap();
+    let settings = DropSettings { engine: Engine::Exact, duration: 0.5, ..Default::default() };
+    let (_, motion) = record(&asm, &settings, 30.0).unwrap();
+    let strip = FrameStrip::new(&asm, &motion);
+    assert_eq!(strip.key_frames(), [0, 3, 6, 9, 12, 15]);
+    let dir = std::env::temp_dir().join(format!("voussoir-strip-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let png = dir.join("strip.png");
+    write_strip(&strip, &png).unwrap();
+    let img = image::open(&png).unwrap().to_rgb8();
+    assert_eq!(img.dimensions(), (6 * 360, 420));
+    // The mechanism's violet: blue well above green.
+    let violet = |panel: u32| {
+        (panel * 360..(panel + 1) * 360)
+            .flat_map(|x| (0..420).map(move |y| (x, y)))
+            .filter(|&(x, y)| {
+                let [r, g, b] = img.get_pixel(x, y).0;
+                b as i32 > g as i32 + 40 && b > r
+            })
+            .count()
+    };
+    assert_eq!(violet(0), 0, "at rest nothing has moved");
+    assert!(violet(5) > 1000, "fallen blocks in the mechanism's colour: {}", violet(5));
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -121,3 +121,59 @@ fn a_lintel_follows_a_settling_pier_turning_about_the_other_pier_s_edge() {
         last.joints.iter().map(|j| (j.a.as_str(), j.b.as_str(), j.state)).collect();
     assert!(states.iter().any(|j| j.0 == "left" && j.2 == JointState::Hinging), "{states:?}");
 }
+
+/// Invariant: a settlement's motion has the start and one frame per stage, at the stages'
+/// fractions of the path; in every frame the settling pier is where its path puts it (start +
+/// fraction × d, 1e-9), the fixed pier has not moved, and the lintel's turn is the stage's
+/// rotation. `settle --frames/--strip` write them: a glb that reads back with one channel pair
+/// per moving block (the pier and the lintel), and a six-panel strip.
+#[test]
+fn a_settlement_records_its_motion() {
+    let scene = Scene::new(
+        "lintel",
+        vec![
+            cuboid("left", [0.0, 0.0, -1.0], [0.5, 1.0, 0.0]).support(true),
+            cuboid("right", [2.5, 0.0, -1.0], [3.5, 1.0, 0.0]).support(true),
+            cuboid("lintel", [0.0, 0.0, 0.0], [3.0, 1.0, 0.3]),
+        ],
+    );
+    let analysis = run(&scene, &AnalysisSettings::default());
+    let d = 0.1;
+    let settle_right = Movement { block: "right".into(), translation: [0.0, 0.0, -d], rotation: [0.0; 3] };
+    let s = settle(&analysis, &[settle_right], &SettleSettings { engines: false, ..Default::default() }).unwrap();
+    let run = &s.quasi_static;
+    let m = &run.motion;
+    assert_eq!(m.times.len(), run.stages.len() + 1);
+    assert_eq!(m.times[0], 0.0);
+    let asm = &analysis.assembly;
+    for (k, (t, poses)) in m.times.iter().zip(&m.poses).enumerate().skip(1) {
+        assert_eq!(*t, run.stages[k - 1].fraction);
+        let right = asm.blocks[1].mass.centroid;
+        assert!((poses[1].0 - (right - nalgebra::Vector3::z() * (t * d))).norm() < 1e-9, "{:?}", poses[1]);
+        assert!(poses[0].0 == asm.blocks[0].mass.centroid && poses[0].1 == [1.0, 0.0, 0.0, 0.0]);
+        let turn = 2.0 * poses[2].1[0].clamp(-1.0, 1.0).acos().to_degrees();
+        assert!((turn - run.stages[k - 1].rotation).abs() < 1e-9, "{turn} vs {}", run.stages[k - 1].rotation);
+    }
+
+    let dir = std::env::temp_dir().join(format!("voussoir-settle-motion-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("lintel.json");
+    std::fs::write(&file, voussoir::io::scene_json::scene_to_string(&scene)).unwrap();
+    let (glb, png) = (dir.join("lintel.glb"), dir.join("lintel.png"));
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_voussoir"))
+        .arg("settle")
+        .arg(&file)
+        .args(["--move", "right:0,0,-0.1", "--quasi-static", "--increments", "6"])
+        .arg("--frames")
+        .arg(&glb)
+        .arg("--strip")
+        .arg(&png)
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stderr));
+    let (doc, _, _) = gltf::import(&glb).expect("a valid glb");
+    assert_eq!(doc.animations().next().expect("an animation").channels().count(), 2 * 2);
+    let img = image::open(&png).unwrap();
+    assert_eq!((img.width(), img.height()), (6 * 360, 420));
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -80,3 +80,42 @@ fn scan_and_plot_show_both_verdicts() {
     let err = write_thresholds(&plot, &dir.join("slope.jpg")).unwrap_err();
     assert!(err.to_string().contains("slope.jpg"));
 }
+
+/// Invariant: `compare_engines` finds the statics' threshold once and each engine's drop-test
+/// threshold beside it — on the slope, the statics and the exact engine bracket atan μ within
+/// 0.1° and rapier within 1° — and each study counts the statics' evaluations plus its own
+/// (2 + iterations each). The CLI's `--both-engines` writes both studies, one per engine.
+#[test]
+fn both_engines_side_by_side() {
+    use voussoir::dynamics::Engine;
+    use voussoir::studies::threshold::compare_engines;
+    let mu = 0.6f64;
+    let exact = mu.atan().to_degrees();
+    let engines = [Engine::Rapier, Engine::Exact];
+    let studies =
+        compare_engines(&Family::Slope { mu }, (20.0, 40.0), 10, &DropSettings::default(), &engines, &mut || {})
+            .unwrap();
+    assert_eq!(studies.iter().map(|s| s.engine).collect::<Vec<_>>(), engines);
+    assert_eq!(studies[0].statics, studies[1].statics);
+    assert!((studies[0].statics.mid() - exact).abs() < 0.1, "{studies:?}");
+    assert!((studies[0].dynamic.mid() - exact).abs() < 1.0, "rapier: {studies:?}");
+    assert!((studies[1].dynamic.mid() - exact).abs() < 0.1, "exact: {studies:?}");
+    assert!(studies.iter().all(|s| s.evaluations == 24 && s.gap == s.dynamic.mid() - s.statics.mid()));
+
+    let dir = std::env::temp_dir().join(format!("voussoir-both-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let json = dir.join("sweep.json");
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_voussoir"))
+        .args(["sweep", "slope", "--mu", "0.6", "--lo", "20", "--hi", "40", "--iterations", "4", "--both-engines"])
+        .arg("--json")
+        .arg(&json)
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stderr));
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains("(rapier)") && text.contains("(exact)"), "{text}");
+    let v: serde_json::Value = serde_json::from_slice(&std::fs::read(&json).unwrap()).unwrap();
+    let names: Vec<_> = v.as_array().unwrap().iter().map(|s| s["engine"].as_str().unwrap().to_string()).collect();
+    assert_eq!(names, ["rapier", "exact"]);
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -86,7 +86,7 @@ pub(super) struct Geometry {
     /// Tangential distance between the two material points, m.
     pub slip: f64,
     /// The cosine between a's normal and b's face normal reversed (1 while the faces are
-    /// parallel; on the ground, 1).
+    /// parallel; on the ground and for a touch, 1).
     pub facing: f64,
 }
 
@@ -174,13 +174,19 @@ impl Contact {
         let d = pb - pa;
         let gap = frame[0].dot(&d);
         let slip = (d - frame[0] * gap).norm();
-        // A touch is a point of the parts' manifold: no face pair whose turning to measure.
+        // A vertex on the ground, or a touch (a vertex near a part): no face pair whose
+        // turning to measure.
         let facing = match (self.origin, poses.of(self.b)) {
-            (Origin::Touch { .. }, _) => 1.0,
+            (Origin::Touch { .. } | Origin::Ground { .. }, _) => 1.0,
             (_, Some(b)) => frame[0].dot(&(b.q * self.frame[0])),
             (_, None) => frame[0].dot(&self.frame[0]),
         };
         Geometry { point: pa + d * 0.5, frame, gap, slip, facing }
+    }
+
+    /// b's material point now, m.
+    pub fn point_b(&self, poses: Poses) -> Point3 {
+        poses.of(self.b).map_or(Point3::from(self.rb), |b| b.point(&self.rb))
     }
 
     /// The velocity of b's point relative to a's at `point`, m/s.

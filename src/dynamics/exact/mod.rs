@@ -389,6 +389,9 @@ impl World {
         let g = c.geometry(poses);
         let closing = -c.relative_velocity(poses, &g.point).dot(&g.frame[0]);
         let faces = g.slip <= c.reach && g.facing >= FACING && g.gap >= -DEEP * self.size;
+        // Deeper than a hinge's overlap: is it an overlap or a vertex beside the face?
+        let interface = matches!(c.origin, contacts::Origin::Interface { .. });
+        let faces = faces && !(interface && g.gap < -envelope && !self.really_overlaps(c));
         // A touch is near by being found (its pair is within reach).
         let touch = matches!(c.origin, contacts::Origin::Touch { .. });
         (faces && (touch || g.gap <= envelope + 2.0 * self.ctx.h * closing.max(0.0))).then_some(Active {
@@ -439,12 +442,20 @@ impl World {
         })
     }
 
-    /// Block `i`'s centroid (m) and rotation since the start ([w, x, y, z]).
+    /// Block `i`'s centroid (m) and rotation since the start ([w, x, y, z]); a moved support's
+    /// along its path, a fixed one's `start`.
     pub fn pose(&self, i: usize, start: Point3) -> (Point3, [f64; 4]) {
-        self.body_of[i].map_or((start, [1.0, 0.0, 0.0, 0.0]), |k| {
-            let b = &self.bodies[k];
-            (b.x, [b.q.w, b.q.i, b.q.j, b.q.k])
-        })
+        let body = match self.sides[i] {
+            Side::Free(k) => &self.bodies[k],
+            Side::Moved(m) => &self.movers[m],
+            Side::Fixed => return (start, [1.0, 0.0, 0.0, 0.0]),
+        };
+        (body.x, [body.q.w, body.q.i, body.q.j, body.q.k])
+    }
+
+    /// Every block's pose now ([`Self::pose`]), in block order.
+    pub fn all_poses(&self) -> Vec<(Point3, [f64; 4])> {
+        self.solids.starts().enumerate().map(|(i, c)| self.pose(i, c)).collect()
     }
 
     /// Block `i`'s velocity (m/s) and angular velocity (rad/s); zero for a support.

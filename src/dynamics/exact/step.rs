@@ -31,7 +31,8 @@ impl World {
             }
             let mut selection = p;
             selection.select_forces(&out.x);
-            let Some(forces) = self.solve(&selection.conic) else { break None };
+            // Without the selection the round's own forces stand (its velocities are the step's).
+            let Some(forces) = self.solve(&selection.conic) else { break Some((sol, false)) };
             let sol = selection.read_selected(&self.ctx, &self.bodies, comp, &active, &out.x, &forces.x);
             let next = capacities(&sol.normal, mu, self.settings.solver_tolerance);
             // Against the mean capacity per point at the least: capacities of ~0 that merely

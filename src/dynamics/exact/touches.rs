@@ -25,7 +25,7 @@ use rapier3d::math::{Pose, Rotation, Vector};
 use rapier3d::parry::query::{DefaultQueryDispatcher, QueryDispatcher};
 use rapier3d::parry::shape::SharedShape;
 use std::collections::BTreeSet;
-use std::sync::Arc;
+use std::sync::{Arc, OnceLock};
 
 /// Every block's convex parts, built when a pair first needs them.
 #[derive(Clone)]
@@ -33,7 +33,7 @@ pub(super) struct Solids {
     blocks: Arc<[AssemblyBlock]>,
     /// Per block: its start centroid (m) and the farthest vertex from it (m).
     centres: Vec<(Point3, f64)>,
-    parts: Vec<Option<Arc<[SharedShape]>>>,
+    parts: Vec<OnceLock<Arc<[SharedShape]>>>,
     /// The shapes' length unit, m (the median block size).
     unit: f64,
 }
@@ -47,14 +47,30 @@ impl Solids {
                 (c, b.mesh.vertices.iter().map(|p| (p - c).norm()).fold(0.0, f64::max))
             })
             .collect();
-        Self { blocks: blocks.into(), centres, parts: vec![None; blocks.len()], unit }
+        Self { blocks: blocks.into(), centres, parts: vec![OnceLock::new(); blocks.len()], unit }
+    }
+
+    /// Whether the world point `p` is inside block `i` placed at centroid `x` turned by `q` from
+    /// its start (deeper than `depth` m).
+    pub fn contains(&self, i: usize, x: &Point3, q: &UnitQuaternion<f64>, p: &Point3, depth: f64) -> bool {
+        let local = v32(q.inverse() * (p - x) / self.unit);
+        let depth = (depth / self.unit) as f32;
+        self.parts(i).iter().any(|s| {
+            let proj = s.project_local_point(local, false);
+            proj.is_inside && (proj.point - local).length() > depth
+        })
+    }
+
+    /// Every block's centroid at the start, in block order.
+    pub fn starts(&self) -> impl Iterator<Item = Point3> + '_ {
+        self.centres.iter().map(|c| c.0)
     }
 
     /// Block `i`'s convex parts (its hull when it has no exact decomposition within the limits).
-    fn parts(&mut self, i: usize) -> Arc<[SharedShape]> {
+    fn parts(&self, i: usize) -> Arc<[SharedShape]> {
         let (b, unit) = (&self.blocks[i], self.unit);
         self.parts[i]
-            .get_or_insert_with(|| {
+            .get_or_init(|| {
                 let tol = 1e-3 * b.aabb.diagonal();
                 let shapes = convex_shapes(b, tol, unit).or_else(|| hull_shape(b, unit).map(|h| vec![h]));
                 shapes.unwrap_or_default().into()
@@ -65,13 +81,32 @@ impl Solids {
 
 /// A block's pose now: centroid (m) and rotation since the start, and a bound on its points'
 /// speed (m/s).
-struct Placed {
-    x: Point3,
-    q: UnitQuaternion<f64>,
-    speed: f64,
+pub(super) struct Placed {
+    pub x: Point3,
+    pub q: UnitQuaternion<f64>,
+    pub speed: f64,
 }
 
 impl World {
+    /// Whether interface contact `c` (overlapping by `depth` m at its geometry now) overlaps
+    /// for real: b's material point inside a's convex parts by more than half the envelope.
+    /// Once faces have slipped or turned far, a vertex below the other face's plane can be
+    /// beside that face, not in it: such a contact is no longer the faces' and is released (a
+    /// touch takes over where the blocks do meet).
+    pub(super) fn really_overlaps(&self, c: &Contact) -> bool {
+        let block = |s: Side| match s {
+            Side::Free(k) => Some(self.bodies[k].block),
+            Side::Moved(m) => Some(self.movers[m].block),
+            Side::Fixed => None,
+        };
+        let (Some([i, j]), Some(b)) = (c.pair, block(c.b)) else { return true };
+        let a = block(c.a).unwrap_or(if b == i { j } else { i });
+        let pa = self.placed(a);
+        let poses = super::contacts::Poses { bodies: &self.bodies, movers: &self.movers };
+        let pb = c.point_b(poses);
+        self.solids.contains(a, &pa.x, &pa.q, &pb, 0.5 * self.settings.envelope * self.size)
+    }
+
     /// Drops the last step's touches and finds this step's (module docs).
     pub(super) fn find_touches(&mut self) {
         self.contacts.truncate(self.persistent);
@@ -118,7 +153,7 @@ impl World {
             .collect()
     }
 
-    fn placed(&self, i: usize) -> Placed {
+    pub(super) fn placed(&self, i: usize) -> Placed {
         let body = match self.sides[i] {
             Side::Free(k) => Some(&self.bodies[k]),
             Side::Moved(m) => Some(&self.movers[m]),
@@ -177,28 +212,42 @@ struct PartPoint {
     frame: [Vector3; 3],
 }
 
+/// Below this distance (shape units) a vertex and its projection are too close for the line
+/// between them to be a normal: the pair's normal is taken.
+const TOUCHING: f64 = 1e-5;
+
 /// The contact points of convex parts `a` and `b` (b placed at `pos12` in a's frame) when they
-/// are within `reach`: with parry's normal n of their closest (or deepest) pair, every vertex
-/// of either part within `reach` of the other part, its gap measured along n from the other
-/// part's support plane; parry's pair itself when no vertex is (two edges crossing). A contact manifold by clipping faces can miss the far end of an edge
-/// lying on a face (the end that then swings in); the vertices cannot.
+/// are within `reach`: every vertex of either part within `reach` of the other part, with the
+/// other part's nearest boundary point and the line between them as the normal (outside: the
+/// gap; inside: the depth) — a vertex resting on a face gets the face's normal, one at an edge
+/// the edge's — and parry's closest (or deepest) pair when no vertex is (two edges crossing).
+/// The pair's normal serves where a vertex touches exactly. A contact manifold clipping two
+/// faces can miss the far end of an edge lying on a face (the end that then swings in), and
+/// one normal for the pair turns a vertex sliding off a corner into a deep overlap.
 fn part_touches(a: &SharedShape, b: &SharedShape, pos12: &Pose, reach: f32) -> Vec<PartPoint> {
     let Ok(Some(c)) = DefaultQueryDispatcher.contact(pos12, a.as_ref(), b.as_ref(), reach) else {
         return Vec::new();
     };
     let f64v = |v: Vector| Vector3::new(v.x as f64, v.y as f64, v.z as f64);
-    let n = f64v(c.normal1);
-    if n.norm().is_nan() || n.norm() <= 0.5 {
+    let pair = f64v(c.normal1);
+    if pair.norm().is_nan() || pair.norm() <= 0.5 {
         return Vec::new();
     }
-    let n = n.normalize();
-    let f = Frame::from_normal(Point3::origin(), n);
-    let frame = [f.n, f.u, f.v];
+    let pair = pair.normalize();
+    let point = |on_a: Vector3, on_b: Vector3, n: Vector3| {
+        let f = Frame::from_normal(Point3::origin(), n);
+        PartPoint { on_a, on_b, frame: [f.n, f.u, f.v] }
+    };
+    // The normal from a into b along `from → to`, or the pair's when they (nearly) coincide.
+    let along = |from: Vector3, to: Vector3, flip: bool| {
+        let d = to - from;
+        match d.norm() > TOUCHING {
+            true if flip => -d.normalize(),
+            true => d.normalize(),
+            false => pair,
+        }
+    };
     let vertices = |s: &SharedShape| s.as_convex_polyhedron().map(|p| p.points().to_vec()).unwrap_or_default();
-    let va = vertices(a);
-    let vb: Vec<Vector> = vertices(b).into_iter().map(|w| pos12.transform_point(w)).collect();
-    let top_a = va.iter().map(|v| n.dot(&f64v(*v))).fold(f64::NEG_INFINITY, f64::max);
-    let bottom_b = vb.iter().map(|w| n.dot(&f64v(*w))).fold(f64::INFINITY, f64::min);
     let mut out: Vec<PartPoint> = Vec::new();
     // Coincident points (a corner on a corner) would make the step's problem degenerate.
     let mut push = |p: PartPoint| {
@@ -206,22 +255,25 @@ fn part_touches(a: &SharedShape, b: &SharedShape, pos12: &Pose, reach: f32) -> V
             out.push(p);
         }
     };
-    for w in &vb {
-        if a.distance_to_local_point(*w, true) <= reach {
-            let w = f64v(*w);
-            push(PartPoint { on_a: w - n * (n.dot(&w) - top_a), on_b: w, frame });
+    for w in vertices(b).into_iter().map(|w| pos12.transform_point(w)) {
+        let proj = a.project_local_point(w, false);
+        let (w, p) = (f64v(w), f64v(proj.point));
+        if (w - p).norm() <= reach as f64 || proj.is_inside {
+            // b's vertex outside a: a → b is p → w; inside, the way out is w → p.
+            push(point(p, w, along(p, w, proj.is_inside)));
         }
     }
     let inv = pos12.inverse();
-    for v in &va {
-        if b.distance_to_local_point(inv.transform_point(*v), true) <= reach {
-            let v = f64v(*v);
-            push(PartPoint { on_a: v, on_b: v + n * (bottom_b - n.dot(&v)), frame });
+    for v in vertices(a) {
+        let proj = b.project_local_point(inv.transform_point(v), false);
+        let (v, p) = (f64v(v), f64v(pos12.transform_point(proj.point)));
+        if (p - v).norm() <= reach as f64 || proj.is_inside {
+            // a's vertex outside b: a → b is v → p; inside, b leaves it along p → v.
+            push(point(v, p, along(v, p, proj.is_inside)));
         }
     }
-    // Two edges crossing, no vertex near: parry's pair is the contact.
     if out.is_empty() {
-        out.push(PartPoint { on_a: f64v(c.point1), on_b: f64v(pos12.transform_point(c.point2)), frame });
+        out.push(point(f64v(c.point1), f64v(pos12.transform_point(c.point2)), pair));
     }
     out
 }

@@ -1,16 +1,19 @@
 //! Plots and offscreen pictures (plotters is touched only here), written as PNG or SVG by the
 //! file's extension: a threshold sweep's verdicts and margins ([`sweep`]), and the interface
-//! diagrams of an analysis drawn without a window ([`diagram`]). Text uses the bundled DejaVu
+//! diagrams of an analysis drawn without a window ([`diagram`]), a drop test's key frames
+//! ([`strip`]). Text uses the bundled DejaVu
 //! Sans Mono (assets/fonts, so no system fonts are needed). Writes are atomic.
 
 pub mod diagram;
 pub mod mechanism;
 pub mod settlement;
+pub mod strip;
 pub mod threshold;
 
 pub use diagram::{DiagramPicture, write_diagram};
 pub use mechanism::{MechanismPicture, PolarPlot, write_mechanism, write_polar};
 pub use settlement::{ThrustPlot, write_thrust};
+pub use strip::{Clock, FrameStrip, write_strip};
 pub use threshold::{ThresholdPlot, write_thresholds};
 
 use plotters::coord::Shift;
