@@ -4,7 +4,7 @@
 
 use super::BadInput;
 use super::choice::Choice;
-use crate::dynamics::{Coulomb, DropSettings, Engine, ExactSettings};
+use crate::dynamics::{ColliderForm, Coulomb, DropSettings, Engine, ExactSettings};
 use crate::geometry::{Point3, Tolerances, Vector3};
 use crate::model::{Load, LoadKind, Scene, SupportChoice};
 use crate::pipeline::AnalysisSettings;
@@ -80,6 +80,10 @@ pub struct DropOptions {
     /// Drop test: time step, s.
     #[arg(long, default_value_t = DropSettings::default().dt)]
     pub dt: f64,
+    /// rapier's colliders for a curved or notched block: fitted (its hull where that reaches
+    /// no other block) or exact (its convex parts wherever the hull is larger).
+    #[arg(long, value_parser = Choice::<ColliderForm>::new(), default_value_t = DropSettings::default().colliders)]
+    pub colliders: ColliderForm,
 }
 
 impl DropOptions {
@@ -94,6 +98,7 @@ impl DropOptions {
             duration: self.duration,
             dt: self.dt,
             friction,
+            colliders: self.colliders,
             ..Default::default()
         }
     }

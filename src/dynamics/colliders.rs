@@ -3,6 +3,7 @@
 //! non-convex block whose hull reaches into another block — its exact convex parts.
 
 use super::DropSettings;
+use super::settings::ColliderForm;
 use crate::geometry::cut::{SplitResult, split};
 use crate::geometry::{Mesh, Plane, Point3};
 use crate::interfaces::Body;
@@ -42,7 +43,8 @@ impl Colliders {
             // A curved voussoir's hull only adds volume where no neighbour is: it collides as
             // its hull. A hull reaching into another block (a notch with something in it) would
             // push that block away from the start: a convex decomposition then.
-            as_hulls[i] = hull_error <= settings.hull_tolerance || (hull_error.is_finite() && !overlapping[i]);
+            let fitted = settings.colliders == ColliderForm::Fitted && hull_error.is_finite() && !overlapping[i];
+            as_hulls[i] = hull_error <= settings.hull_tolerance || fitted;
             let builder = match (&hulls[i], as_hulls[i]) {
                 (Some((shape, _)), true) => {
                     max_volume_error = max_volume_error.max(hull_error.abs());

@@ -27,6 +27,30 @@ impl std::fmt::Display for Engine {
     }
 }
 
+/// How rapier's colliders follow a block whose convex hull is larger than it (a curved
+/// voussoir, a notched block).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, Serialize, Deserialize, clap::ValueEnum)]
+#[serde(rename_all = "snake_case")]
+pub enum ColliderForm {
+    /// The hull where it reaches into no other block at the start (the excess is where nothing
+    /// is), the exact convex parts where it does: fast, and the same answer while blocks keep
+    /// to their places.
+    #[default]
+    Fitted,
+    /// The exact convex parts (a compound) for every block whose hull exceeds it by more than
+    /// `hull_tolerance`: faithful when blocks move into what the hull would fill.
+    Exact,
+}
+
+impl std::fmt::Display for ColliderForm {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Self::Fitted => "fitted",
+            Self::Exact => "exact",
+        })
+    }
+}
+
 /// How the exact-contact engine meets Coulomb's law at a sliding contact.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default, Serialize, Deserialize, clap::ValueEnum)]
 #[serde(rename_all = "snake_case")]
@@ -144,8 +168,11 @@ pub struct DropSettings {
     /// A block whose convex hull exceeds its volume by at most this fraction collides as its
     /// hull. Beyond it — a curved voussoir, a notched block — it still collides as its hull
     /// when the hull reaches into no other block (the excess is where nothing is); otherwise
-    /// as a convex decomposition. The volume error of either is reported.
+    /// as a convex decomposition ([`ColliderForm::Fitted`]). The volume error of either is
+    /// reported.
     pub hull_tolerance: f64,
+    /// Whether a block beyond `hull_tolerance` may still collide as its hull.
+    pub colliders: ColliderForm,
     /// Where two blocks' hulls overlap at a joint (a warped joint triangulated differently on
     /// its two sides), both are cut back to the joint plane — if the cut takes at most this
     /// fraction of the block's volume (a warp's sliver).
@@ -179,6 +206,7 @@ impl Default for DropSettings {
             friction: None,
             perturbation: 0.0,
             hull_tolerance: 0.02,
+            colliders: ColliderForm::Fitted,
             // Below the depth that let the Armadillo burst, far above a standing stack's sinking.
             max_contact_depth: 0.01,
             // A warp's sliver, not the real material a larger cut took off the compas crossvault.
