@@ -57,10 +57,8 @@ fn exact_colliders_let_a_block_fall_into_a_notch() {
     let u = [(0.0, 0.0), (1.0, 0.0), (1.0, 0.6), (0.8, 0.6), (0.8, 0.2), (0.2, 0.2), (0.2, 0.6), (0.0, 0.6)];
     let base: Vec<Point3> = u.iter().map(|&(x, z)| Point3::new(x, 0.0, z)).collect();
     let channel = Mesh::prism(&base, Vector3::new(0.0, 1.0, 0.0));
-    let scene = Scene::new(
-        "notch",
-        vec![Block::new("channel", channel).support(true), cube("cube", [0.35, 0.35, 0.8], 0.3)],
-    );
+    let scene =
+        Scene::new("notch", vec![Block::new("channel", channel).support(true), cube("cube", [0.35, 0.35, 0.8], 0.3)]);
     let asm = assembly(&scene);
     for (form, fall) in [(ColliderForm::Exact, 0.6), (ColliderForm::Fitted, 0.2)] {
         let r = drop_test(&asm, &DropSettings { colliders: form, duration: 1.5, ..Default::default() }).unwrap();
