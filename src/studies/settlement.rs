@@ -548,11 +548,12 @@ fn in_engine(
                     run.frame(w, fraction);
                     stage(assembly, &analysis.interfaces, w, fraction, scale)
                 }
-                // rapier's contacts are not read: the stage has its movement only.
-                Stepper::Rapier(_) => Stage {
+                // rapier's joints are not classified: the stage has its movement and reactions
+                // (read from its contact impulses, `Simulation::contact_force`).
+                Stepper::Rapier(sim) => Stage {
                     fraction,
                     movement: fraction * scale.movement,
-                    reactions: Vec::new(),
+                    reactions: paths.iter().map(|p| sim.contact_force(p.block).into()).collect(),
                     joints: Vec::new(),
                     rotation: f64::NAN,
                     snapped: false,

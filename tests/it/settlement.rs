@@ -237,3 +237,35 @@ fn a_spreading_arch_collapses_alike_quasi_statically_and_in_both_engines() {
     }
     assert!(compared >= 3, "{compared} stages compared");
 }
+
+/// Invariant: once the right pier has settled, the lintel hinges on the left pier's inner edge
+/// (x = 0.5) and rests on the right pier by its end (x = 3): turned by θ, the moment about the
+/// hinge puts (1.0 cos θ + 0.15 sin θ) / (2.5 cos θ) of its weight W on the settling pier (0.4
+/// untilted, 0.4024 at the end). Every run's reaction on that pier at the end of the path is
+/// that share of W downwards — the quasi-static run and the exact engine within 1e-3 of it,
+/// rapier (soft contacts, read from its contact impulses) within 5 %. (The horizontal part is
+/// not asserted: friction at the two contacts can hold any self-balanced pair.)
+#[test]
+fn a_settling_pier_carries_its_share_in_every_run() {
+    let scene = Scene::new(
+        "lintel",
+        vec![
+            cuboid("left", [0.0, 0.0, -1.0], [0.5, 1.0, 0.0]).support(true),
+            cuboid("right", [2.5, 0.0, -1.0], [3.5, 1.0, 0.0]).support(true),
+            cuboid("lintel", [0.0, 0.0, 0.0], [3.0, 1.0, 0.3]),
+        ],
+    );
+    let analysis = run(&scene, &AnalysisSettings::default());
+    let w = analysis.assembly.blocks[2].mass() * 9.81;
+    let settle_right = Movement { block: "right".into(), translation: [0.0, 0.0, -0.1], rotation: [0.0; 3] };
+    let s = settle(&analysis, &[settle_right], &SettleSettings { increments: 20, ..Default::default() }).unwrap();
+    for (run, tol) in [(&s.quasi_static, 1e-3), (s.exact.as_ref().unwrap(), 1e-3), (s.rapier.as_ref().unwrap(), 0.05)] {
+        assert_eq!(run.outcome, Outcome::Stands, "{}", run.method);
+        let last = run.stages.last().unwrap();
+        // Turned by θ about the hinge, the centroid's arm is 1.0 cos θ + 0.15 sin θ, the end's 2.5 cos θ.
+        let theta = (0.1 * last.fraction / 2.5f64).atan();
+        let share = (theta.cos() + 0.15 * theta.sin()) / (2.5 * theta.cos());
+        let r = last.reactions[0];
+        assert!((r[2] / w + share).abs() < tol * share, "{}: vertical {} W, {share} expected", run.method, r[2] / w);
+    }
+}

@@ -212,9 +212,20 @@ impl StepProblem {
     /// by any amount, a face's corners share a load any way — and an interior point returns
     /// some squeeze that would become friction capacity. So: the smallest forces (Σ f²) that
     /// keep the first solve's velocities, pinned by (1/η) ½ |r − r*|² (r − r* the new residual
-    /// columns, the block rows' right-hand side taking in S r*).
-    pub fn select_forces(&mut self, first: &[f64]) {
+    /// columns, the block rows' right-hand side taking in S r*), none on a contact the first
+    /// solve leaves `open` (complementarity: an open contact carries nothing).
+    pub fn select_forces(&mut self, first: &[f64], open: &[bool]) {
         let (p, residual) = (&mut self.conic, self.cols.residual);
+        // An open contact's columns leave the equilibrium: their forces are then 0.
+        let mut drop = vec![false; p.n];
+        for (i, _) in open.iter().enumerate().filter(|(_, o)| **o) {
+            drop[self.cols.normal[i]] = true;
+            if let Some((u, v)) = self.cols.friction[i] {
+                drop[u] = true;
+                drop[v] = true;
+            }
+        }
+        p.a.retain(|e| !drop[e.1]);
         let block_rows = p.cones.first().map_or(0, |c| match c {
             Cone::Zero(n) => *n,
             _ => 0,

@@ -6,6 +6,10 @@ use crate::dynamics::settings::Coulomb;
 use crate::geometry::Vector3;
 use crate::statics::{ConicOutcome, ConicProblem, SolverStatus, solve_conic};
 
+/// Gaps (fraction of the median block size) beyond which an open contact is left out of the
+/// force selection.
+const OPEN: f64 = 1e-3;
+
 impl World {
     /// Solves `comp`'s step (module docs of [`super`]) and sets its velocities.
     pub(super) fn step_component(&mut self, comp: &[usize], near: &[Active]) {
@@ -29,8 +33,9 @@ impl World {
             if rest || !exact {
                 break Some((sol, rest));
             }
+            let open = self.open_contacts(comp, &local, &active, &sol);
             let mut selection = p;
-            selection.select_forces(&out.x);
+            selection.select_forces(&out.x, &open);
             // Without the selection the round's own forces stand (its velocities are the step's).
             let Some(forces) = self.solve(&selection.conic) else { break Some((sol, false)) };
             let sol = selection.read_selected(&self.ctx, &self.bodies, comp, &active, &out.x, &forces.x);
@@ -66,6 +71,33 @@ impl World {
         self.stats.iterations += u64::from(out.iterations);
         self.stats.status = self.stats.status.max(out.status);
         matches!(out.status, SolverStatus::Solved | SolverStatus::AlmostSolved).then_some(out)
+    }
+
+    /// Per active contact, whether it is open by more than [`OPEN`] of a block and the step's
+    /// velocities leave it open at the step's end (its gap term plus its closing speed above the
+    /// rest criterion's speed): complementarity gives it no force, and the force selection must
+    /// not hand it any (a hinge's far side would carry load). Joints closed to within round-off
+    /// and warps stay in the selection: dropping them there starves it.
+    fn open_contacts(&self, comp: &[usize], local: &[usize], active: &[Active], sol: &Solution) -> Vec<bool> {
+        let h = self.ctx.h;
+        let recovery = self.ctx.recovery * self.ctx.units.speed();
+        let tol = self.settings.still * self.ctx.units.g * h;
+        let velocity = |side: super::Side, p: &crate::geometry::Point3| match side {
+            super::Side::Free(k) => {
+                let (v, w) = sol.velocities[local[k]];
+                v + w.cross(&(p - self.bodies[comp[local[k]]].x))
+            }
+            _ => Vector3::zeros(),
+        };
+        active
+            .iter()
+            .map(|a| {
+                let c = &self.contacts[a.contact];
+                let g = &a.geometry;
+                let relative = velocity(c.b, &g.point) - velocity(c.a, &g.point) + a.prescribed;
+                g.gap > OPEN * self.size && (g.gap / h).max(-recovery) + relative.dot(&g.frame[0]) > tol
+            })
+            .collect()
     }
 
     /// The fastest vertex of the component after the step, m/s (bounded by |v| + |ω| r).

@@ -35,6 +35,7 @@ fn chart<DB: DrawingBackend>(root: DrawingArea<DB, Shift>, plot: &ThrustPlot) ->
     root.fill(&WHITE)?;
     let root = root.titled(&plot.title, ("sans-serif", 20))?;
     let s = plot.settlement;
+    // rapier's reactions are left out: its friction impulses read as half the rigid thrust.
     let runs: Vec<(&Run, RGBColor)> = [Some(&s.quasi_static), s.exact.as_ref()]
         .into_iter()
         .flatten()
