@@ -97,6 +97,17 @@ fn tension_is_red_and_friction_follows_utilisation() {
     assert!(colors_at(45.0, 0.5).contains(&"red"));
 }
 
+/// A 7-voussoir arch too thin to stand (t/R 0.06) falling for 0.5 s in the exact engine,
+/// recorded at 30 frames per simulated second.
+fn collapse() -> (voussoir::model::Assembly, voussoir::dynamics::DropResult, voussoir::dynamics::Trajectory) {
+    use voussoir::dynamics::{DropSettings, Engine, record};
+    let scene = builtin("arch?n=7&t=0.06").unwrap();
+    let asm = voussoir::model::Assembly::new(&scene, &Default::default()).unwrap();
+    let settings = DropSettings { engine: Engine::Exact, duration: 0.5, ..Default::default() };
+    let (result, motion) = record(&asm, &settings, 30.0).unwrap();
+    (asm, result, motion)
+}
+
 /// Invariant: a drop test's motion exported as a glTF animation reads back with the `gltf`
 /// crate: one translation and one rotation channel per free block (none for the supports),
 /// times from 0 to the duration at 30 frames per simulated second, and the last keyframe is the
@@ -104,11 +115,7 @@ fn tension_is_red_and_friction_follows_utilisation() {
 #[test]
 fn a_collapse_exports_as_an_animation() {
     use gltf::animation::util::ReadOutputs;
-    use voussoir::dynamics::{DropSettings, Engine, record};
-    let scene = builtin("arch?n=7&t=0.06").unwrap();
-    let asm = voussoir::model::Assembly::new(&scene, &Default::default()).unwrap();
-    let settings = DropSettings { engine: Engine::Exact, duration: 0.5, ..Default::default() };
-    let (result, motion) = record(&asm, &settings, 30.0).unwrap();
+    let (asm, result, motion) = collapse();
     assert!(!result.stands);
     let bytes = voussoir::viz::gltf::animation_glb(&asm, &motion);
     let (doc, buffers, _) = gltf::import_slice(&bytes).expect("a valid glb");
@@ -148,12 +155,8 @@ fn a_collapse_exports_as_an_animation() {
 /// (at rest) has none of it and the last (fallen) much.
 #[test]
 fn a_collapse_draws_as_a_strip_of_key_frames() {
-    use voussoir::dynamics::{DropSettings, Engine, record};
     use voussoir::viz::plot::{FrameStrip, write_strip};
-    let scene = builtin("arch?n=7&t=0.06").unwrap();
-    let asm = voussoir::model::Assembly::new(&scene, &Default::default()).unwrap();
-    let settings = DropSettings { engine: Engine::Exact, duration: 0.5, ..Default::default() };
-    let (_, motion) = record(&asm, &settings, 30.0).unwrap();
+    let (asm, _, motion) = collapse();
     let strip = FrameStrip::new(&asm, &motion);
     assert_eq!(strip.key_frames(), [0, 3, 6, 9, 12, 15]);
     let dir = std::env::temp_dir().join(format!("voussoir-strip-{}", std::process::id()));

@@ -27,6 +27,19 @@ fn tilting(b: f64, h: f64, mu: f64, tilt: f64, engines: bool) -> Settlement {
     settle(&analysis, &[turn], &SettleSettings { engines, ..Default::default() }).unwrap()
 }
 
+/// A 3 × 1 × 0.3 lintel on two 1 m piers, "left" under x ∈ [0, 0.5] and "right" under
+/// x ∈ [2.5, 3.5] (both supports).
+fn lintel() -> Scene {
+    Scene::new(
+        "lintel",
+        vec![
+            cuboid("left", [0.0, 0.0, -1.0], [0.5, 1.0, 0.0]).support(true),
+            cuboid("right", [2.5, 0.0, -1.0], [3.5, 1.0, 0.0]).support(true),
+            cuboid("lintel", [0.0, 0.0, 0.0], [3.0, 1.0, 0.3]),
+        ],
+    )
+}
+
 fn tilt_at_collapse(outcome: Outcome, tilt: f64) -> f64 {
     match outcome {
         Outcome::Collapses { fraction, .. } => fraction * tilt,
@@ -101,14 +114,7 @@ fn bad_movements_are_one_clear_error_each() {
 /// end), and stands (μ 0.84 against a slope of 2.3°).
 #[test]
 fn a_lintel_follows_a_settling_pier_turning_about_the_other_pier_s_edge() {
-    let scene = Scene::new(
-        "lintel",
-        vec![
-            cuboid("left", [0.0, 0.0, -1.0], [0.5, 1.0, 0.0]).support(true),
-            cuboid("right", [2.5, 0.0, -1.0], [3.5, 1.0, 0.0]).support(true),
-            cuboid("lintel", [0.0, 0.0, 0.0], [3.0, 1.0, 0.3]),
-        ],
-    );
+    let scene = lintel();
     let analysis = run(&scene, &AnalysisSettings::default());
     let d = 0.1;
     let settle_right = Movement { block: "right".into(), translation: [0.0, 0.0, -d], rotation: [0.0; 3] };
@@ -129,14 +135,7 @@ fn a_lintel_follows_a_settling_pier_turning_about_the_other_pier_s_edge() {
 /// per moving block (the pier and the lintel), and a six-panel strip.
 #[test]
 fn a_settlement_records_its_motion() {
-    let scene = Scene::new(
-        "lintel",
-        vec![
-            cuboid("left", [0.0, 0.0, -1.0], [0.5, 1.0, 0.0]).support(true),
-            cuboid("right", [2.5, 0.0, -1.0], [3.5, 1.0, 0.0]).support(true),
-            cuboid("lintel", [0.0, 0.0, 0.0], [3.0, 1.0, 0.3]),
-        ],
-    );
+    let scene = lintel();
     let analysis = run(&scene, &AnalysisSettings::default());
     let d = 0.1;
     let settle_right = Movement { block: "right".into(), translation: [0.0, 0.0, -d], rotation: [0.0; 3] };
@@ -247,14 +246,7 @@ fn a_spreading_arch_collapses_alike_quasi_statically_and_in_both_engines() {
 /// not asserted: friction at the two contacts can hold any self-balanced pair.)
 #[test]
 fn a_settling_pier_carries_its_share_in_every_run() {
-    let scene = Scene::new(
-        "lintel",
-        vec![
-            cuboid("left", [0.0, 0.0, -1.0], [0.5, 1.0, 0.0]).support(true),
-            cuboid("right", [2.5, 0.0, -1.0], [3.5, 1.0, 0.0]).support(true),
-            cuboid("lintel", [0.0, 0.0, 0.0], [3.0, 1.0, 0.3]),
-        ],
-    );
+    let scene = lintel();
     let analysis = run(&scene, &AnalysisSettings::default());
     let w = analysis.assembly.blocks[2].mass() * 9.81;
     let settle_right = Movement { block: "right".into(), translation: [0.0, 0.0, -0.1], rotation: [0.0; 3] };

@@ -50,7 +50,7 @@ pub(super) enum Origin {
     Interface { interface: usize, vertex: usize },
     /// Vertex `vertex` of the free block's mesh, on the ground.
     Ground { vertex: usize },
-    /// Point `point` of the manifold of convex parts `parts` of the contact's two blocks, closing
+    /// Point `point` found between convex parts `parts` of the contact's two blocks, closing
     /// under large motion ([`super::touches`]); a contact of one step.
     Touch { parts: [usize; 2], point: usize },
 }

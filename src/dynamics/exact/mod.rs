@@ -103,8 +103,6 @@ pub struct ExactStats {
 #[derive(Clone)]
 pub struct World {
     bodies: Vec<Body>,
-    /// The body of each assembly block (None: a support).
-    body_of: Vec<Option<usize>>,
     /// The moved supports as bodies driven along their paths, and the paths.
     movers: Vec<Body>,
     paths: Vec<SupportPath>,
@@ -135,17 +133,16 @@ impl World {
     pub fn with_paths(assembly: &Assembly, settings: &DropSettings, paths: &[SupportPath]) -> Self {
         let s = &settings.exact;
         let g = assembly.gravity.norm().max(f64::MIN_POSITIVE);
-        let mut body_of = vec![None; assembly.blocks.len()];
+        let mut sides = vec![Side::Fixed; assembly.blocks.len()];
         let mut bodies = Vec::new();
         for (i, b) in assembly.blocks.iter().enumerate().filter(|(_, b)| !b.support) {
-            body_of[i] = Some(bodies.len());
+            sides[i] = Side::Free(bodies.len());
             let mut body = Body::new(i, b, assembly.gravity, assembly.loads[i].dead);
             if settings.perturbation > 0.0 {
                 body.v.x = settings.perturbation * (g * b.aabb.diagonal()).sqrt();
             }
             bodies.push(body);
         }
-        let mut sides: Vec<Side> = body_of.iter().map(|b| b.map_or(Side::Fixed, Side::Free)).collect();
         let movers: Vec<Body> = paths
             .iter()
             .enumerate()
@@ -185,7 +182,6 @@ impl World {
         let reactions = vec![[Vector3::zeros(); 2]; movers.len()];
         Self {
             bodies,
-            body_of,
             movers,
             paths: paths.to_vec(),
             reactions,
@@ -436,7 +432,7 @@ impl World {
 
     /// Block `i`'s centroid drift (m) and rotation (rad) since the start; (0, 0) for a support.
     pub fn displacement(&self, i: usize) -> (f64, f64) {
-        self.body_of[i].map_or((0.0, 0.0), |k| {
+        self.free(i).map_or((0.0, 0.0), |k| {
             let b = &self.bodies[k];
             ((b.x - b.start).norm(), b.q.angle())
         })
@@ -453,6 +449,14 @@ impl World {
         (body.x, [body.q.w, body.q.i, body.q.j, body.q.k])
     }
 
+    /// Block `i`'s body when it is free.
+    fn free(&self, i: usize) -> Option<usize> {
+        match self.sides[i] {
+            Side::Free(k) => Some(k),
+            _ => None,
+        }
+    }
+
     /// Every block's pose now ([`Self::pose`]), in block order.
     pub fn all_poses(&self) -> Vec<(Point3, [f64; 4])> {
         self.solids.starts().enumerate().map(|(i, c)| self.pose(i, c)).collect()
@@ -460,11 +464,11 @@ impl World {
 
     /// Block `i`'s velocity (m/s) and angular velocity (rad/s); zero for a support.
     pub fn velocity(&self, i: usize) -> (crate::geometry::Vector3, crate::geometry::Vector3) {
-        self.body_of[i].map_or((Default::default(), Default::default()), |k| (self.bodies[k].v, self.bodies[k].w))
+        self.free(i).map_or((Default::default(), Default::default()), |k| (self.bodies[k].v, self.bodies[k].w))
     }
 
     pub fn kinetic_energy(&self, i: usize) -> f64 {
-        self.body_of[i].map_or(0.0, |k| self.bodies[k].kinetic_energy())
+        self.free(i).map_or(0.0, |k| self.bodies[k].kinetic_energy())
     }
 
     /// The run so far.

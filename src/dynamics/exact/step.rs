@@ -33,7 +33,7 @@ impl World {
             if rest || !exact {
                 break Some((sol, rest));
             }
-            let open = self.open_contacts(comp, &local, &active, &sol);
+            let open = self.open_contacts(&local, &active, &sol);
             let mut selection = p;
             selection.select_forces(&out.x, &open);
             // Without the selection the round's own forces stand (its velocities are the step's).
@@ -78,14 +78,14 @@ impl World {
     /// rest criterion's speed): complementarity gives it no force, and the force selection must
     /// not hand it any (a hinge's far side would carry load). Joints closed to within round-off
     /// and warps stay in the selection: dropping them there starves it.
-    fn open_contacts(&self, comp: &[usize], local: &[usize], active: &[Active], sol: &Solution) -> Vec<bool> {
+    fn open_contacts(&self, local: &[usize], active: &[Active], sol: &Solution) -> Vec<bool> {
         let h = self.ctx.h;
         let recovery = self.ctx.recovery * self.ctx.units.speed();
         let tol = self.settings.still * self.ctx.units.g * h;
         let velocity = |side: super::Side, p: &crate::geometry::Point3| match side {
             super::Side::Free(k) => {
                 let (v, w) = sol.velocities[local[k]];
-                v + w.cross(&(p - self.bodies[comp[local[k]]].x))
+                v + w.cross(&(p - self.bodies[k].x))
             }
             _ => Vector3::zeros(),
         };

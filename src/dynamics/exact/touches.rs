@@ -1,7 +1,8 @@
 //! Contacts that close under large motion: between two blocks that no interface contact holds —
 //! they did not touch at the start, or their interface's contacts were released — from the
-//! blocks' exact convex parts (parry's contact manifolds between convex pieces, with a
-//! prediction distance). Rebuilt every step, after the persistent contacts, so a corner that
+//! blocks' exact convex parts ([`part_touches`]: every vertex within reach of the other part,
+//! with its nearest boundary point and normal). Rebuilt every step, after the persistent
+//! contacts, so a corner that
 //! lands on a face, a voussoir that falls onto another, or a block that slid off its joint and
 //! hits its neighbour is a contact of the step in which it closes, and is released when it opens.
 //!
@@ -88,21 +89,17 @@ pub(super) struct Placed {
 }
 
 impl World {
-    /// Whether interface contact `c` (overlapping by `depth` m at its geometry now) overlaps
-    /// for real: b's material point inside a's convex parts by more than half the envelope.
+    /// Whether interface contact `c` overlaps for real: b's material point inside a's convex
+    /// parts by more than half the envelope.
     /// Once faces have slipped or turned far, a vertex below the other face's plane can be
     /// beside that face, not in it: such a contact is no longer the faces' and is released (a
     /// touch takes over where the blocks do meet).
     pub(super) fn really_overlaps(&self, c: &Contact) -> bool {
-        let block = |s: Side| match s {
-            Side::Free(k) => Some(self.bodies[k].block),
-            Side::Moved(m) => Some(self.movers[m].block),
-            Side::Fixed => None,
-        };
+        let poses = self.poses();
+        let block = |s: Side| poses.of(s).map(|body| body.block);
         let (Some([i, j]), Some(b)) = (c.pair, block(c.b)) else { return true };
         let a = block(c.a).unwrap_or(if b == i { j } else { i });
         let pa = self.placed(a);
-        let poses = super::contacts::Poses { bodies: &self.bodies, movers: &self.movers };
         let pb = c.point_b(poses);
         self.solids.contains(a, &pa.x, &pa.q, &pb, 0.5 * self.settings.envelope * self.size)
     }
@@ -111,12 +108,13 @@ impl World {
     pub(super) fn find_touches(&mut self) {
         self.contacts.truncate(self.persistent);
         let envelope = self.settings.envelope * self.size;
-        let held = self.held_pairs();
+        let candidates = self.touch_candidates(envelope);
+        if candidates.is_empty() {
+            return;
+        }
+        let held = self.held_pairs(&candidates);
         let mut found = Vec::new();
-        for (i, j) in self.touch_candidates(envelope) {
-            if held.contains(&[i, j]) {
-                continue;
-            }
+        for &[i, j] in candidates.difference(&held) {
             let (pi, pj) = (self.placed(i), self.placed(j));
             let prediction = envelope + 2.0 * self.ctx.h * (pi.speed + pj.speed);
             let (ri, rj) = (self.solids.centres[i].1, self.solids.centres[j].1);
@@ -130,36 +128,32 @@ impl World {
 
     /// The pairs of blocks (ascending) one of which is awake and has moved by more than
     /// `envelope` since the start, the other any block.
-    fn touch_candidates(&self, envelope: f64) -> BTreeSet<(usize, usize)> {
+    fn touch_candidates(&self, envelope: f64) -> BTreeSet<[usize; 2]> {
         let moved = |b: &super::Body| (b.x - b.start).norm() + b.q.angle() * b.radius > envelope;
         let mut pairs = BTreeSet::new();
         let movers = self.bodies.iter().filter(|b| !b.asleep).chain(&self.movers);
         for b in movers.filter(|b| moved(b)) {
             for j in (0..self.solids.centres.len()).filter(|&j| j != b.block) {
-                pairs.insert((b.block.min(j), b.block.max(j)));
+                pairs.insert([b.block.min(j), b.block.max(j)]);
             }
         }
         pairs
     }
 
-    /// The pairs of blocks (ascending) an interface contact holds this step: one not released
-    /// and within the envelope (or closing it), as the step's persistent contacts are chosen.
-    fn held_pairs(&self) -> BTreeSet<[usize; 2]> {
+    /// Those of `candidates` an interface contact holds this step: one not released and within
+    /// the envelope (or closing it), as the step's persistent contacts are chosen.
+    fn held_pairs(&self, candidates: &BTreeSet<[usize; 2]>) -> BTreeSet<[usize; 2]> {
         self.contacts
             .iter()
             .enumerate()
             .filter(|(_, c)| matches!(c.origin, Origin::Interface { .. }))
+            .filter(|(_, c)| c.pair.is_some_and(|p| candidates.contains(&p)))
             .filter_map(|(i, c)| self.near(i, c).and(c.pair))
             .collect()
     }
 
     pub(super) fn placed(&self, i: usize) -> Placed {
-        let body = match self.sides[i] {
-            Side::Free(k) => Some(&self.bodies[k]),
-            Side::Moved(m) => Some(&self.movers[m]),
-            Side::Fixed => None,
-        };
-        match body {
+        match self.poses().of(self.sides[i]) {
             Some(b) => Placed { x: b.x, q: b.q, speed: b.v.norm() + b.w.norm() * b.radius },
             None => Placed { x: self.solids.centres[i].0, q: UnitQuaternion::identity(), speed: 0.0 },
         }
@@ -167,7 +161,7 @@ impl World {
 
     /// The contact points of blocks `i` and `j` within `prediction` (m), from every pair of
     /// their convex parts, as contacts from i (side a) into j (side b).
-    fn pair_touches(&mut self, i: usize, j: usize, pi: &Placed, pj: &Placed, prediction: f64, out: &mut Vec<Contact>) {
+    fn pair_touches(&self, i: usize, j: usize, pi: &Placed, pj: &Placed, prediction: f64, out: &mut Vec<Contact>) {
         let unit = self.solids.unit;
         let (si, sj) = (self.solids.parts(i), self.solids.parts(j));
         let inv = pi.q.inverse();
