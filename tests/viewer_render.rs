@@ -189,6 +189,9 @@ fn main() {
         Act(A::DropTest(Engine::Exact)),
         Settle(3),
         Shot(path("drop_exact")),
+        Act(A::CompareEngines),
+        Settle(3),
+        Shot(path("drop_both")),
         Act(A::ResetDrop),
         Act(A::StartSequence),
         Settle(3),
@@ -220,6 +223,14 @@ fn main() {
         Act(A::ToggleKeys),
         Settle(3),
         Shot(path("repaired")),
+        // A lintel on a settling pier (P): the quasi-static motion played in the pane, the
+        // thrust curve under it.
+        Act(A::ToggleKeys),
+        Load(Box::new(settling_lintel())),
+        Settle(3),
+        Act(A::Settle),
+        Settle(3),
+        Shot(path("settle")),
     ];
     let report_path = dir.join("report.json");
     let mut options = ViewerOptions::new(default_scene);
@@ -282,6 +293,24 @@ fn letter_h() -> voussoir::model::Scene {
     let options = voussoir::cli::options::SceneOptions { supports: Some("lowest".into()), ..Default::default() };
     options.apply(&mut scene, &Default::default()).unwrap();
     scene.material.friction = 0.84;
+    scene
+}
+
+/// A 3 × 1 × 0.3 lintel on two 1 m piers, the right one settling 0.1 m (its `movements`).
+fn settling_lintel() -> voussoir::model::Scene {
+    use voussoir::geometry::{Mesh, Point3};
+    use voussoir::model::{Block, Movement, Scene};
+    let cuboid =
+        |name: &str, min: [f64; 3], max: [f64; 3]| Block::new(name, Mesh::cuboid(Point3::from(min), Point3::from(max)));
+    let mut scene = Scene::new(
+        "settling lintel",
+        vec![
+            cuboid("left", [0.0, 0.0, -1.0], [0.5, 1.0, 0.0]).support(true),
+            cuboid("right", [2.5, 0.0, -1.0], [3.5, 1.0, 0.0]).support(true),
+            cuboid("lintel", [0.0, 0.0, 0.0], [3.0, 1.0, 0.3]),
+        ],
+    );
+    scene.movements = vec![Movement { block: "right".into(), translation: [0.0, 0.0, -0.1], rotation: [0.0; 3] }];
     scene
 }
 
@@ -421,6 +450,27 @@ fn check(report: &Value, saved: &Path, logical_width: u32) {
     println!("drop view: {c:?}");
     assert!(c.violet > c.total / 100, "the blocks are drawn in the drop view: {c:?}");
     assert!(c.blue == 0, "the drop view shows no diagram: {c:?}");
+    // Both engines (B): three views side by side — the design, rapier's, the exact engine's —
+    // each pane with its own caption and blocks, both verdicts (stands) agreeing with the statics.
+    let s = shot(report, "drop_both");
+    let lanes: Vec<(&str, bool, bool)> = s["drop_lanes"]
+        .as_array()
+        .expect("the lanes")
+        .iter()
+        .map(|l| (l["engine"].as_str().unwrap(), l["stands"] == true, l["agrees"] == true))
+        .collect();
+    assert_eq!(lanes, [("rapier", true, true), ("exact", true, true)], "{s}");
+    let (main, physics, compared) =
+        (rect(&s["main_viewport"]), rect(&s["physics_viewport"]), rect(&s["compared_viewport"]));
+    assert!(physics[0] >= main[2] && compared[0] >= physics[2], "{main:?} {physics:?} {compared:?}");
+    assert!(s["caption"].as_str().unwrap().starts_with("drop test (rapier)"), "{s}");
+    assert!(s["compared_caption"].as_str().unwrap().starts_with("drop test (exact)"), "{s}");
+    assert_eq!(s["pane"]["copies"], s["pane"]["compared_copies"], "{s}");
+    for view in ["physics_viewport", "compared_viewport"] {
+        let c = picture(&s, view);
+        println!("{view} (both engines): {c:?}");
+        assert!(c.violet > c.total / 100 && c.blue == 0, "{view}: {c:?}");
+    }
     // Sequence: bottom-up, step 9 of 15 of the arch (v0–v4 on the right, v10–v14 on the
     // left): the half arches lean in, needing tension (1.44 W by `voussoir sequence`).
     let s = shot(report, "sequence");
@@ -509,4 +559,21 @@ fn check(report: &Value, saved: &Path, logical_width: u32) {
     let c = picture(&s, "main_viewport");
     println!("repaired M: {c:?}");
     assert!(c.blue > c.total / 400 && c.red < c.blue / 50, "compression only: {c:?}");
+    // Settlement (P): the lintel follows the settling pier to the end of the path and stands,
+    // the playback at its last frame; the pane beside the design shows the moved blocks and
+    // the thrust curve (the quasi-static line is blue; the pane draws no diagram otherwise).
+    let s = shot(report, "settle");
+    assert_eq!(s["settle"]["outcome"]["kind"], "stands", "{s}");
+    assert_eq!((s["settle"]["played"].as_bool(), s["settle"]["fraction"].as_f64()), (Some(true), Some(1.0)), "{s}");
+    assert_eq!(s["thrust_plot_shown"], true, "{s}");
+    assert!(s["caption"].as_str().unwrap().starts_with("supports move (quasi-static)"), "{s}");
+    assert!(physics_beside_main(&s), "{s}");
+    let c = picture(&s, "physics_viewport");
+    println!("settlement view: {c:?}");
+    assert!(c.violet > c.total / 100 && c.blue > 0, "the moved blocks and the thrust curve: {c:?}");
+}
+
+/// The motion pane is right of the design's view.
+fn physics_beside_main(s: &Value) -> bool {
+    rect(&s["physics_viewport"])[0] >= rect(&s["main_viewport"])[2]
 }

@@ -17,14 +17,16 @@ pub mod kinematic;
 pub mod repair;
 pub mod robustness;
 pub mod sequence;
+pub mod settle;
 mod systems;
 
 pub use diagram::{DiagramPlugin, DiagramSettings, InterfaceColors, SetDiagram};
-pub use dynamics::{BlockPose, DropStatus, DynamicsPlugin, RunDropTest};
+pub use dynamics::{BlockPose, CompareDropTests, ComparedPose, DropLane, DropStatus, DynamicsPlugin, RunDropTest};
 pub use kinematic::{KinematicPlugin, KinematicRequest, KinematicStatus};
 pub use repair::{ANIMATION_FRAMES, RepairPlugin, RepairStatus, RunRepair};
 pub use robustness::{JointMotion, MechanismMotion, RobustnessPlugin, RobustnessRequest, RobustnessStatus};
 pub use sequence::{Placed, SequencePlugin, SequenceSettings, SequenceStatus, StartSequence, StepSequence};
+pub use settle::{PLAY_SECONDS, RunSettlement, SettlePlugin, SettlePose, SettleStatus};
 
 use crate::geometry::{Mesh, Point3};
 use crate::model::Scene;
@@ -48,6 +50,7 @@ impl PluginGroup for VoussoirPlugins {
             .add(RobustnessPlugin)
             .add(KinematicPlugin)
             .add(RepairPlugin)
+            .add(SettlePlugin)
     }
 }
 

@@ -31,6 +31,23 @@ pub fn force(n: f64) -> String {
     format!("{v:.digits$} {unit}")
 }
 
+/// A length in mm below a metre, else in m, with three significant digits: "54.1 mm", "1.25 m".
+pub fn length(m: f64) -> String {
+    if m.abs() >= 1.0 {
+        format!("{m:.3} m")
+    } else {
+        let mm = 1e3 * m;
+        let digits = if mm.abs() >= 100.0 {
+            0
+        } else if mm.abs() >= 10.0 {
+            1
+        } else {
+            2
+        };
+        format!("{mm:.digits$} mm")
+    }
+}
+
 /// A duration: "3.1 ms", "1.25 s".
 pub fn duration(seconds: f64) -> String {
     if seconds < 1.0 { format!("{:.1} ms", 1e3 * seconds) } else { format!("{seconds:.2} s") }
@@ -59,6 +76,9 @@ mod tests {
         assert_eq!(force(1234.0), "1.23 kN");
         assert_eq!(force(56.78), "56.8 N");
         assert_eq!(force(2.5e6), "2.50 MN");
+        assert_eq!(length(0.0541), "54.1 mm");
+        assert_eq!(length(0.004), "4.00 mm");
+        assert_eq!(length(1.25), "1.250 m");
         assert_eq!(duration(0.0031), "3.1 ms");
         assert_eq!(duration(1.25), "1.25 s");
         assert_eq!(count(1, "round"), "1 round");

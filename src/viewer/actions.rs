@@ -6,13 +6,15 @@
 use super::ViewerOptions;
 use crate::dynamics::{DropSettings, Engine};
 use crate::ecs::{
-    Design, DropStatus, EditDesign, KinematicRequest, PipelineState, RepairStatus, RobustnessRequest, RunDropTest,
-    RunRepair, SequenceStatus, SetDiagram, StartSequence, StepSequence, VoussoirSet,
+    CompareDropTests, Design, DropStatus, EditDesign, KinematicRequest, PipelineState, RepairStatus, RobustnessRequest,
+    RunDropTest, RunRepair, RunSettlement, SequenceStatus, SetDiagram, SettleStatus, StartSequence, StepSequence,
+    VoussoirSet,
 };
 use crate::model::Scene;
 use crate::model::cut::{Cut, CutShape};
 use crate::model::edit::{Edit, apply};
 use crate::studies::sequence::OrderSpec;
+use crate::studies::settlement::SettleSettings;
 use crate::viz::DiagramMode;
 use bevy::ecs::system::SystemParam;
 use bevy::prelude::*;
@@ -80,6 +82,10 @@ pub enum ViewerAction {
     Save,
     /// Drop-test the design on an engine (D rapier, E exact contacts).
     DropTest(Engine),
+    /// Drop-test the design on both engines side by side (B).
+    CompareEngines,
+    /// Move the design's supports along its `movements` and play the quasi-static motion (P).
+    Settle,
     /// Leave the drop-test view (the static diagram alone again).
     ResetDrop,
     /// Check the design's order (its `order`, else bottom-up) and show its first step.
@@ -143,9 +149,11 @@ pub struct ViewerState {
     /// The last note for the user (saved, nothing selected, …).
     pub message: Option<String>,
     pub drop_view: bool,
-    /// The engine of the drop test shown.
-    pub drop_engine: Engine,
+    /// The engine of the drop test shown; `None` while both are compared.
+    pub drop_engine: Option<Engine>,
     pub sequence_view: bool,
+    /// The settlement's motion is shown (P).
+    pub settle_view: bool,
     /// The mechanism drawn beside the design, if any.
     pub overlay: Overlay,
     /// Set when the camera should fit the design at the next analysis.
@@ -172,8 +180,9 @@ impl ViewerState {
             save_over_input: o.save_over_input,
             message: None,
             drop_view: false,
-            drop_engine: Engine::default(),
+            drop_engine: Some(Engine::default()),
             sequence_view: false,
+            settle_view: false,
             overlay: Overlay::None,
             frame_pending: true,
         }
@@ -255,6 +264,9 @@ struct Effects<'w> {
 struct Studies<'w> {
     drop: ResMut<'w, DropStatus>,
     drops: MessageWriter<'w, RunDropTest>,
+    comparisons: MessageWriter<'w, CompareDropTests>,
+    settle: ResMut<'w, SettleStatus>,
+    settlements: MessageWriter<'w, RunSettlement>,
     sequence: ResMut<'w, SequenceStatus>,
     starts: MessageWriter<'w, StartSequence>,
     steps: MessageWriter<'w, StepSequence>,
@@ -297,8 +309,21 @@ impl Effects<'_> {
             A::Save => s.save(),
             A::DropTest(engine) => {
                 s.drop_view = true;
-                s.drop_engine = *engine;
+                s.settle_view = false;
+                s.drop_engine = Some(*engine);
                 self.studies.drops.write(RunDropTest(DropSettings { engine: *engine, ..Default::default() }));
+            }
+            A::CompareEngines => {
+                s.drop_view = true;
+                s.settle_view = false;
+                s.drop_engine = None;
+                self.studies.comparisons.write(CompareDropTests(DropSettings::default()));
+            }
+            A::Settle => {
+                s.drop_view = false;
+                s.settle_view = true;
+                let settings = SettleSettings { engines: false, ..Default::default() };
+                self.studies.settlements.write(RunSettlement(settings));
             }
             A::ResetDrop => self.reset_drop(),
             A::StartSequence => self.start_sequence(),
@@ -430,9 +455,9 @@ impl Effects<'_> {
 
     fn reset_drop(&mut self) {
         self.state.drop_view = false;
-        self.studies.drop.running = None;
-        self.studies.drop.result = None;
-        self.studies.drop.agree = None;
+        self.studies.drop.clear();
+        self.state.settle_view = false;
+        self.studies.settle.clear();
     }
 
     /// Checks the design's order (its `order`, else bottom-up).

@@ -1,6 +1,7 @@
 //! Cameras: the main view (the static diagram) right of the side panel, a second view of the
-//! drop test beside it while one is shown (render layer 1, same pose), and a UI camera over the
-//! whole window. Orbit about a focus point with z up; the main camera has no tone mapping so
+//! drop test beside it while one is shown (render layer 1, same pose), a third beside that while
+//! the two engines are compared (render layer 2: the exact-contact engine's), and a UI camera
+//! over the whole window. Orbit about a focus point with z up; the main camera has no tone mapping so
 //! that the diagram colours reach the screen as computed.
 
 use super::{Overlay, PANEL_WIDTH, ViewerState};
@@ -13,6 +14,9 @@ use bevy::window::PrimaryWindow;
 
 /// Render layer of the motion pane (drop test, mechanisms).
 pub const PHYSICS_LAYER: usize = 1;
+
+/// Render layer of the compared engine's pane.
+pub const COMPARED_LAYER: usize = 2;
 
 /// How the motion pane looks at the design.
 #[derive(Resource, Clone, Copy, Debug, Default, PartialEq)]
@@ -76,6 +80,10 @@ pub struct MainCamera;
 #[derive(Component)]
 pub struct PhysicsCamera;
 
+/// The compared engine's pane (the exact-contact engine's while both engines run).
+#[derive(Component)]
+pub struct ComparedCamera;
+
 fn spawn_cameras(mut commands: Commands) {
     let orbit = OrbitCamera { focus: Vec3::ZERO, distance: 10.0, yaw: -1.1, pitch: 0.45 };
     commands.spawn((
@@ -95,12 +103,20 @@ fn spawn_cameras(mut commands: Commands) {
         orbit.transform(),
         PhysicsCamera,
     ));
+    commands.spawn((
+        Camera3d::default(),
+        Camera { order: 2, is_active: false, clear_color: ClearColorConfig::None, ..default() },
+        Tonemapping::None,
+        RenderLayers::layer(COMPARED_LAYER),
+        orbit.transform(),
+        ComparedCamera,
+    ));
     // The UI over the whole window; it clears nothing, the 3D views are beneath it. No render
     // layer: gizmos (layer 0) would otherwise be drawn again through its 2-D projection, as
     // specks at the window's centre.
     commands.spawn((
         Camera2d,
-        Camera { order: 2, clear_color: ClearColorConfig::None, ..default() },
+        Camera { order: 3, clear_color: ClearColorConfig::None, ..default() },
         RenderLayers::none(),
         IsDefaultUiCamera,
     ));
@@ -125,8 +141,8 @@ fn frame_design(mut state: ResMut<ViewerState>, pipeline: Res<PipelineState>, mu
     }
 }
 
-/// The two 3D views.
-type Views = Or<(With<MainCamera>, With<PhysicsCamera>)>;
+/// The 3D views.
+type Views = Or<(With<MainCamera>, With<PhysicsCamera>, With<ComparedCamera>)>;
 
 /// Both views from the orbit; a view narrower than it is tall steps back so that what fits a
 /// wide view still fits (the field of view is vertical). The motion pane may look square to a
@@ -134,10 +150,11 @@ type Views = Or<(With<MainCamera>, With<PhysicsCamera>)>;
 fn place_cameras(
     main: Query<&OrbitCamera, With<MainCamera>>,
     pane: Res<PaneView>,
-    mut cams: Query<(&Camera, &mut Transform, Has<PhysicsCamera>), Views>,
+    mut cams: Query<(&Camera, &mut Transform, Has<MainCamera>), Views>,
 ) {
     let Ok(orbit) = main.single() else { return };
-    for (camera, mut transform, is_pane) in &mut cams {
+    for (camera, mut transform, is_main) in &mut cams {
+        let is_pane = !is_main;
         let aspect =
             camera.viewport.as_ref().map_or(1.0, |v| v.physical_size.x as f32 / v.physical_size.y.max(1) as f32);
         let mut view = OrbitCamera { distance: orbit.distance / aspect.clamp(0.2, 1.0), ..*orbit };
@@ -156,41 +173,46 @@ fn place_cameras(
     }
 }
 
-/// The 3D views fill the window right of the panel: one, or two side by side while a drop test
-/// is shown.
+/// The 3D views fill the window right of the panel: one; two side by side while a drop test,
+/// a settlement or a mechanism is shown; three while the engines are compared.
 fn set_viewports(
     window: Query<&Window, With<PrimaryWindow>>,
     state: Res<ViewerState>,
-    mut main: Query<&mut Camera, (With<MainCamera>, Without<PhysicsCamera>)>,
-    mut physics: Query<&mut Camera, (With<PhysicsCamera>, Without<MainCamera>)>,
+    mut cams: Query<(&mut Camera, Has<PhysicsCamera>, Has<ComparedCamera>), Views>,
 ) {
     let Ok(window) = window.single() else { return };
     let size = window.physical_size();
     let panel = ((PANEL_WIDTH * window.scale_factor()) as u32).min(size.x.saturating_sub(2));
     let width = size.x - panel;
-    let split = state.drop_view || state.overlay != Overlay::None;
-    let main_width = if split { width / 2 } else { width };
-    let view = |x: u32, w: u32| Viewport {
-        physical_position: UVec2::new(x, 0),
-        physical_size: UVec2::new(w.max(1), size.y.max(1)),
-        ..default()
+    let compared = state.drop_view && state.drop_engine.is_none();
+    let views = if compared {
+        3
+    } else if state.drop_view || state.settle_view || state.overlay != Overlay::None {
+        2
+    } else {
+        1
+    };
+    let column = width / views;
+    let view = |k: u32| {
+        let w = if k + 1 == views { width - k * column } else { column };
+        Viewport {
+            physical_position: UVec2::new(panel + k * column, 0),
+            physical_size: UVec2::new(w.max(1), size.y.max(1)),
+            ..default()
+        }
     };
     // Viewport has no PartialEq: compare what is set, so that cameras change only on resize.
     let same = |a: &Option<Viewport>, b: &Viewport| {
         a.as_ref().is_some_and(|a| a.physical_position == b.physical_position && a.physical_size == b.physical_size)
     };
-    if let Ok(mut cam) = main.single_mut() {
-        let v = view(panel, main_width);
-        if !same(&cam.viewport, &v) {
-            cam.viewport = Some(v);
+    for (mut cam, is_pane, is_compared) in &mut cams {
+        let k = u32::from(is_pane) + 2 * u32::from(is_compared);
+        let active = k < views;
+        if cam.is_active != active {
+            cam.is_active = active;
         }
-    }
-    if let Ok(mut cam) = physics.single_mut() {
-        if cam.is_active != split {
-            cam.is_active = split;
-        }
-        let v = view(panel + main_width, width - main_width);
-        if split && !same(&cam.viewport, &v) {
+        let v = view(k);
+        if active && !same(&cam.viewport, &v) {
             cam.viewport = Some(v);
         }
     }

@@ -4,10 +4,10 @@
 //! atomically. `voussoir view --screenshot` and the rendering test run through here.
 
 use super::actions::{ViewerAction, ViewerState};
-use super::camera::{MainCamera, PhysicsCamera};
+use super::camera::{ComparedCamera, MainCamera, PhysicsCamera};
 use super::hud::{PanelLayout, Shown};
 use super::motion::PaneCounts;
-use crate::ecs::{DropStatus, EditDesign, InterfaceColors, PipelineState, RepairStatus, SequenceStatus};
+use crate::ecs::{DropStatus, EditDesign, InterfaceColors, PipelineState, RepairStatus, SequenceStatus, SettleStatus};
 use crate::model::Scene;
 use crate::model::edit::Edit;
 use bevy::prelude::*;
@@ -90,6 +90,7 @@ fn run_script(
     mut state: ResMut<ViewerState>,
     pipeline: Res<PipelineState>,
     drop: Res<DropStatus>,
+    settle: Res<SettleStatus>,
     sequence: Res<SequenceStatus>,
     repair: Res<RepairStatus>,
     coloured: Query<(), With<InterfaceColors>>,
@@ -111,7 +112,9 @@ fn run_script(
     }
     if runner.settling {
         let busy = pipeline.dirty
-            || drop.running.is_some()
+            || drop.running()
+            || settle.running()
+            || (state.settle_view && settle.result.is_some() && !settle.played())
             || repair.running()
             || repair.animating()
             || (state.sequence_view && sequence.error.is_none() && sequence.analysis.is_none())
@@ -185,11 +188,13 @@ struct ShotInfo<'w, 's> {
     pane: PaneCounts<'w, 's>,
     main: Query<'w, 's, &'static Camera, With<MainCamera>>,
     physics: Query<'w, 's, &'static Camera, With<PhysicsCamera>>,
+    compared: Query<'w, 's, &'static Camera, With<ComparedCamera>>,
+    thrust_plot: Query<'w, 's, &'static Node, With<super::motion::ThrustPlotNode>>,
 }
 
 impl ShotInfo<'_, '_> {
     fn describe(&self, path: &std::path::Path, size: (u32, u32)) -> Value {
-        let Shown { state, status, pipeline, drop, sequence, robustness, kinematic } = &self.shown;
+        let Shown { state, status, pipeline, drop, settle, sequence, robustness, kinematic } = &self.shown;
         let rect = |c: &Camera| {
             c.physical_viewport_rect().filter(|_| c.is_active).map(|r| [r.min.x, r.min.y, r.max.x, r.max.y])
         };
@@ -234,8 +239,20 @@ impl ShotInfo<'_, '_> {
             "redo": state.redo.len(),
             "message": state.message,
             "translucent": state.translucent,
-            "drop_stands": drop.result.as_ref().map(|r| r.stands),
-            "drop_agrees": drop.agree,
+            "drop_stands": drop.lead().and_then(|l| l.result.as_ref()).map(|r| r.stands),
+            "drop_agrees": drop.lead().and_then(|l| l.agree),
+            "settle": settle.result.as_ref().map(|r| json!({
+                "outcome": r.quasi_static.outcome,
+                "played": settle.played(),
+                "fraction": settle.frame().map(|f| f.1),
+            })),
+            "settle_error": settle.error,
+            "thrust_plot_shown": self.thrust_plot.single().is_ok_and(|n| n.display != Display::None),
+            "drop_lanes": drop.lanes.iter().filter_map(|l| l.result.as_ref().map(|r| json!({
+                "engine": r.engine,
+                "stands": r.stands,
+                "agrees": l.agree,
+            }))).collect::<Vec<_>>(),
             "sequence_step": sequence.step().filter(|_| state.sequence_view).map(|s| json!({
                 "index": sequence.current,
                 "placed": s.placed,
@@ -249,6 +266,8 @@ impl ShotInfo<'_, '_> {
             "kinematic_moving": kinematic.result.as_ref().and_then(|k| k.mechanism.as_ref()).map(|m| m.blocks.len()),
             "main_viewport": self.main.single().ok().and_then(rect),
             "physics_viewport": self.physics.single().ok().and_then(rect),
+            "compared_viewport": self.compared.single().ok().and_then(rect),
+            "compared_caption": self.shown.lane_caption(1),
         })
     }
 }

@@ -5,7 +5,7 @@
 //! arrows, mass centres, the cut being edited. The motion pane is [`super::motion`]'s.
 
 use super::ViewerState;
-use super::camera::PHYSICS_LAYER;
+use super::camera::{COMPARED_LAYER, PHYSICS_LAYER};
 use crate::ecs::{BlockMesh, BlockName, InterfaceColors, InterfaceForces, MassCentre, PipelineState};
 use crate::ecs::{Placed, SequenceStatus, Support, VoussoirSet};
 use crate::statics::InterfaceResult;
@@ -87,7 +87,7 @@ fn setup(mut commands: Commands, mut materials: ResMut<Assets<StandardMaterial>>
             })
             .collect(),
     });
-    let both = RenderLayers::from_layers(&[0, PHYSICS_LAYER]);
+    let both = RenderLayers::from_layers(&[0, PHYSICS_LAYER, COMPARED_LAYER]);
     commands.spawn((
         DirectionalLight { illuminance: 9000.0, ..default() },
         Transform::from_xyz(0.4, -0.7, 1.0).looking_at(Vec3::ZERO, Vec3::Z),
@@ -274,7 +274,7 @@ fn ground(
             ..default()
         })),
         Transform::from_xyz(c.x as f32, c.y as f32, z),
-        RenderLayers::from_layers(&[0, PHYSICS_LAYER]),
+        RenderLayers::from_layers(&[0, PHYSICS_LAYER, COMPARED_LAYER]),
         Ground,
     ));
 }

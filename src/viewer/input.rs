@@ -61,6 +61,8 @@ fn keys(keys: Res<ButtonInput<KeyCode>>, mut actions: MessageWriter<ViewerAction
             (KeyCode::KeyR, _) => send(ViewerAction::RestoreBlock),
             (KeyCode::KeyD, _) => send(ViewerAction::DropTest(Engine::Rapier)),
             (KeyCode::KeyE, _) => send(ViewerAction::DropTest(Engine::Exact)),
+            (KeyCode::KeyB, _) => send(ViewerAction::CompareEngines),
+            (KeyCode::KeyP, _) => send(ViewerAction::Settle),
             (KeyCode::KeyQ, _) => send(ViewerAction::StartSequence),
             (KeyCode::Comma, _) => send(ViewerAction::Step(-1)),
             (KeyCode::Period, _) => send(ViewerAction::Step(1)),

@@ -6,13 +6,15 @@
 //! exaggerated. A mechanism is seen square to its plane (the plane its blocks turn in).
 
 use super::Overlay;
-use super::camera::{PHYSICS_LAYER, PaneView};
+use super::camera::{COMPARED_LAYER, PHYSICS_LAYER, PaneView};
 use super::draw::{Palette, coloured_mesh};
 use super::hud::Shown;
-use crate::ecs::{BlockName, BlockPose, MassCentre};
+use crate::ecs::{BlockName, BlockPose, ComparedPose, DropLane, MassCentre, SettlePose};
 use crate::ecs::{Support, VoussoirSet};
 use crate::model::{Load, LoadKind};
+use crate::report::words;
 use crate::stability::{BlockMotion, JointState, Mechanism};
+use crate::studies::settlement::Outcome;
 use crate::viz::colors;
 use bevy::camera::visibility::RenderLayers;
 use bevy::prelude::*;
@@ -24,10 +26,10 @@ impl Plugin for MotionPlugin {
     fn build(&self, app: &mut App) {
         app.init_gizmo_group::<MotionGizmos>()
             .init_resource::<PaneView>()
-            .add_systems(Startup, (configure_gizmos, spawn_caption))
+            .add_systems(Startup, (configure_gizmos, spawn_caption, spawn_thrust_plot))
             .add_systems(
                 Update,
-                (copies, rest_ghosts, joints, caption, gizmo_marks, pane_view)
+                (copies, rest_ghosts, joints, caption, thrust_plot, gizmo_marks, pane_view)
                     .chain()
                     .after(VoussoirSet::Write)
                     .after(crate::ecs::diagram::DiagramSystems),
@@ -45,26 +47,39 @@ fn configure_gizmos(mut store: ResMut<GizmoConfigStore>) {
     config.line.width = 3.0;
 }
 
-/// A block's copy in the motion pane, moved.
+/// A block's copy in a motion pane (lane 0 the pane, lane 1 the compared engine's), moved.
 #[derive(Component)]
-struct Moved(Entity);
+struct Moved {
+    block: Entity,
+    lane: usize,
+}
 
-/// A block's copy in the motion pane, at rest (shown while its moved copy is elsewhere).
+/// A block's copy in a motion pane, at rest (shown while its moved copy is elsewhere).
 #[derive(Component)]
-struct AtRest(Entity);
+struct AtRest {
+    block: Entity,
+    lane: usize,
+}
+
+/// The render layer of a lane's pane.
+fn lane_layer(lane: usize) -> RenderLayers {
+    RenderLayers::layer(if lane == 0 { PHYSICS_LAYER } else { COMPARED_LAYER })
+}
 
 /// A mechanism's moving joint, drawn on its moved face.
 #[derive(Component)]
 struct JointMark;
 
-/// The caption over the motion pane.
+/// The caption over a motion pane (the lane's).
 #[derive(Component)]
-pub(super) struct Caption;
+pub(super) struct Caption(usize);
 
 /// What the motion pane shows.
 pub(super) enum Pane<'a> {
     Hidden,
     Drop,
+    /// The supports moving: the settlement's quasi-static motion.
+    Settle,
     /// A mechanism, drawn `scale` × its motion.
     Mechanism {
         mechanism: &'a Mechanism,
@@ -76,8 +91,11 @@ pub(super) enum Pane<'a> {
 // The pane reads what the panel shows ([`Shown`]).
 impl Shown<'_> {
     pub(super) fn pane(&self) -> Pane<'_> {
-        if self.state.drop_view && (self.drop.running.is_some() || self.drop.result.is_some()) {
+        if self.state.drop_view && !self.drop.lanes.is_empty() {
             return Pane::Drop;
+        }
+        if self.state.settle_view {
+            return Pane::Settle;
         }
         let mechanism = match self.state.overlay {
             Overlay::None => None,
@@ -97,24 +115,21 @@ impl Shown<'_> {
 
     /// The caption: what is shown, how much it is exaggerated, what the colours mean.
     pub(super) fn caption(&self) -> String {
+        self.lane_caption(0)
+    }
+
+    /// The caption of a lane's pane (lane 1: the compared engine's; empty when not shown).
+    pub(super) fn lane_caption(&self, lane: usize) -> String {
+        if lane > 0 {
+            return match (self.pane(), self.drop.lanes.get(lane)) {
+                (Pane::Drop, Some(l)) => drop_caption(l),
+                _ => String::new(),
+            };
+        }
         match self.pane() {
             Pane::Hidden => self.nothing_moves().into(),
-            Pane::Drop => {
-                let (t, total) = match (&self.drop.running, &self.drop.result) {
-                    (Some(run), _) => (run.steps_done() as f64 * run.dt(), run.total_steps() as f64 * run.dt()),
-                    (None, Some(r)) => (r.simulated_s, r.simulated_s),
-                    _ => (0.0, 0.0),
-                };
-                let verdict = self.drop.result.as_ref().map_or("", |r| if r.stands { ": stands" } else { ": falls" });
-                let engine = match (&self.drop.running, &self.drop.result) {
-                    (Some(run), _) => run.engine(),
-                    (None, Some(r)) => r.engine,
-                    _ => Default::default(),
-                };
-                format!(
-                    "drop test ({engine}), true scale\nt = {t:.2} of {total:.2} s{verdict}\nviolet: the blocks now · ghost: at the start"
-                )
-            }
+            Pane::Drop => self.drop.lead().map_or(String::new(), drop_caption),
+            Pane::Settle => self.settle_caption(),
             Pane::Mechanism { mechanism, kinematic, .. } => {
                 let head = if kinematic {
                     "kinematic check: the first motion\nreleased from rest under gravity (arrow)".to_string()
@@ -157,6 +172,25 @@ impl Shown<'_> {
         }
     }
 
+    /// The settlement pane's caption: where along the path the motion is, and how it ends.
+    fn settle_caption(&self) -> String {
+        let s = &self.settle;
+        let (Some(r), Some((_, fraction))) = (&s.result, s.frame()) else {
+            return s.error.clone().unwrap_or_else(|| "supports move: following the path…".into());
+        };
+        let end = match r.quasi_static.outcome {
+            Outcome::Collapses { fraction, movement, .. } => {
+                format!("collapses at {:.1} % of the path ({})", 100.0 * fraction, words::length(movement))
+            }
+            Outcome::Stands => "stands to the end of the path".into(),
+        };
+        format!(
+            "supports move (quasi-static), true scale\n{:.1} % of the path · {}\n{end}\nviolet: the blocks now · ghost: at the start",
+            100.0 * fraction,
+            words::length(fraction * r.path_movement),
+        )
+    }
+
     /// The live load the load factor scales, in words.
     fn load_words(&self) -> String {
         match self.robustness.worst_azimuth {
@@ -164,6 +198,16 @@ impl Shown<'_> {
             None => "load: the design's live loads × λ* (arrows)".into(),
         }
     }
+}
+
+/// A drop-test lane's caption: engine, clock and verdict.
+fn drop_caption(lane: &DropLane) -> String {
+    let (t, total) = lane.clock();
+    let verdict = lane.result.as_ref().map_or("", |r| if r.stands { ": stands" } else { ": falls" });
+    format!(
+        "drop test ({}), true scale\nt = {t:.2} of {total:.2} s{verdict}\nviolet: the blocks now · ghost: at the start",
+        lane.engine()
+    )
 }
 
 fn joint_words(state: JointState) -> &'static str {
@@ -179,27 +223,41 @@ fn joint_words(state: JointState) -> &'static str {
 #[derive(bevy::ecs::system::SystemParam)]
 pub(super) struct PaneCounts<'w, 's> {
     moved: Query<'w, 's, (&'static Moved, &'static Transform)>,
-    ghosts: Query<'w, 's, &'static Visibility, With<AtRest>>,
+    ghosts: Query<'w, 's, (&'static AtRest, &'static Visibility)>,
     joints: Query<'w, 's, (), With<JointMark>>,
 }
 
 impl PaneCounts<'_, '_> {
-    /// Copies in the pane, those moved off their rest place, rest ghosts shown, joints marked.
+    /// Copies in the pane, those moved off their rest place, rest ghosts shown, joints marked;
+    /// and the copies of the compared engine's pane moved off their rest place.
     pub(super) fn describe(&self) -> serde_json::Value {
+        let moved =
+            |lane: usize| self.moved.iter().filter(|(m, t)| m.lane == lane && **t != Transform::IDENTITY).count();
         serde_json::json!({
-            "copies": self.moved.iter().count(),
-            "moved": self.moved.iter().filter(|(_, t)| **t != Transform::IDENTITY).count(),
-            "ghosts": self.ghosts.iter().filter(|v| **v != Visibility::Hidden).count(),
+            "copies": self.moved.iter().filter(|(m, _)| m.lane == 0).count(),
+            "moved": moved(0),
+            "ghosts": self.ghosts.iter().filter(|(g, v)| g.lane == 0 && **v != Visibility::Hidden).count(),
             "joints": self.joints.iter().count(),
+            "compared_copies": self.moved.iter().filter(|(m, _)| m.lane == 1).count(),
+            "compared_moved": moved(1),
         })
     }
 }
 
 /// A block as its copies need it.
-type Source<'a> = (Entity, &'a Mesh3d, &'a MassCentre, Option<&'a BlockPose>, &'a BlockName, Has<Support>);
+type Source<'a> = (
+    Entity,
+    &'a Mesh3d,
+    &'a MassCentre,
+    Option<&'a BlockPose>,
+    Option<&'a ComparedPose>,
+    Option<&'a SettlePose>,
+    &'a BlockName,
+    Has<Support>,
+);
 
-/// The moved copies: every block in the pane, moved by its drop-test pose or along the
-/// mechanism; a mechanism's still blocks in stone, its moving ones violet.
+/// The moved copies: every block in each pane shown, moved by its drop-test pose (the lane's)
+/// or along the mechanism; a mechanism's still blocks in stone, its moving ones violet.
 fn copies(
     mut commands: Commands,
     shown: Shown,
@@ -208,10 +266,12 @@ fn copies(
     mut moved: Query<(Entity, &Moved, &mut Transform, &mut MeshMaterial3d<StandardMaterial>)>,
 ) {
     let pane = shown.pane();
-    if matches!(pane, Pane::Hidden) {
-        moved.iter().for_each(|(e, ..)| commands.entity(e).despawn());
-        return;
-    }
+    let lanes = match pane {
+        Pane::Hidden => 0,
+        Pane::Drop if shown.drop.compared() => 2,
+        Pane::Settle if shown.settle.result.is_none() => 0,
+        _ => 1,
+    };
     let (mechanism, scale) = match pane {
         Pane::Mechanism { mechanism, scale, .. } => (Some(mechanism), scale),
         _ => (None, 0.0),
@@ -220,15 +280,19 @@ fn copies(
         mechanism.iter().flat_map(|m| &m.blocks).map(|b| (b.block.as_str(), b)).collect();
     let mut have = HashSet::new();
     for (e, copy, mut transform, mut material) in &mut moved {
-        let Ok((_, _, mass, pose, name, support)) = blocks.get(copy.0) else {
+        let Some((_, _, mass, pose, compared, settled, name, support)) =
+            blocks.get(copy.block).ok().filter(|_| copy.lane < lanes)
+        else {
             commands.entity(e).despawn();
             continue;
         };
-        have.insert(copy.0);
+        have.insert((copy.block, copy.lane));
         let motion = motions_by_name.get(name.0.as_str());
-        let pose = match mechanism {
-            Some(_) => motion.map(|m| mechanism_pose(mass, m, scale)),
-            None => pose.copied(),
+        let pose = match (mechanism, copy.lane) {
+            (Some(_), _) => motion.map(|m| mechanism_pose(mass, m, scale)),
+            (None, _) if matches!(pane, Pane::Settle) => settled.map(|s| s.0),
+            (None, 0) => pose.copied(),
+            (None, _) => compared.map(|c| c.0),
         };
         let t = pose.map_or(Transform::IDENTITY, |p| pose_transform(mass.centroid.coords.into(), &p));
         if *transform != t {
@@ -246,21 +310,21 @@ fn copies(
             material.0 = want.clone();
         }
     }
-    for (e, mesh, ..) in &blocks {
-        if !have.contains(&e) {
+    for lane in 0..lanes {
+        for (e, mesh, ..) in blocks.iter().filter(|b| !have.contains(&(b.0, lane))) {
             commands.spawn((
                 Mesh3d(mesh.0.clone()),
                 MeshMaterial3d(palette.still.clone()),
                 Transform::IDENTITY,
-                RenderLayers::layer(PHYSICS_LAYER),
-                Moved(e),
+                lane_layer(lane),
+                Moved { block: e, lane },
             ));
         }
     }
 }
 
 /// The rest-state ghosts: a faint copy of every free block at rest, shown where its moved
-/// copy has left.
+/// copy (in the same pane) has left.
 fn rest_ghosts(
     mut commands: Commands,
     palette: Res<Palette>,
@@ -268,29 +332,29 @@ fn rest_ghosts(
     blocks: Query<Has<Support>>,
     mut ghosts: Query<(Entity, &AtRest, &mut Visibility)>,
 ) {
-    let away: HashMap<Entity, (bool, &Mesh3d)> =
-        moved.iter().map(|(m, t, mesh)| (m.0, (*t != Transform::IDENTITY, mesh))).collect();
+    let away: HashMap<(Entity, usize), (bool, &Mesh3d)> =
+        moved.iter().map(|(m, t, mesh)| ((m.block, m.lane), (*t != Transform::IDENTITY, mesh))).collect();
     let mut have = HashSet::new();
     for (e, ghost, mut visibility) in &mut ghosts {
-        let Some(&(away, _)) = away.get(&ghost.0) else {
+        let Some(&(away, _)) = away.get(&(ghost.block, ghost.lane)) else {
             commands.entity(e).despawn();
             continue;
         };
-        have.insert(ghost.0);
+        have.insert((ghost.block, ghost.lane));
         let v = if away { Visibility::Visible } else { Visibility::Hidden };
         if *visibility != v {
             *visibility = v;
         }
     }
-    for (&block, &(_, mesh)) in &away {
-        if !have.contains(&block) && !blocks.get(block).unwrap_or(true) {
+    for (&(block, lane), &(_, mesh)) in &away {
+        if !have.contains(&(block, lane)) && !blocks.get(block).unwrap_or(true) {
             commands.spawn((
                 Mesh3d(mesh.0.clone()),
                 MeshMaterial3d(palette.rest.clone()),
                 Transform::IDENTITY,
                 Visibility::Hidden,
-                RenderLayers::layer(PHYSICS_LAYER),
-                AtRest(block),
+                lane_layer(lane),
+                AtRest { block, lane },
             ));
         }
     }
@@ -340,46 +404,129 @@ fn joints(
 }
 
 fn spawn_caption(mut commands: Commands) {
-    commands.spawn((
-        Text::new(""),
-        TextFont { font_size: bevy::text::FontSize::Px(11.0), ..default() },
-        TextColor(Color::srgb(0.92, 0.92, 0.92)),
-        BackgroundColor(Color::srgba(0.0, 0.0, 0.0, 0.55)),
-        Node {
-            position_type: PositionType::Absolute,
-            padding: UiRect::all(px(4)),
-            display: Display::None,
-            ..default()
-        },
-        Caption,
-    ));
+    for lane in 0..2 {
+        commands.spawn((
+            Text::new(""),
+            TextFont { font_size: bevy::text::FontSize::Px(11.0), ..default() },
+            TextColor(Color::srgb(0.92, 0.92, 0.92)),
+            BackgroundColor(Color::srgba(0.0, 0.0, 0.0, 0.55)),
+            Node {
+                position_type: PositionType::Absolute,
+                padding: UiRect::all(px(4)),
+                display: Display::None,
+                ..default()
+            },
+            Caption(lane),
+        ));
+    }
 }
 
-/// The caption at the pane's top-left corner.
+/// Each caption at its pane's top-left corner.
 fn caption(
     shown: Shown,
     pane: Query<&Camera, With<super::camera::PhysicsCamera>>,
+    compared: Query<&Camera, With<super::camera::ComparedCamera>>,
     window: Query<&Window, With<bevy::window::PrimaryWindow>>,
-    mut text: Query<(&mut Text, &mut Node), With<Caption>>,
+    mut text: Query<(&mut Text, &mut Node, &Caption)>,
 ) {
-    let Ok((mut text, mut node)) = text.single_mut() else { return };
-    let words = shown.caption();
-    let at = pane.single().ok().filter(|c| c.is_active).and_then(|c| c.physical_viewport_rect());
     let scale = window.single().map_or(1.0, |w| w.scale_factor());
-    let (display, left) = match at {
-        Some(r) if !words.is_empty() => (Display::Flex, r.min.x as f32 / scale + 6.0),
-        _ => (Display::None, 0.0),
+    for (mut text, mut node, lane) in &mut text {
+        let words = shown.lane_caption(lane.0);
+        let camera = if lane.0 == 0 { pane.single() } else { compared.single() };
+        let at = camera.ok().filter(|c| c.is_active).and_then(|c| c.physical_viewport_rect());
+        let (display, left, width) = match at {
+            Some(r) if !words.is_empty() => {
+                (Display::Flex, r.min.x as f32 / scale + 6.0, r.width() as f32 / scale - 12.0)
+            }
+            _ => (Display::None, 0.0, 0.0),
+        };
+        if node.display != display {
+            node.display = display;
+        }
+        // Within the pane: three panes side by side are narrow.
+        if node.max_width != px(width) {
+            node.max_width = px(width);
+        }
+        if node.left != px(left) {
+            node.left = px(left);
+            node.top = px(6.0);
+        }
+        if text.0 != words {
+            text.0 = words;
+        }
+    }
+}
+
+/// The settlement's thrust curve, at the bottom of the motion pane.
+#[derive(Component)]
+pub(super) struct ThrustPlotNode;
+
+/// The thrust curve's size, pixels (drawn at this size, shown at half of it per logical pixel).
+const THRUST_PLOT: (u32, u32) = (640, 400);
+
+fn spawn_thrust_plot(mut commands: Commands) {
+    commands.spawn((
+        ImageNode::default(),
+        Node {
+            position_type: PositionType::Absolute,
+            width: px(THRUST_PLOT.0 / 2),
+            height: px(THRUST_PLOT.1 / 2),
+            display: Display::None,
+            ..default()
+        },
+        ThrustPlotNode,
+    ));
+}
+
+/// Draws the thrust curve when a settlement's result arrives, and keeps it at the bottom-left
+/// corner of the pane while the settlement is shown.
+fn thrust_plot(
+    shown: Shown,
+    pane: Query<&Camera, With<super::camera::PhysicsCamera>>,
+    window: Query<&Window, With<bevy::window::PrimaryWindow>>,
+    mut images: ResMut<Assets<Image>>,
+    mut node: Query<(&mut ImageNode, &mut Node), With<ThrustPlotNode>>,
+    mut drawn: Local<bool>,
+) {
+    let Ok((mut image, mut node)) = node.single_mut() else { return };
+    let result = shown.settle.result.as_ref();
+    if result.is_none() {
+        *drawn = false;
+    }
+    if let (Some(settlement), false) = (result, *drawn) {
+        *drawn = true;
+        let plot = crate::viz::plot::ThrustPlot { title: "thrust against movement".into(), settlement };
+        if let Ok(rgb) = crate::viz::plot::thrust_rgb(&plot, THRUST_PLOT) {
+            image.image = images.add(rgba_image(&rgb, THRUST_PLOT));
+        }
+    }
+    let scale = window.single().map_or(1.0, |w| w.scale_factor());
+    let at = pane.single().ok().filter(|c| c.is_active).and_then(|c| c.physical_viewport_rect());
+    let (display, left, top) = match at {
+        Some(r) if *drawn && matches!(shown.pane(), Pane::Settle) => {
+            (Display::Flex, r.min.x as f32 / scale + 6.0, r.max.y as f32 / scale - THRUST_PLOT.1 as f32 / 2.0 - 6.0)
+        }
+        _ => (Display::None, 0.0, 0.0),
     };
     if node.display != display {
         node.display = display;
     }
-    if node.left != px(left) {
+    if node.left != px(left) || node.top != px(top) {
         node.left = px(left);
-        node.top = px(6.0);
+        node.top = px(top);
     }
-    if text.0 != words {
-        text.0 = words;
-    }
+}
+
+/// An 8-bit RGB picture as a texture.
+fn rgba_image(rgb: &[u8], (w, h): (u32, u32)) -> Image {
+    let data = rgb.chunks_exact(3).flat_map(|p| [p[0], p[1], p[2], 255]).collect();
+    Image::new(
+        bevy::render::render_resource::Extent3d { width: w, height: h, depth_or_array_layers: 1 },
+        bevy::render::render_resource::TextureDimension::D2,
+        data,
+        bevy::render::render_resource::TextureFormat::Rgba8UnormSrgb,
+        bevy::asset::RenderAssetUsages::default(),
+    )
 }
 
 /// The load as arrows (the load factor's live load, or gravity for the kinematic check), and

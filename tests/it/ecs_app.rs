@@ -147,10 +147,10 @@ fn fixed_number_of_updates_is_deterministic() {
     assert_eq!(run(), run());
 }
 
-#[test]
-fn drop_test_plugin_moves_a_falling_block_and_leaves_a_stack() {
+/// A stack of two boxes and a loose box 0.5 m above the ground, in an app ticking 1/64 s per
+/// update.
+fn loose_box_app() -> App {
     use std::time::Duration;
-    use voussoir::dynamics::DropSettings;
     let mut scene = Scene::new(
         "stack and a loose box",
         vec![
@@ -165,24 +165,72 @@ fn drop_test_plugin_moves_a_falling_block_and_leaves_a_stack() {
     app.insert_resource(bevy::time::TimeUpdateStrategy::ManualDuration(Duration::from_secs_f64(1.0 / 64.0)));
     send(&mut app, Edit::Load(Box::new(scene)));
     assert!(!status(&app).stands, "statics: the loose box touches nothing");
-    app.world_mut().write_message(RunDropTest(DropSettings { duration: 1.0, ..Default::default() }));
-    for _ in 0..100 {
+    app
+}
+
+/// Updates until every lane of the drop test finished (at most `ticks`).
+fn run_drop(app: &mut App, ticks: usize) {
+    for _ in 0..ticks {
         app.update();
-        if app.world().resource::<DropStatus>().result.is_some() {
-            break;
+        if app.world().resource::<DropStatus>().done() {
+            return;
         }
     }
-    let drop = app.world().resource::<DropStatus>();
-    let result = drop.result.clone().expect("the drop test finished within 100 ticks of 1/64 s");
-    assert!(!result.stands && result.worst_block.as_deref() == Some("loose"));
-    assert_eq!(drop.agree, Some(true));
-    let mut q = app.world_mut().query::<(&BlockName, &BlockPose)>();
-    let poses: std::collections::HashMap<String, BlockPose> =
-        q.iter(app.world()).map(|(n, p)| (n.0.clone(), *p)).collect();
-    // The loose box fell 1.5 m onto the ground (centroid at 0.5 m); the stack stayed.
-    assert!((poses["loose"].centroid.z - 0.5).abs() < 0.02, "{:?}", poses["loose"]);
+    panic!("the drop test did not finish within {ticks} ticks of 1/64 s");
+}
+
+/// Invariant: the loose box falls 1.5 m onto the ground and rests with its centroid at half its
+/// height (0.5 m); the stack stays where it was; the verdict (falls, at the loose box) agrees
+/// with the statics'.
+fn assert_landed(poses: &std::collections::HashMap<String, BlockPose>, tolerance: f64) {
+    assert!((poses["loose"].centroid.z - 0.5).abs() < tolerance, "{:?}", poses["loose"]);
     assert!((poses["top"].centroid.z - 1.5).abs() < 0.005, "{:?}", poses["top"]);
     assert!((poses["bottom"].centroid - nalgebra::Point3::new(0.5, 0.5, 0.5)).norm() < 0.005);
+}
+
+#[test]
+fn drop_test_plugin_moves_a_falling_block_and_leaves_a_stack() {
+    use voussoir::dynamics::DropSettings;
+    let mut app = loose_box_app();
+    app.world_mut().write_message(RunDropTest(DropSettings { duration: 1.0, ..Default::default() }));
+    run_drop(&mut app, 100);
+    let drop = app.world().resource::<DropStatus>();
+    assert_eq!(drop.lanes.len(), 1);
+    let lane = drop.lead().unwrap();
+    let result = lane.result.clone().unwrap();
+    assert!(!result.stands && result.worst_block.as_deref() == Some("loose"));
+    assert_eq!(lane.agree, Some(true));
+    let mut q = app.world_mut().query::<(&BlockName, &BlockPose)>();
+    let poses = q.iter(app.world()).map(|(n, p)| (n.0.clone(), *p)).collect();
+    assert_landed(&poses, 0.02);
+}
+
+/// Invariant: both engines run side by side on the same design, rapier's lane first and the
+/// exact engine's second, each writing its own poses: the loose box lands on the ground in
+/// both (rapier within its soft contacts' 2 cm, the exact engine within 1 mm), and both
+/// verdicts agree with the statics.
+#[test]
+fn drop_test_plugin_compares_the_engines_side_by_side() {
+    use voussoir::dynamics::{DropSettings, Engine};
+    use voussoir::ecs::{CompareDropTests, ComparedPose};
+    let mut app = loose_box_app();
+    app.world_mut().write_message(CompareDropTests(DropSettings { duration: 1.0, ..Default::default() }));
+    run_drop(&mut app, 100);
+    let drop = app.world().resource::<DropStatus>();
+    assert!(drop.compared());
+    let engines: Vec<Engine> = drop.lanes.iter().map(|l| l.engine()).collect();
+    assert_eq!(engines, [Engine::Rapier, Engine::Exact]);
+    for lane in &drop.lanes {
+        let result = lane.result.as_ref().unwrap();
+        assert!(!result.stands && result.worst_block.as_deref() == Some("loose"), "{result:?}");
+        assert_eq!(lane.agree, Some(true));
+    }
+    let mut q = app.world_mut().query::<(&BlockName, &BlockPose, &ComparedPose)>();
+    let both: Vec<(String, BlockPose, BlockPose)> =
+        q.iter(app.world()).map(|(n, p, c)| (n.0.clone(), *p, c.0)).collect();
+    assert_eq!(both.len(), 3, "every block has a pose in both lanes");
+    assert_landed(&both.iter().map(|(n, p, _)| (n.clone(), *p)).collect(), 0.02);
+    assert_landed(&both.iter().map(|(n, _, c)| (n.clone(), *c)).collect(), 1e-3);
 }
 
 #[test]
@@ -397,4 +445,77 @@ fn repair_plugin_moves_the_cut_into_place() {
     assert_eq!(design.cuts, report.design.cuts);
     let core = analyze(&report.design, &AnalysisSettings::default()).unwrap();
     assert!(core.statics.stands && status(&app).stands);
+}
+
+/// A 3 × 1 × 0.3 lintel on two piers, the right one settling 0.1 m.
+fn settling_lintel() -> Scene {
+    let mut scene = Scene::new(
+        "lintel",
+        vec![
+            cuboid("left", [0.0, 0.0, -1.0], [0.5, 1.0, 0.0]).support(true),
+            cuboid("right", [2.5, 0.0, -1.0], [3.5, 1.0, 0.0]).support(true),
+            cuboid("lintel", [0.0, 0.0, 0.0], [3.0, 1.0, 0.3]),
+        ],
+    );
+    scene.movements =
+        vec![voussoir::model::Movement { block: "right".into(), translation: [0.0, 0.0, -0.1], rotation: [0.0; 3] }];
+    scene
+}
+
+/// Updates (real time passing for the analysis' thread) until the settlement has a result or
+/// an error.
+fn run_settlement(app: &mut App) {
+    for _ in 0..6000 {
+        app.update();
+        let s = app.world().resource::<SettleStatus>();
+        if s.result.is_some() || s.error.is_some() {
+            return;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(10));
+    }
+    panic!("the settlement did not finish within a minute");
+}
+
+/// Invariant: the plugin's settlement is the library's on the same design and settings (same
+/// input, same output: outcome and stages equal), and its playback ends on the run's last
+/// frame: the settling pier 0.1 m down (1e-12), the lintel turned by the last stage's
+/// rotation; a design that moves no support gets one clear error.
+#[test]
+fn settle_plugin_follows_the_design_s_movements_and_plays_them() {
+    use voussoir::studies::settlement::{SettleSettings, settle};
+    let settings = SettleSettings { engines: false, increments: 10, ..Default::default() };
+    let mut app = app();
+    // A quarter second per update: the 5 s playback in 20 updates.
+    app.insert_resource(bevy::time::TimeUpdateStrategy::ManualDuration(std::time::Duration::from_secs_f64(0.25)));
+    let scene = settling_lintel();
+    send(&mut app, Edit::Load(Box::new(scene.clone())));
+    app.world_mut().write_message(RunSettlement(settings.clone()));
+    run_settlement(&mut app);
+    let analysis = analyze(&scene, &Settings::default().0).unwrap();
+    let direct = settle(&analysis, &scene.movements, &settings).unwrap();
+    {
+        let status = app.world().resource::<SettleStatus>();
+        let got = status.result.as_ref().expect("a settlement");
+        assert_eq!(got.quasi_static.outcome, direct.quasi_static.outcome);
+        assert_eq!(got.quasi_static.stages, direct.quasi_static.stages);
+    }
+    for _ in 0..(PLAY_SECONDS / 0.25).ceil() as usize + 1 {
+        app.update();
+    }
+    assert!(app.world().resource::<SettleStatus>().played());
+    let mut q = app.world_mut().query::<(&BlockName, &SettlePose)>();
+    let poses: std::collections::HashMap<String, BlockPose> =
+        q.iter(app.world()).map(|(n, p)| (n.0.clone(), p.0)).collect();
+    assert!((poses["right"].centroid - nalgebra::Point3::new(3.0, 0.5, -0.6)).norm() < 1e-12, "{:?}", poses["right"]);
+    let turn = 2.0 * poses["lintel"].rotation[0].clamp(-1.0, 1.0).acos().to_degrees();
+    let last = direct.quasi_static.stages.last().unwrap().rotation;
+    assert!((turn - last).abs() < 1e-9, "{turn} vs {last}");
+
+    let mut still = settling_lintel();
+    still.movements.clear();
+    send(&mut app, Edit::Load(Box::new(still)));
+    app.world_mut().write_message(RunSettlement(settings));
+    app.update();
+    let error = app.world().resource::<SettleStatus>().error.clone().expect("an error");
+    assert!(error.contains("moves no support"), "{error}");
 }

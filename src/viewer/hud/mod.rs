@@ -13,7 +13,9 @@ use super::actions::{Overlay, ViewerAction, ViewerState};
 use super::camera::MainCamera;
 use crate::dynamics::Engine;
 use crate::ecs::SequenceStatus;
-use crate::ecs::{DropStatus, InterfaceForces, KinematicStatus, PipelineState, RobustnessStatus, SceneStatus};
+use crate::ecs::{
+    DropStatus, InterfaceForces, KinematicStatus, PipelineState, RobustnessStatus, SceneStatus, SettleStatus,
+};
 use crate::viz::DiagramMode;
 use bevy::ecs::system::SystemParam;
 use bevy::prelude::*;
@@ -80,7 +82,7 @@ C cut selected · PgUp/PgDn move cut\n\
 arrows turn cut · Backspace drop cut\n\
 O repair · G support · X remove · R restore\n\
 Ctrl+Z/Y undo/redo · Ctrl+S save\n\
-D drop test (rapier) · E (exact contacts)\n\
+D/E drop rapier/exact · B both · P settle\n\
 Q sequence · , . step\n\
 K mechanism · J kinematic · Esc close";
 
@@ -100,6 +102,8 @@ const ACTION_ROWS: [&[(&str, ViewerAction)]; 3] = [
     &[
         ("D Drop (rapier)", ViewerAction::DropTest(Engine::Rapier)),
         ("E Drop (exact)", ViewerAction::DropTest(Engine::Exact)),
+        ("B Both", ViewerAction::CompareEngines),
+        ("P Settle", ViewerAction::Settle),
         ("K Mechanism", ViewerAction::ToggleMechanism),
         ("J Kinematic", ViewerAction::ToggleKinematic),
         ("Q Sequence", ViewerAction::StartSequence),
@@ -221,7 +225,9 @@ fn is_on(action: &ViewerAction, state: &ViewerState) -> bool {
         A::ToggleLabels => state.labels,
         A::ToggleMechanism => state.overlay == Overlay::Mechanism,
         A::ToggleKinematic => state.overlay == Overlay::Kinematic,
-        A::DropTest(engine) => state.drop_view && state.drop_engine == *engine,
+        A::DropTest(engine) => state.drop_view && state.drop_engine == Some(*engine),
+        A::CompareEngines => state.drop_view && state.drop_engine.is_none(),
+        A::Settle => state.settle_view,
         A::StartSequence => state.sequence_view,
         A::ToggleKeys => state.keys,
         _ => false,
@@ -245,6 +251,7 @@ pub(super) struct Shown<'w> {
     pub status: Res<'w, SceneStatus>,
     pub pipeline: Res<'w, PipelineState>,
     pub drop: Res<'w, DropStatus>,
+    pub settle: Res<'w, SettleStatus>,
     pub sequence: Res<'w, SequenceStatus>,
     pub robustness: Res<'w, RobustnessStatus>,
     pub kinematic: Res<'w, KinematicStatus>,
@@ -360,12 +367,25 @@ fn legend(
     });
 }
 
-/// What the design's view shows: the diagram (and the sequence step, when one is shown).
-fn view_caption(shown: Shown, mut caption: Query<&mut Text, With<ViewCaption>>) {
-    let Ok(mut text) = caption.single_mut() else { return };
+/// What the design's view shows: the diagram (and the sequence step, when one is shown),
+/// wrapped within the view.
+fn view_caption(
+    shown: Shown,
+    view: Query<&Camera, With<MainCamera>>,
+    window: Query<&Window, With<bevy::window::PrimaryWindow>>,
+    mut caption: Query<(&mut Text, &mut Node), With<ViewCaption>>,
+) {
+    let Ok((mut text, mut node)) = caption.single_mut() else { return };
     let words = shown.view_caption();
     if text.0 != words {
         text.0 = words;
+    }
+    let scale = window.single().map_or(1.0, |w| w.scale_factor());
+    if let Some(r) = view.single().ok().and_then(|c| c.physical_viewport_rect()) {
+        let width = px(r.width() as f32 / scale - 12.0);
+        if node.max_width != width {
+            node.max_width = width;
+        }
     }
 }
 

@@ -4,10 +4,12 @@
 
 use super::super::actions::{Overlay, ViewerState};
 use super::Shown;
-use crate::ecs::{DropStatus, KinematicStatus, RobustnessStatus};
-use crate::report::words::{count, duration, force, share_of_weight};
+use crate::dynamics::Engine;
+use crate::ecs::{DropLane, DropStatus, KinematicStatus, RobustnessStatus, SettleStatus};
+use crate::report::words::{self, count, duration, force, share_of_weight};
 use crate::stability::kinematic::KinematicVerdict;
 use crate::statics::Verdict;
+use crate::studies::settlement::Outcome;
 use crate::viz::DiagramMode;
 use crate::viz::colors::{self, Srgb};
 
@@ -43,8 +45,13 @@ fn other_verdicts(state: &ViewerState, drop: &DropStatus, kinematic: &KinematicS
     {
         out.push(("kinematic", k.verdict == KinematicVerdict::Stands));
     }
-    if let Some(r) = &drop.result {
-        out.push(("drop test", r.stands));
+    for r in drop.lanes.iter().filter_map(|l| l.result.as_ref()) {
+        let check = match (drop.compared(), r.engine) {
+            (false, _) => "drop test",
+            (true, Engine::Rapier) => "drop test, rapier",
+            (true, Engine::Exact) => "drop test, exact",
+        };
+        out.push((check, r.stands));
     }
     out
 }
@@ -131,6 +138,7 @@ impl Shown<'_> {
     pub(super) fn checks(&self) -> String {
         let lines = [
             drop_text(&self.drop),
+            settle_text(&self.state, &self.settle),
             robustness_text(&self.state, &self.robustness),
             kinematic_text(&self.state, &self.kinematic),
             self.sequence_text(),
@@ -168,29 +176,58 @@ impl Shown<'_> {
     }
 }
 
-/// The drop test: its progress, or its outcome beside the statics'.
+/// The drop tests: their progress, or their outcomes beside the statics'.
 fn drop_text(drop: &DropStatus) -> String {
-    match (&drop.running, &drop.result) {
-        (Some(run), _) => format!(
-            "drop test ({}): {:.2} of {:.2} s simulated",
-            run.engine(),
-            run.steps_done() as f64 * run.dt(),
-            run.total_steps() as f64 * run.dt()
-        ),
-        (None, Some(r)) => format!(
-            "drop test ({}): {}{}\n  drift {:.1e} of size · turn {:.2}°",
-            r.engine,
-            if r.stands { "stands" } else { "falls" },
-            match drop.agree {
-                Some(true) => ", agrees",
-                Some(false) => " — disagrees",
-                None => "",
-            },
-            r.max_drift,
-            r.max_rotation.to_degrees(),
-        ),
-        _ => drop.error.clone().map_or(String::new(), |e| format!("drop test: {e}")),
+    if drop.lanes.is_empty() {
+        return drop.error.clone().map_or(String::new(), |e| format!("drop test: {e}"));
     }
+    drop.lanes.iter().map(lane_text).collect::<Vec<_>>().join("\n")
+}
+
+fn lane_text(lane: &DropLane) -> String {
+    let (t, total) = lane.clock();
+    let Some(r) = &lane.result else {
+        return format!("drop test ({}): {t:.2} of {total:.2} s simulated", lane.engine());
+    };
+    format!(
+        "drop test ({}): {}{}\n  drift {:.1e} of size · turn {:.2}°",
+        r.engine,
+        if r.stands { "stands" } else { "falls" },
+        match lane.agree {
+            Some(true) => ", agrees",
+            Some(false) => " — disagrees",
+            None => "",
+        },
+        r.max_drift,
+        r.max_rotation.to_degrees(),
+    )
+}
+
+/// The settlement while its pane is on: how far the supports went and how it ended, the
+/// thrust at the start and at the end, the joints that opened.
+fn settle_text(state: &ViewerState, s: &SettleStatus) -> String {
+    if !state.settle_view {
+        return String::new();
+    }
+    let Some(r) = &s.result else {
+        return s.error.clone().unwrap_or_else(|| "supports move: following the path…".into());
+    };
+    let run = &r.quasi_static;
+    let end = match run.outcome {
+        Outcome::Collapses { fraction, movement, .. } => {
+            format!("collapses\n  at {:.1} % of the path ({})", 100.0 * fraction, words::length(movement))
+        }
+        Outcome::Stands => format!("stands\n  to the path's end: {}", words::length(r.path_movement)),
+    };
+    let thrust = |k: usize| run.stages.get(k).and_then(|st| st.reactions.first()).map(|f| f[0].hypot(f[1]));
+    let thrusts = match (thrust(0), run.stages.len().checked_sub(1).and_then(thrust)) {
+        (Some(a), Some(b)) => format!("\n  thrust {} → {}", force(a), force(b)),
+        _ => String::new(),
+    };
+    // The collapse's mechanism, or the joints open at the last stage.
+    let open =
+        if run.mechanism.is_empty() { run.stages.last().map_or(0, |st| st.joints.len()) } else { run.mechanism.len() };
+    format!("supports move (quasi-static): {end}{thrusts}\n  {} not closed", count(open, "joint"))
 }
 
 /// The load factor while the mechanism pane is on: λ* and the direction it is for.

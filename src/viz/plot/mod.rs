@@ -12,7 +12,7 @@ pub mod threshold;
 
 pub use diagram::{DiagramPicture, write_diagram};
 pub use mechanism::{MechanismPicture, PolarPlot, write_mechanism, write_polar};
-pub use settlement::{ThrustPlot, write_thrust};
+pub use settlement::{ThrustPlot, thrust_rgb, write_thrust};
 pub use strip::{Clock, FrameStrip, write_strip};
 pub use threshold::{ThresholdPlot, write_thresholds};
 
@@ -53,6 +53,14 @@ pub(crate) fn rgb(c: crate::viz::colors::Srgb) -> RGBColor {
 /// Something drawable on any plotters backend.
 pub trait Drawing {
     fn draw<DB: DrawingBackend>(&self, root: DrawingArea<DB, Shift>) -> Result<(), String>;
+}
+
+/// Draws `d` into memory: `size` pixels, 8-bit RGB rows top to bottom (the viewer shows it).
+pub fn render_rgb<D: Drawing>(d: &D, size: (u32, u32)) -> Result<Vec<u8>, String> {
+    register_font();
+    let mut buffer = vec![0u8; 3 * size.0 as usize * size.1 as usize];
+    d.draw(BitMapBackend::with_buffer(&mut buffer, size).into_drawing_area())?;
+    Ok(buffer)
 }
 
 /// Draws `d` into `path` (.png or .svg) at `size` pixels: into a temporary file beside it (same
