@@ -261,3 +261,144 @@ fn a_settling_pier_carries_its_share_in_every_run() {
         assert!((r[2] / w + share).abs() < tol * share, "{}: vertical {} W, {share} expected", run.method, r[2] / w);
     }
 }
+
+/// The least or the greatest horizontal thrust a semicircular arch of `n` radial voussoirs
+/// (centre-line radius `r`, thickness `t`, depth `d`, density `rho`, friction `mu`) can carry
+/// by compression and friction alone — limit analysis in the arch's plane, written out here
+/// independently of voussoir's statics: at each joint j (angle πj/n) a force F_j (on the block
+/// above it) and a moment M_j about the joint's mid-point, its normal part N_j ≥ 0, its shear
+/// within μ N_j, its eccentricity within the thickness (|M_j| ≤ N_j t/2); each voussoir in
+/// equilibrium under its weight at its sector's centroid. One LP, on clarabel directly.
+/// Returns the thrust and, per joint, |M_j| / (N_j t/2) (1 at a hinge).
+fn arch_thrust_lp(n: usize, r: f64, t: f64, d: f64, rho: f64, mu: f64, least: bool) -> (f64, Vec<f64>) {
+    use clarabel::algebra::CscMatrix;
+    use clarabel::solver::{DefaultSettings, DefaultSolver, IPSolver, SolverStatus, SupportedConeT};
+    use std::f64::consts::PI;
+    let (ri, ro) = (r - t / 2.0, r + t / 2.0);
+    let delta = PI / n as f64;
+    // A sector's weight, and its centroid's radius (annular sector of half-angle δ/2).
+    let weight = rho * 9.81 * d * 0.5 * (ro * ro - ri * ri) * delta;
+    let rc = 2.0 / 3.0 * (ro.powi(3) - ri.powi(3)) / (ro * ro - ri * ri) * (delta / 2.0).sin() / (delta / 2.0);
+    let var = |j: usize, k: usize| 3 * j + k; // Fx, Fz, M of joint j
+    let (mut rows, mut cols, mut vals) = (vec![], vec![], vec![]);
+    let mut b = vec![];
+    let mut push = |row: usize, col: usize, v: f64| {
+        rows.push(row);
+        cols.push(col);
+        vals.push(v);
+    };
+    // Equilibrium of voussoir i between joints i (below) and i + 1 (above); moments about the
+    // origin, 2-D cross product p × F = p_x F_z − p_z F_x.
+    for i in 0..n {
+        let mid = |j: usize| (r * (delta * j as f64).cos(), r * (delta * j as f64).sin());
+        let ((x0, z0), (x1, z1)) = (mid(i), mid(i + 1));
+        let gx = rc * (delta * (i as f64 + 0.5)).cos();
+        for (sign, j, x, z) in [(1.0, i, x0, z0), (-1.0, i + 1, x1, z1)] {
+            push(3 * i, var(j, 0), sign);
+            push(3 * i + 1, var(j, 1), sign);
+            push(3 * i + 2, var(j, 0), -sign * z);
+            push(3 * i + 2, var(j, 1), sign * x);
+            push(3 * i + 2, var(j, 2), sign);
+        }
+        b.extend([0.0, weight, gx * weight]);
+    }
+    // Per joint: −N ≤ 0, ±V − μ N ≤ 0, ±M − (t/2) N ≤ 0.
+    let equalities = b.len();
+    for j in 0..=n {
+        let a = delta * j as f64;
+        let (nx, nz) = (-a.sin(), a.cos());
+        let (vx, vz) = (a.cos(), a.sin());
+        let row = equalities + 5 * j;
+        push(row, var(j, 0), -nx);
+        push(row, var(j, 1), -nz);
+        for (k, s) in [(1, 1.0), (2, -1.0)] {
+            push(row + k, var(j, 0), s * vx - mu * nx);
+            push(row + k, var(j, 1), s * vz - mu * nz);
+        }
+        for (k, s) in [(3, 1.0), (4, -1.0)] {
+            push(row + k, var(j, 2), s);
+            push(row + k, var(j, 0), -t / 2.0 * nx);
+            push(row + k, var(j, 1), -t / 2.0 * nz);
+        }
+        b.extend([0.0; 5]);
+    }
+    let nvar = 3 * (n + 1);
+    let a = CscMatrix::new_from_triplets(b.len(), nvar, rows, cols, vals);
+    let p = CscMatrix::zeros((nvar, nvar));
+    // The thrust is −F_x at joint 0 (the right springer pushes the arch inwards).
+    let mut q = vec![0.0; nvar];
+    q[var(0, 0)] = if least { -1.0 } else { 1.0 };
+    let cones = [SupportedConeT::ZeroConeT(equalities), SupportedConeT::NonnegativeConeT(5 * (n + 1))];
+    let settings = DefaultSettings { verbose: false, tol_gap_abs: 1e-12, tol_gap_rel: 1e-12, ..Default::default() };
+    let mut solver = DefaultSolver::new(&p, &q, &a, &b, &cones, settings).unwrap();
+    solver.solve();
+    assert_eq!(solver.solution.status, SolverStatus::Solved);
+    let x = &solver.solution.x;
+    let use_of_thickness = (0..=n)
+        .map(|j| {
+            let a = delta * j as f64;
+            let normal = -a.sin() * x[var(j, 0)] + a.cos() * x[var(j, 1)];
+            x[var(j, 2)].abs() / (normal * t / 2.0)
+        })
+        .collect();
+    (-x[var(0, 0)], use_of_thickness)
+}
+
+/// Invariant: an arch whose springers start to spread drops to the least thrust the statics
+/// allow. For the 9-voussoir arch (t/R 0.15), the limit-analysis LP above gives the range of
+/// thrusts [H_min, H_max] by compression and friction; voussoir's own statics answer at rest
+/// lies within it (1e-6), and at the first increment of a spread (each springer out by 1.5 mm,
+/// the span 0.15 % wider) the quasi-static run carries H_min of the undeformed arch within
+/// 0.3 % (measured +0.08 %: the wider span's own least thrust), on both springers, hinging on
+/// exactly the joints where the LP's least-thrust line touches the intrados or extrados,
+/// which lie symmetrically about the crown.
+#[test]
+fn a_spreading_arch_drops_to_its_least_thrust() {
+    let (n, t) = (9, 0.15);
+    let scene = voussoir::model::builtin(&format!("arch?n={n}&t={t}")).unwrap();
+    let (rho, mu) = (scene.material.density, scene.material.friction);
+    let (h_min, hinges_lp) = arch_thrust_lp(n, 1.0, t, 0.5, rho, mu, true);
+    let (h_max, _) = arch_thrust_lp(n, 1.0, t, 0.5, rho, mu, false);
+    assert!(h_min > 0.0 && h_max > 1.2 * h_min, "range [{h_min}, {h_max}]");
+
+    let analysis = run(&scene, &AnalysisSettings::default());
+    // The statics' thrust at rest: the x force the right springer puts on the arch, inwards.
+    let at_rest: f64 = analysis
+        .statics
+        .interfaces
+        .iter()
+        .map(|f| match (f.a.as_str(), f.b.as_str()) {
+            ("springer_right", _) => -f.resultant[0],
+            (_, "springer_right") => f.resultant[0],
+            _ => 0.0,
+        })
+        .sum();
+    assert!(at_rest >= h_min * (1.0 - 1e-6) && at_rest <= h_max * (1.0 + 1e-6), "{h_min} ≤ {at_rest} ≤ {h_max}");
+
+    let spread = |name: &str, dx: f64| Movement { block: name.into(), translation: [dx, 0.0, 0.0], rotation: [0.0; 3] };
+    let moves = [spread("springer_left", -0.0015), spread("springer_right", 0.0015)];
+    let settings = SettleSettings { increments: 1, engines: false, ..Default::default() };
+    let s = settle(&analysis, &moves, &settings).unwrap();
+    let first = s.quasi_static.stages.first().expect("a stage");
+    for reaction in &first.reactions {
+        let h = reaction[0].abs();
+        println!("thrust {h} N: {:+.3e} of the least", h / h_min - 1.0);
+        assert!((h / h_min - 1.0).abs() < 3e-3, "thrust {h} N vs the least {h_min} N (at rest {at_rest} N)");
+    }
+    // Joint j lies between v(j−1) and v(j); joint 0 on the right springer, joint n on the left.
+    let joint = |a: &str, b: &str| match (a, b) {
+        ("springer_right", _) | (_, "springer_right") => 0,
+        ("springer_left", _) | (_, "springer_left") => n,
+        _ => [a, b].iter().map(|v| v[1..].parse::<usize>().unwrap()).max().unwrap(),
+    };
+    let mut hinging: Vec<usize> =
+        first.joints.iter().filter(|j| j.state == JointState::Hinging).map(|j| joint(&j.a, &j.b)).collect();
+    hinging.sort();
+    let touching: Vec<usize> = (0..=n).filter(|&j| hinges_lp[j] > 1.0 - 1e-6).collect();
+    println!(
+        "LP: thrust [{h_min}, {h_max}], at rest {at_rest}; hinges at joints {touching:?}; quasi-static: {hinging:?}"
+    );
+    assert_eq!(hinging, touching, "the quasi-static hinges are the least-thrust line's");
+    assert!(touching.iter().all(|&j| touching.contains(&(n - j))), "symmetric: {touching:?}");
+    assert!(touching.iter().all(|&j| touching.contains(&(n - j))), "symmetric: {touching:?}");
+}
