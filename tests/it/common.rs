@@ -43,3 +43,16 @@ pub fn run(scene: &Scene, settings: &AnalysisSettings) -> Analysis {
 pub fn assert_close(actual: f64, expected: f64, tol: f64, what: &str) {
     assert!((actual - expected).abs() <= tol, "{what}: {actual} vs {expected} (tolerance {tol})");
 }
+
+/// A 3 × 1 × 0.3 lintel on two 1 m piers, "left" under x ∈ [0, 0.5] and "right" under
+/// x ∈ [2.5, 3.5] (both supports).
+pub fn lintel() -> Scene {
+    Scene::new(
+        "lintel",
+        vec![
+            cuboid("left", [0.0, 0.0, -1.0], [0.5, 1.0, 0.0]).support(true),
+            cuboid("right", [2.5, 0.0, -1.0], [3.5, 1.0, 0.0]).support(true),
+            cuboid("lintel", [0.0, 0.0, 0.0], [3.0, 1.0, 0.3]),
+        ],
+    )
+}

@@ -447,16 +447,9 @@ fn repair_plugin_moves_the_cut_into_place() {
     assert!(core.statics.stands && status(&app).stands);
 }
 
-/// A 3 × 1 × 0.3 lintel on two piers, the right one settling 0.1 m.
+/// The lintel on two piers ([`lintel`]), the right one settling 0.1 m.
 fn settling_lintel() -> Scene {
-    let mut scene = Scene::new(
-        "lintel",
-        vec![
-            cuboid("left", [0.0, 0.0, -1.0], [0.5, 1.0, 0.0]).support(true),
-            cuboid("right", [2.5, 0.0, -1.0], [3.5, 1.0, 0.0]).support(true),
-            cuboid("lintel", [0.0, 0.0, 0.0], [3.0, 1.0, 0.3]),
-        ],
-    );
+    let mut scene = lintel();
     scene.movements =
         vec![voussoir::model::Movement { block: "right".into(), translation: [0.0, 0.0, -0.1], rotation: [0.0; 3] }];
     scene

@@ -27,19 +27,6 @@ fn tilting(b: f64, h: f64, mu: f64, tilt: f64, engines: bool) -> Settlement {
     settle(&analysis, &[turn], &SettleSettings { engines, ..Default::default() }).unwrap()
 }
 
-/// A 3 × 1 × 0.3 lintel on two 1 m piers, "left" under x ∈ [0, 0.5] and "right" under
-/// x ∈ [2.5, 3.5] (both supports).
-fn lintel() -> Scene {
-    Scene::new(
-        "lintel",
-        vec![
-            cuboid("left", [0.0, 0.0, -1.0], [0.5, 1.0, 0.0]).support(true),
-            cuboid("right", [2.5, 0.0, -1.0], [3.5, 1.0, 0.0]).support(true),
-            cuboid("lintel", [0.0, 0.0, 0.0], [3.0, 1.0, 0.3]),
-        ],
-    )
-}
-
 fn tilt_at_collapse(outcome: Outcome, tilt: f64) -> f64 {
     match outcome {
         Outcome::Collapses { fraction, .. } => fraction * tilt,
