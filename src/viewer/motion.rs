@@ -496,7 +496,7 @@ fn thrust_plot(
     if let (Some(settlement), false) = (result, *drawn) {
         *drawn = true;
         let plot = crate::viz::plot::ThrustPlot { title: "thrust against movement".into(), settlement };
-        if let Ok(rgb) = crate::viz::plot::thrust_rgb(&plot, THRUST_PLOT) {
+        if let Ok(rgb) = crate::viz::plot::render_rgb(&plot, THRUST_PLOT) {
             image.image = images.add(rgba_image(&rgb, THRUST_PLOT));
         }
     }

@@ -12,7 +12,7 @@ pub mod threshold;
 
 pub use diagram::{DiagramPicture, write_diagram};
 pub use mechanism::{MechanismPicture, PolarPlot, write_mechanism, write_polar};
-pub use settlement::{ThrustPlot, thrust_rgb, write_thrust};
+pub use settlement::{ThrustPlot, write_thrust};
 pub use strip::{Clock, FrameStrip, write_strip};
 pub use threshold::{ThresholdPlot, write_thresholds};
 

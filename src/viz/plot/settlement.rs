@@ -18,11 +18,6 @@ pub fn write_thrust(plot: &ThrustPlot, path: &Path) -> Result<(), PlotError> {
     super::write(plot, path, (960, 640))
 }
 
-/// Draws `plot` into memory at `size` pixels (8-bit RGB), for the viewer's panel.
-pub fn thrust_rgb(plot: &ThrustPlot, size: (u32, u32)) -> Result<Vec<u8>, String> {
-    super::render_rgb(plot, size)
-}
-
 impl super::Drawing for ThrustPlot<'_> {
     fn draw<DB: DrawingBackend>(&self, root: DrawingArea<DB, Shift>) -> Result<(), String> {
         chart(root, self).map_err(|e| e.to_string())
