@@ -66,6 +66,7 @@ pub fn run(args: &SettleArgs) -> Result<i32, BadInput> {
     let settings = SettleSettings {
         increments: args.increments,
         friction: args.solver.mu,
+        strength: args.solver.strength,
         engines: !args.quasi_static,
         speed: args.speed,
         ..Default::default()
@@ -81,6 +82,9 @@ pub fn run(args: &SettleArgs) -> Result<i32, BadInput> {
         result.path_movement,
         if turn > 0.0 { format!(", turned {turn:.3}°") } else { String::new() }
     );
+    if let Some(sigma) = result.strength {
+        println!("  crushing at {sigma:.4e} Pa (quasi-static and exact engine; rapier's contacts do not crush)");
+    }
     for run in [Some(&result.quasi_static), result.exact.as_ref(), result.rapier.as_ref()].into_iter().flatten() {
         println!("{}", line(run, turn));
     }

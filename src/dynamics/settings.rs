@@ -162,6 +162,9 @@ pub struct DropSettings {
     /// Friction coefficient; `None`: the material's. Combined between two blocks with the
     /// `Min` rule (all blocks share it, so any rule gives μ).
     pub friction: Option<f64>,
+    /// Compressive strength σ_c, Pa; `None`: the material's. The exact engine bounds each
+    /// interface's compression by it (its module `crushing`); rapier's contacts do not crush.
+    pub strength: Option<f64>,
     /// Initial horizontal speed given to every free block (+x), as a fraction of √(g·size) of
     /// the block (0: no perturbation).
     pub perturbation: f64,
@@ -204,6 +207,7 @@ impl Default for DropSettings {
             // rapier's is 5; a thin arch settles least with 1.
             contact_damping: 1.0,
             friction: None,
+            strength: None,
             perturbation: 0.0,
             hull_tolerance: 0.02,
             colliders: ColliderForm::Fitted,
@@ -255,6 +259,11 @@ impl DropSettings {
             if !(value >= 0.0 && value.is_finite()) {
                 return Err(DropError::Negative { name, value });
             }
+        }
+        if let Some(value) = self.strength
+            && !crate::model::Material::valid_strength(value)
+        {
+            return Err(DropError::NotPositive { name: "strength", value });
         }
         if self.solver_iterations == 0 {
             return Err(DropError::NoIterations);

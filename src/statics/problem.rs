@@ -289,7 +289,7 @@ impl Geometry {
 
 /// The stress block of a polygon `pts` ((u, v) about the interface origin) whose points are
 /// `points` of a problem.
-fn stress_block(points: std::ops::Range<usize>, pts: &[[f64; 2]]) -> StressBlock {
+pub(crate) fn stress_block(points: std::ops::Range<usize>, pts: &[[f64; 2]]) -> StressBlock {
     let n = pts.len();
     let edge = |i: usize| [pts[(i + 1) % n][0] - pts[i][0], pts[(i + 1) % n][1] - pts[i][1]];
     let longest = (0..n)

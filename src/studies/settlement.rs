@@ -43,6 +43,10 @@ pub struct SettleSettings {
     pub refine: usize,
     /// Friction coefficient; `None` takes the scene material's.
     pub friction: Option<f64>,
+    /// Compressive strength, Pa; `None` takes the scene material's (none: the stone does not
+    /// crush). The quasi-static run and the exact engine bound each interface's compression by
+    /// its stress block; rapier's contacts do not crush.
+    pub strength: Option<f64>,
     /// Also run the path in the exact-contact engine and in rapier.
     pub engines: bool,
     /// The engines' time step, s.
@@ -60,6 +64,7 @@ impl Default for SettleSettings {
             increments: 100,
             refine: 6,
             friction: None,
+            strength: None,
             engines: true,
             dt: DropSettings::default().dt,
             // Slow against a block's fall (√(g size)) and its collapse threshold: quasi-static.
@@ -82,6 +87,9 @@ impl SettleSettings {
             return Err(SettleError::Setting("increments must be at least 1".into()));
         }
         positive("dt", self.dt)?;
+        if let Some(s) = self.strength {
+            positive("strength", s)?;
+        }
         positive("speed", self.speed)?;
         positive("collapse_speed", self.collapse_speed)?;
         if self.speed >= self.collapse_speed {
@@ -187,6 +195,9 @@ pub struct Settlement {
     pub path_movement: f64,
     /// The model size (bounding-box diagonal), m: the movement relative to it.
     pub model_size: f64,
+    /// The compressive strength the quasi-static run and the exact engine honoured, Pa (none:
+    /// the stone does not crush).
+    pub strength: Option<f64>,
     pub quasi_static: Run,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub exact: Option<Run>,
@@ -217,6 +228,7 @@ pub fn settle(
         supports: paths.iter().map(|p| assembly.blocks[p.block].name.clone()).collect(),
         path_movement: path.movement,
         model_size: assembly.scale,
+        strength: settings.strength.or(assembly.material.strength),
         quasi_static,
         exact,
         rapier,
@@ -298,7 +310,14 @@ impl PathScale {
 }
 
 fn engine_settings(settings: &SettleSettings, engine: Engine) -> DropSettings {
-    DropSettings { engine, dt: settings.dt, friction: settings.friction, perturbation: 0.0, ..Default::default() }
+    DropSettings {
+        engine,
+        dt: settings.dt,
+        friction: settings.friction,
+        strength: settings.strength,
+        perturbation: 0.0,
+        ..Default::default()
+    }
 }
 
 /// The quasi-static run's solver tolerance. Its verdicts compare speeds with [`HELD`] × g h,

@@ -158,3 +158,28 @@ fn a_bad_strength_is_one_clear_error() {
         assert!(err.to_string().contains("compressive strength"), "{bad}: {err}");
     }
 }
+
+/// Invariant (the exact engine): an overloaded joint yields. A block's centred resultant has
+/// the whole joint as its stress block, so the joint carries at most σ_c A and the block sinks
+/// with a = g (1 − σ_c A / W): after n steps its speed is a n h, to 1e-6 relative, without
+/// turning or drifting sideways; with σ_c above W/A it stays at rest.
+#[test]
+fn the_exact_engine_lets_an_overloaded_joint_crush() {
+    use voussoir::dynamics::exact::World;
+    use voussoir::dynamics::{DropSettings, Engine};
+    // Density 1, g = 1, h = 1: W / A = 1.
+    let scene = column(1, 0.5, 0.4, 1.0);
+    let asm = assembly(&scene);
+    for (sigma, sinking) in [(0.5, 0.5), (0.8, 0.2), (2.0, 0.0)] {
+        let settings = DropSettings { engine: Engine::Exact, strength: Some(sigma), ..Default::default() };
+        let mut world = World::new(&asm, &settings);
+        let n = 10;
+        for _ in 0..n {
+            world.step();
+        }
+        let (v, w) = world.velocity(1);
+        let expected = -sinking * n as f64 * settings.dt;
+        assert!((v.z - expected).abs() <= 1e-6 * (n as f64 * settings.dt), "σ {sigma}: v_z {} vs {expected}", v.z);
+        assert!(v.x.abs() + v.y.abs() + w.norm() < 1e-9, "σ {sigma}: {v:?} {w:?}");
+    }
+}

@@ -14,6 +14,11 @@ use voussoir::studies::settlement::{Outcome, SettleError, SettleSettings, Settle
 
 /// A 2 × 2 slab turning by `tilt` degrees about y under a b × 0.5 × h block, μ = `mu`.
 fn tilting(b: f64, h: f64, mu: f64, tilt: f64, engines: bool) -> Settlement {
+    tilting_stone(b, h, mu, tilt, engines, None)
+}
+
+/// [`tilting`] with the stone's compressive strength (Pa).
+fn tilting_stone(b: f64, h: f64, mu: f64, tilt: f64, engines: bool, strength: Option<f64>) -> Settlement {
     let mut scene = Scene::new(
         "tilt",
         vec![
@@ -24,7 +29,7 @@ fn tilting(b: f64, h: f64, mu: f64, tilt: f64, engines: bool) -> Settlement {
     scene.material.friction = mu;
     let analysis = run(&scene, &AnalysisSettings::default());
     let turn = Movement { block: "slab".into(), translation: [0.0; 3], rotation: [0.0, tilt, 0.0] };
-    settle(&analysis, &[turn], &SettleSettings { engines, ..Default::default() }).unwrap()
+    settle(&analysis, &[turn], &SettleSettings { engines, strength, ..Default::default() }).unwrap()
 }
 
 fn tilt_at_collapse(outcome: Outcome, tilt: f64) -> f64 {
@@ -55,6 +60,33 @@ fn a_block_on_a_tilting_support_tips_at_atan_b_over_h_and_slides_at_atan_mu() {
         }
         assert_eq!(s.exact.as_ref().unwrap().mechanism[0].state, state, "μ {mu}: the exact engine's mechanism");
     }
+}
+
+/// Invariant: with a compressive strength σ the block tips before atan(b/h): turned by θ, its
+/// joint carries N = W cos θ at e = (h/2) tan θ from the centre, and the stress block reaches
+/// the downhill edge when N = σ d (b − 2e), i.e. h tan θ + W cos θ / (σ d) = b (θ by
+/// bisection). σ is set so that W/(σ d) = 0.2 b: 22.3° against 26.6°. The quasi-static run and
+/// the exact engine tip there (quasi-static within 0.1°, the engine within [−0.1°, +1.5°] as
+/// without crushing); the report names the strength.
+#[test]
+fn a_block_whose_stone_crushes_tips_before_atan_b_over_h() {
+    let (b, h, d): (f64, f64, f64) = (0.5, 1.0, 0.5);
+    let w = 600.0 * b * d * h * 9.81;
+    let sigma = w / (0.2 * b * d);
+    let s = tilting_stone(b, h, 0.8, 60.0, true, Some(sigma));
+    assert_eq!(s.strength, Some(sigma));
+    let crushes = |t: f64| h * t.tan() + w * t.cos() / (sigma * d) - b;
+    let (mut lo, mut hi) = (0.0f64, (b / h).atan());
+    for _ in 0..60 {
+        let mid = 0.5 * (lo + hi);
+        if crushes(mid) < 0.0 { lo = mid } else { hi = mid }
+    }
+    let expected = lo.to_degrees();
+    assert!(expected < (b / h).atan().to_degrees() - 4.0, "{expected}");
+    let quasi = tilt_at_collapse(s.quasi_static.outcome, 60.0);
+    assert_close(quasi, expected, 0.1, "quasi-static tilt at collapse with crushing (degrees)");
+    let t = tilt_at_collapse(s.exact.as_ref().unwrap().outcome, 60.0);
+    assert!(t >= expected - 0.1 && t <= expected + 1.5, "the exact engine collapses at {t}° (expected {expected}°)");
 }
 
 /// A tilt short of both limits: the block rides the support to the end; the support's

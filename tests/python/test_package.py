@@ -12,6 +12,7 @@ README's and the package's examples run.
 
 import doctest
 import json
+import math
 import os
 import re
 import subprocess
@@ -405,6 +406,28 @@ def test_settle_a_block_on_a_tilting_slab():
     assert "exact" not in result
     with pytest.raises(voussoir.InputError, match="movement of 'nowhere': no block of that name"):
         voussoir.settle(scene, moves=["nowhere:1,0,0"], quasi_static=True)
+
+
+def test_settle_with_a_stone_that_crushes_tips_earlier():
+    # The same block in a stone of strength sigma = W / (0.2 b d): its joint's stress block
+    # reaches the downhill edge when h tan(t) + W cos(t) / (sigma d) = b, at 22.3 degrees
+    # (bisection here) instead of atan(b/h) = 26.6: the quasi-static run tips there within 0.1.
+    scene = voussoir.Scene.from_arrays([box(-1, -1, -0.5, 1, 1, 0), box(-0.25, -0.25, 0, 0.25, 0.25, 1)], supports=[0])
+    b, h, d = 0.5, 1.0, 0.5
+    w = 600.0 * b * d * h * 9.81
+    sigma = w / (0.2 * b * d)
+    lo, hi = 0.0, math.atan(b / h)
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        if h * math.tan(mid) + w * math.cos(mid) / (sigma * d) < b:
+            lo = mid
+        else:
+            hi = mid
+    result = voussoir.settle(scene, moves=["0:0,0,0:0,60,0"], quasi_static=True, mu=0.8, strength=sigma)
+    assert result["strength"] == pytest.approx(sigma)
+    outcome = result["quasi_static"]["outcome"]
+    assert outcome["kind"] == "collapses"
+    assert abs(outcome["fraction"] * 60 - math.degrees(lo)) < 0.1
 
 
 def test_infill_meets_the_lever_rule():

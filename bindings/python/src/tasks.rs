@@ -133,6 +133,7 @@ solve_function! {
         let study = voussoir::studies::settlement::SettleSettings {
             increments: increments.unwrap_or(defaults.increments),
             friction: options.mu,
+            strength: options.strength,
             engines: !quasi_static,
             ..defaults
         };

@@ -18,6 +18,7 @@
 //!   over the friction sets; v⁺ is unique (M positive definite) however redundant the contacts.
 //! - Positions: x += h v⁺, R ← exp(h ω⁺) R (symplectic Euler). Restitution 0 (masonry: plastic
 //!   impacts).
+//! - A component touching nothing falls freely: M v⁺ = M v + h w, no solve.
 //! - A component whose step leaves every vertex slower than `still` × g h is set at rest; one
 //!   at rest whose step leaves it at rest sleeps — the next steps would repeat the same problem
 //!   and answer — until a moving block touches it.
@@ -29,7 +30,12 @@
 //! diameter, turned apart by 60°, or pass each other by a fifth of a block. Not yet: contacts
 //! between blocks that did not touch at the start.
 //!
-//! ## What a run reports ([`ExactStats`])
+//! ## Crushing ([`crushing`])
+With a compressive strength (the material's, or [`DropSettings::strength`]), each interface's
+normal forces stay within its rectangular stress block (the statics' crushing cones); a joint
+at that bound yields and its faces close into each other.
+
+## What a run reports ([`ExactStats`])
 //! Solves, rounds, iterations; the worst solver status and largest momentum residual; the
 //! largest overlap (a fraction of the median block size); the energy balance: the work of
 //! the loads = kinetic energy + the contacts' dissipation (friction, closing contacts) + the
@@ -40,6 +46,7 @@
 
 mod bodies;
 mod contacts;
+mod crushing;
 mod problem;
 mod step;
 mod touches;
@@ -115,6 +122,8 @@ pub struct World {
     /// Each assembly block's side in a contact.
     sides: Vec<Side>,
     solids: touches::Solids,
+    /// Every interface's stress block, when the stone crushes (else none).
+    bearings: Vec<crushing::Bearing>,
     ctx: StepContext,
     acc: Accuracy,
     settings: crate::dynamics::settings::ExactSettings,
@@ -152,6 +161,7 @@ impl World {
             })
             .collect();
         let interfaces = crate::interfaces::detect(assembly);
+        let strength = settings.strength.or(assembly.material.strength);
         let contacts = contacts::build(assembly, &interfaces, &sides, Poses { bodies: &bodies, movers: &movers });
         let size = assembly.median_block_size().unwrap_or(1.0).max(f64::MIN_POSITIVE);
         let solids = touches::Solids::new(&assembly.blocks, size);
@@ -164,7 +174,9 @@ impl World {
             model: s.friction_model,
             coulomb: s.coulomb,
             recovery: s.recovery_speed * (g * size).sqrt() / units.speed(),
+            strength: strength.map(|sigma| sigma * units.length * units.length / units.force),
         };
+        let bearings = if strength.is_some() { crushing::bearings(&interfaces) } else { Vec::new() };
         let stats = ExactStats {
             coulomb: s.coulomb,
             friction_model: s.friction_model,
@@ -189,6 +201,7 @@ impl World {
             contacts,
             sides,
             solids,
+            bearings,
             ctx,
             acc,
             settings: s.clone(),

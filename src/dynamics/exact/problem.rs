@@ -3,6 +3,7 @@
 
 use super::bodies::{Body, Units};
 use super::contacts::{Contact, Geometry, Side};
+use super::crushing::Bearing;
 use crate::dynamics::settings::Coulomb;
 use crate::geometry::Vector3;
 use crate::model::FrictionModel;
@@ -19,6 +20,9 @@ pub(super) struct StepContext {
     pub coulomb: Coulomb,
     /// The largest penetration-recovery speed, non-dimensional.
     pub recovery: f64,
+    /// The compressive strength σ L² / F (non-dimensional), when the stone crushes
+    /// ([`super::crushing`]).
+    pub strength: Option<f64>,
 }
 
 impl StepContext {
@@ -69,6 +73,7 @@ pub(super) fn build(
     local: &[usize],
     contacts: &[Contact],
     active: &[Active],
+    bearings: &[Bearing],
 ) -> StepProblem {
     let cols = columns(ctx, active);
     let h = ctx.h();
@@ -108,6 +113,9 @@ pub(super) fn build(
     p.a.retain(|e| e.2 != 0.0);
     p.cones.push(Cone::Zero(p.b.len()));
     friction_rows(ctx, active, &cols, &mut p);
+    if let Some(sigma) = ctx.strength {
+        super::crushing::rows(ctx, sigma, bearings, contacts, active, &cols.normal, &mut p);
+    }
     StepProblem { conic: p, cols }
 }
 

@@ -22,11 +22,17 @@ impl World {
             .filter(|a| comp.iter().any(|&k| self.contacts[a.contact].touches(k)))
             .map(|a| Active { capacity: mu * self.contacts[a.contact].last_normal / force, ..*a })
             .collect();
+        if active.is_empty() {
+            let sol = self.free_flight(comp);
+            let rest = self.peak_speed(comp, &sol) <= self.settings.still * self.ctx.units.g * self.ctx.h;
+            self.accept(comp, &active, sol, rest);
+            return;
+        }
         let exact = self.ctx.coulomb == Coulomb::Exact;
         let mut rounds = 0;
         let accepted = loop {
             rounds += 1;
-            let p = problem::build(&self.ctx, &self.bodies, comp, &local, &self.contacts, &active);
+            let p = problem::build(&self.ctx, &self.bodies, comp, &local, &self.contacts, &active, &self.bearings);
             let Some(out) = self.solve(&p.conic) else { break None };
             let sol = p.read(&self.ctx, &self.bodies, comp, &active, &out.x);
             let rest = self.peak_speed(comp, &sol) <= self.settings.still * self.ctx.units.g * self.ctx.h;
@@ -98,6 +104,24 @@ impl World {
                 g.gap > OPEN * self.size && (g.gap / h).max(-recovery) + relative.dot(&g.frame[0]) > tol
             })
             .collect()
+    }
+
+    /// A component touching nothing: the step's problem has no forces, and its solution is
+    /// the closed form M v⁺ = M v + h × load (no solve).
+    fn free_flight(&self, comp: &[usize]) -> Solution {
+        let h = self.ctx.h;
+        let velocities = comp
+            .iter()
+            .map(|&k| {
+                let b = &self.bodies[k];
+                let a = b.axes_now();
+                let moment = Vector3::new(b.load[3], b.load[4], b.load[5]);
+                let local = a.transpose() * (b.inertia_now() * b.w + moment * h);
+                let w = a * Vector3::new(local.x / b.moments[0], local.y / b.moments[1], local.z / b.moments[2]);
+                (b.v + Vector3::new(b.load[0], b.load[1], b.load[2]) * (h / b.mass), w)
+            })
+            .collect();
+        Solution { velocities, normal: Vec::new(), impulses: Vec::new(), residual: 0.0 }
     }
 
     /// The fastest vertex of the component after the step, m/s (bounded by |v| + |ω| r).
