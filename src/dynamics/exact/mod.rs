@@ -30,11 +30,11 @@
 //! diameter, turned apart by 60°, or pass each other by a fifth of a block. Not yet: contacts
 //! between blocks that did not touch at the start.
 //!
-//! ## Crushing ([`crushing`])
-With a compressive strength (the material's, or [`DropSettings::strength`]), each interface's
-normal forces stay within its rectangular stress block (the statics' crushing cones); a joint
-at that bound yields and its faces close into each other.
-
+//! //! ## Crushing ([`crushing`])
+//! With a compressive strength (the material's, or [`DropSettings::strength`]), each interface's
+//! normal forces stay within its rectangular stress block (the statics' crushing cones); a joint
+//! at that bound yields and its faces close into each other.
+//!
 ## What a run reports ([`ExactStats`])
 //! Solves, rounds, iterations; the worst solver status and largest momentum residual; the
 //! largest overlap (a fraction of the median block size); the energy balance: the work of
