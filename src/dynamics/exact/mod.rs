@@ -35,7 +35,7 @@
 //! normal forces stay within its rectangular stress block (the statics' crushing cones); a joint
 //! at that bound yields and its faces close into each other.
 //!
-## What a run reports ([`ExactStats`])
+//! ## What a run reports ([`ExactStats`])
 //! Solves, rounds, iterations; the worst solver status and largest momentum residual; the
 //! largest overlap (a fraction of the median block size); the energy balance: the work of
 //! the loads = kinetic energy + the contacts' dissipation (friction, closing contacts) + the
