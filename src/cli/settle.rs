@@ -139,5 +139,6 @@ fn line(run: &Run, turn: f64) -> String {
     let joints: Vec<String> =
         run.mechanism.iter().map(|j| format!("{} → {} {:?}", j.a, j.b, j.state).to_lowercase()).collect();
     let mechanism = if joints.is_empty() { String::new() } else { format!("; mechanism: {}", joints.join(", ")) };
-    format!("  {:<12} {how}{mechanism} ({} steps)", run.method, run.steps)
+    let crushed = run.crushed.map_or(String::new(), |d| format!("; joints crushed up to {d:.3e} m"));
+    format!("  {:<12} {how}{mechanism}{crushed} ({} steps)", run.method, run.steps)
 }

@@ -167,6 +167,12 @@ pub struct Run {
     pub mechanism: Vec<Joint>,
     /// Engine steps taken.
     pub steps: usize,
+    /// With a compressive strength: how deep the joints crushed (the largest overlap at a
+    /// contact over the run, m). The joints carry their forces at their polygons' corners, so a
+    /// hinge whose corner crushes closes its joint instead of moving inside its edge: crushing
+    /// is perfectly plastic there (README, "Is the stone strong enough?").
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub crushed: Option<f64>,
     /// The blocks' poses at the start, at every stage and just past a collapse, the times
     /// being fractions of the path (none in rapier's run).
     #[serde(skip)]
@@ -176,7 +182,15 @@ pub struct Run {
 impl Run {
     fn new(method: &'static str, engine: Engine) -> Self {
         let motion = Trajectory { engine, times: Vec::new(), poses: Vec::new() };
-        Self { method, outcome: Outcome::Stands, stages: Vec::new(), mechanism: Vec::new(), steps: 0, motion }
+        Self {
+            method,
+            outcome: Outcome::Stands,
+            stages: Vec::new(),
+            mechanism: Vec::new(),
+            steps: 0,
+            crushed: None,
+            motion,
+        }
     }
 
     /// Records `world`'s poses at `fraction` of the path.
@@ -341,6 +355,7 @@ fn quasi_static(analysis: &Analysis, paths: &[SupportPath], scale: &PathScale, s
     world.set_step(step(1.0 / n as f64));
     run.frame(&world, 0.0);
     if !increment(&mut world, 0.0, &mut run.steps) {
+        run.crushed = crush_depth(&world, settings, assembly);
         return collapsed(run, analysis, world, 0.0, scale);
     }
     for k in 1..=n {
@@ -374,9 +389,16 @@ fn quasi_static(analysis: &Analysis, paths: &[SupportPath], scale: &PathScale, s
                 (hi, past) = (mid, w);
             }
         }
+        run.crushed = crush_depth(&past, settings, assembly);
         return collapsed(run, analysis, past, hi, scale);
     }
+    run.crushed = crush_depth(&world, settings, assembly);
     run
+}
+
+/// The deepest overlap of the run so far (m), when the stone crushes.
+fn crush_depth(world: &World, settings: &SettleSettings, assembly: &Assembly) -> Option<f64> {
+    settings.strength.or(assembly.material.strength).map(|_| world.stats().max_penetration * world.block_size())
 }
 
 /// How long a snap may take (in √(block size / g)) and how far a block may move in it (in block

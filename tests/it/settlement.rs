@@ -75,6 +75,7 @@ fn a_block_whose_stone_crushes_tips_before_atan_b_over_h() {
     let sigma = w / (0.2 * b * d);
     let s = tilting_stone(b, h, 0.8, 60.0, true, Some(sigma));
     assert_eq!(s.strength, Some(sigma));
+    assert!(s.quasi_static.crushed.is_some_and(|d| d >= 0.0), "{:?}", s.quasi_static.crushed);
     let crushes = |t: f64| h * t.tan() + w * t.cos() / (sigma * d) - b;
     let (mut lo, mut hi) = (0.0f64, (b / h).atan());
     for _ in 0..60 {

@@ -30,7 +30,7 @@
 //! diameter, turned apart by 60°, or pass each other by a fifth of a block. Not yet: contacts
 //! between blocks that did not touch at the start.
 //!
-//! //! ## Crushing ([`crushing`])
+//! ## Crushing ([`crushing`])
 //! With a compressive strength (the material's, or [`DropSettings::strength`]), each interface's
 //! normal forces stay within its rectangular stress block (the statics' crushing cones); a joint
 //! at that bound yields and its faces close into each other.
