@@ -12,7 +12,6 @@
 //! Lengths in m (non-dimensional in the rows: by the model size), σ in Pa.
 
 use super::contacts::{Contact, Origin};
-use super::problem::{Active, StepContext};
 use crate::interfaces::Interface;
 use crate::statics::{Cone, ConicProblem, StressBlock, stress_block};
 use std::collections::BTreeMap;
@@ -40,23 +39,21 @@ pub(super) fn bearings(interfaces: &[Interface]) -> Vec<Bearing> {
         .collect()
 }
 
-/// Appends the crushing cones of every interface with an active vertex contact (column of
-/// active contact i's normal force: `normal[i]`), at the non-dimensional strength `sigma`
-/// (σ L² / F).
+/// Appends the crushing cones of every interface with an active vertex contact (`normals`:
+/// each active contact's index and the column of its normal force), at the non-dimensional
+/// strength `sigma` (σ L² / F), lengths by `length` (m).
 pub(super) fn rows(
-    ctx: &StepContext,
     sigma: f64,
+    length: f64,
     bearings: &[Bearing],
     contacts: &[Contact],
-    active: &[Active],
-    normal: &[usize],
+    normals: impl Iterator<Item = (usize, usize)>,
     p: &mut ConicProblem,
 ) {
-    let length = ctx.units.length;
     let mut by_interface: BTreeMap<usize, Vec<(usize, usize)>> = BTreeMap::new();
-    for (i, a) in active.iter().enumerate() {
-        if let Origin::Interface { interface, vertex } = contacts[a.contact].origin {
-            by_interface.entry(interface).or_default().push((normal[i], vertex));
+    for (contact, column) in normals {
+        if let Origin::Interface { interface, vertex } = contacts[contact].origin {
+            by_interface.entry(interface).or_default().push((column, vertex));
         }
     }
     let r = std::f64::consts::FRAC_1_SQRT_2;

@@ -114,7 +114,8 @@ pub(super) fn build(
     p.cones.push(Cone::Zero(p.b.len()));
     friction_rows(ctx, active, &cols, &mut p);
     if let Some(sigma) = ctx.strength {
-        super::crushing::rows(ctx, sigma, bearings, contacts, active, &cols.normal, &mut p);
+        let normals = active.iter().zip(&cols.normal).map(|(a, &column)| (a.contact, column));
+        super::crushing::rows(sigma, ctx.units.length, bearings, contacts, normals, &mut p);
     }
     StepProblem { conic: p, cols }
 }
