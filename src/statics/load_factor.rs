@@ -165,7 +165,11 @@ fn load_factor(
     let (lambda, motions) = match out.status {
         SolverStatus::Solved | SolverStatus::AlmostSolved => {
             let blocks = comp.blocks.len();
-            (out.x[out.x.len() - 1], motions(&out.duals, blocks, sys.force_scale, assembly.scale, 1.0))
+            // λ's column follows the points' (the crushing cones' own columns follow it).
+            (
+                out.x[sys.points.len() * cp.per_point()],
+                motions(&out.duals, blocks, sys.force_scale, assembly.scale, 1.0),
+            )
         }
         SolverStatus::Unbounded => (f64::INFINITY, Vec::new()),
         _ => (f64::NAN, Vec::new()),

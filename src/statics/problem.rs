@@ -25,13 +25,15 @@
 //! second-order cone `‖(c_u, c_v)‖ ≤ μc_n⁺ + s`.
 //!
 //! ## Crushing rows per interface ([`Crushing`], when a compressive strength σ is given)
-//! The rectangular stress block: the interface's net normal force N = Σ c_n at the resultant
-//! point e (along an in-plane axis, between the polygon's extremes lo ≤ e ≤ hi) needs a
-//! compressed zone of length 2 min(e − lo, hi − e) centred on e, of the interface's width w
-//! across the axis: N ≤ σ w · 2(e − lo) and N ≤ σ w · 2(hi − e). With M = N e these are
-//! N² ≤ 2 (σ w)(M − lo N) and N² ≤ 2 (σ w)(hi N − M): rotated second-order cones, convex in
-//! the forces and in σ. Two axes per interface (its longest edge and the normal to it), so
-//! four cones; exact for a rectangle loaded eccentrically along one axis.
+//! The rectangular stress block, biaxial: the interface's net normal force N = Σ c_n at the
+//! resultant point e = (e₀, e₁) (along two in-plane axes: its longest edge and the normal to
+//! it; lo_k ≤ e_k ≤ hi_k the polygon's extremes) needs a compressed rectangle centred on e,
+//! 2a₀ × 2a₁ with a_k = min(e_k − lo_k, hi_k − e_k), scaled to the polygon's share of its
+//! bounding rectangle (κ = 4A / (L₀L₁), [`StressBlock::kappa`]): N ≤ σ κ a₀ a₁. With M_k =
+//! N e_k and X = ±(M₀ − edge₀ N), Y = ±(M₁ − edge₁ N) for each of the four corners the resultant
+//! may approach, that is N³ ≤ κ σ X Y — convex in the forces and in σ (three rotated
+//! second-order cones per corner, [`stress_block_cones`]). Exact for a rectangle loaded
+//! eccentrically along both axes; along one axis it is N ≤ 2 σ w a (w = A / L the width).
 
 use serde::Serialize;
 
@@ -238,23 +240,31 @@ pub struct StressBlock {
 }
 
 impl StressBlock {
+    /// κ = 4 A / (L₀ L₁) (A the polygon's area, L its extents): the compressed rectangle 2a₀ ×
+    /// 2a₁ about the resultant, scaled to the polygon's share of its bounding rectangle, has
+    /// area κ a₀ a₁ (a rectangle: 4 a₀ a₁). 0 for a polygon without extent.
+    pub fn kappa(&self) -> f64 {
+        let extent = self.hi[1] - self.lo[1];
+        if extent > 0.0 { 4.0 * self.width[0] / extent } else { 0.0 }
+    }
+
     /// The strength the normal forces `cn` at in-plane points `at` ((u, v), same units as the
-    /// block) need under the stress block: max over the axes of N / (2 w min(e − lo, hi − e));
-    /// 0 without compression, ∞ when the resultant leaves the polygon's extent.
+    /// block) need under the biaxial stress block: N / (κ a₀ a₁), a_k = min(e_k − lo_k, hi_k −
+    /// e_k) the resultant's distance to the nearer edge along axis k; 0 without compression, ∞
+    /// when the resultant leaves the polygon's extent.
     pub fn demand(&self, at: &[[f64; 2]], cn: &[f64]) -> f64 {
         let total: f64 = cn.iter().sum();
         if total <= 0.0 {
             return 0.0;
         }
-        (0..2)
-            .map(|k| {
-                let a = self.axes[k];
-                let moment: f64 = at.iter().zip(cn).map(|(p, f)| f * (p[0] * a[0] + p[1] * a[1])).sum();
-                let e = moment / total;
-                let half = (e - self.lo[k]).min(self.hi[k] - e);
-                if half <= 0.0 || self.width[k] <= 0.0 { f64::INFINITY } else { total / (2.0 * self.width[k] * half) }
-            })
-            .fold(0.0, f64::max)
+        let reach = |k: usize| {
+            let a = self.axes[k];
+            let moment: f64 = at.iter().zip(cn).map(|(p, f)| f * (p[0] * a[0] + p[1] * a[1])).sum();
+            let e = moment / total;
+            (e - self.lo[k]).min(self.hi[k] - e)
+        };
+        let area = self.kappa() * reach(0) * reach(1);
+        if reach(0) <= 0.0 || reach(1) <= 0.0 || area <= 0.0 { f64::INFINITY } else { total / area }
     }
 }
 
@@ -478,72 +488,106 @@ impl ContactProblem<'_> {
             p_diag.push(0.0);
             q.push(f.cost);
         }
+        let mut conic = ConicProblem { n: p_diag.len(), p_diag, q, a, b, cones };
         if let Some(crushing) = &self.crushing {
-            let sigma = p_diag.len();
-            if crushing.strength == Strength::Least {
-                p_diag.push(0.0);
-                q.push(1.0);
-            }
-            self.crushing_rows(crushing, sigma, &mut a, &mut b, &mut cones);
+            self.crushing_rows(crushing, &mut conic);
         }
-        ConicProblem { n: p_diag.len(), p_diag, q, a, b, cones }
+        conic
     }
 
-    /// Column of σ (when [`Strength::Least`]) is `sigma`. Each cone `2 x y ≥ z²` (x = σ w,
-    /// y = ±(M − t N), z = N) as the second-order cone `((x + y)/√2, z, (x − y)/√2)`; its
-    /// slack s = b − A x, so each row holds minus the linear form.
-    fn crushing_rows(
-        &self,
-        crushing: &Crushing,
-        sigma: usize,
-        a: &mut Vec<(usize, usize, f64)>,
-        b: &mut Vec<f64>,
-        cones: &mut Vec<Cone>,
-    ) {
+    /// The biaxial stress-block cones of every interface ([`stress_block_cones`]); with
+    /// [`Strength::Least`], σ is one more column (cost 1), before the cones' own.
+    fn crushing_rows(&self, crushing: &Crushing, p: &mut ConicProblem) {
         let c = self.per_point();
         let normal = &self.force_map()[0];
-        let r = std::f64::consts::FRAC_1_SQRT_2;
+        let strength = match crushing.strength {
+            Strength::Fixed(s) => StrengthColumn::Fixed(s),
+            Strength::Least => StrengthColumn::Column(p.add_column(0.0, 1.0)),
+        };
         for block in crushing.blocks {
-            for (k, axis) in block.axes.iter().enumerate() {
-                for (sign, edge) in [(1.0, block.lo[k]), (-1.0, block.hi[k])] {
-                    // y = sign (M − edge N), over the points' normal variables.
-                    let y: Vec<(usize, f64)> = block
-                        .points
-                        .clone()
-                        .flat_map(|p| {
-                            let along = self.geometry.rho[p][1] * axis[0] + self.geometry.rho[p][2] * axis[1];
-                            normal
-                                .iter()
-                                .enumerate()
-                                .filter(|e| *e.1 != 0.0)
-                                .map(move |(j, nj)| (p * c + j, sign * (along - edge) * nj))
-                        })
-                        .collect();
-                    let z: Vec<(usize, f64)> = block
-                        .points
-                        .clone()
-                        .flat_map(|p| {
-                            normal.iter().enumerate().filter(|e| *e.1 != 0.0).map(move |(j, nj)| (p * c + j, *nj))
-                        })
-                        .collect();
-                    let w = block.width[k];
-                    let (x_const, x_col) = match crushing.strength {
-                        Strength::Fixed(s) => (s * w, None),
-                        Strength::Least => (0.0, Some((sigma, w))),
-                    };
-                    let row0 = b.len();
-                    for (row, fy, fx) in [(row0, r, r), (row0 + 2, -r, r)] {
-                        a.extend(y.iter().map(|&(j, v)| (row, j, -fy * v)));
-                        if let Some((col, w)) = x_col {
-                            a.push((row, col, -fx * w));
-                        }
-                    }
-                    a.extend(z.iter().map(|&(j, v)| (row0 + 1, j, -v)));
-                    b.extend([r * x_const, 0.0, r * x_const]);
-                    cones.push(Cone::SecondOrder(3));
-                }
-            }
+            let terms: Vec<(usize, f64, [f64; 2])> = block
+                .points
+                .clone()
+                .flat_map(|pt| {
+                    let at = [self.geometry.rho[pt][1], self.geometry.rho[pt][2]];
+                    let along = block.axes.map(|a| at[0] * a[0] + at[1] * a[1]);
+                    normal.iter().enumerate().filter(|e| *e.1 != 0.0).map(move |(j, &nj)| (pt * c + j, nj, along))
+                })
+                .collect();
+            stress_block_cones(block, &terms, strength, p);
         }
+    }
+}
+
+/// The strength in a problem's stress-block cones: a given σ, or σ's column.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum StrengthColumn {
+    Fixed(f64),
+    Column(usize),
+}
+
+/// An affine form `constant + Σ coefficient × x[column]`.
+type Affine = (f64, Vec<(usize, f64)>);
+
+/// Appends the biaxial stress-block bound of one interface (module docs): `terms` are its
+/// normal force's columns, each with its coefficient in N and its point's coordinates along
+/// the block's two axes (the block's units). For each corner the resultant may approach —
+/// (lo or hi) along each axis — X = ±(M₀ − edge₀ N) and Y = ±(M₁ − edge₁ N) (N times the
+/// resultant's distance to those edges) bound N³ ≤ κ σ X Y, κ = 4 A / (L₀ L₁); as three rotated
+/// cones with two new columns t₁, t₂: t₁² ≤ κ σ X, t₂² ≤ Y N, N² ≤ t₁ t₂ (exact: N⁴ ≤ t₁² t₂²
+/// ≤ κ σ X Y N, and t₁ = √(κσX), t₂ = √(YN) reach it).
+pub(crate) fn stress_block_cones(
+    block: &StressBlock,
+    terms: &[(usize, f64, [f64; 2])],
+    strength: StrengthColumn,
+    p: &mut ConicProblem,
+) {
+    let kappa = block.kappa();
+    let normal: Affine = (0.0, terms.iter().map(|&(j, n, _)| (j, n)).collect());
+    let distance = |k: usize, sign: f64, edge: f64| -> Affine {
+        (0.0, terms.iter().map(|&(j, n, along)| (j, sign * (along[k] - edge) * n)).collect())
+    };
+    let half_kappa_sigma: Affine = match strength {
+        StrengthColumn::Fixed(s) => (0.5 * kappa * s, Vec::new()),
+        StrengthColumn::Column(col) => (0.0, vec![(col, 0.5 * kappa)]),
+    };
+    for (s0, e0) in [(1.0, block.lo[0]), (-1.0, block.hi[0])] {
+        for (s1, e1) in [(1.0, block.lo[1]), (-1.0, block.hi[1])] {
+            let (x, y) = (distance(0, s0, e0), distance(1, s1, e1));
+            let t1 = p.add_column(0.0, 0.0);
+            let t2 = p.add_column(0.0, 0.0);
+            let scaled =
+                |f: &Affine, by: f64| -> Affine { (f.0 * by, f.1.iter().map(|&(j, v)| (j, v * by)).collect()) };
+            p.push_rotated_cone(&half_kappa_sigma, &x, &(0.0, vec![(t1, 1.0)]));
+            p.push_rotated_cone(&scaled(&y, 0.5), &normal, &(0.0, vec![(t2, 1.0)]));
+            p.push_rotated_cone(&(0.0, vec![(t1, 0.5)]), &(0.0, vec![(t2, 1.0)]), &normal);
+        }
+    }
+}
+
+impl ConicProblem {
+    /// A new variable with quadratic weight `p` and linear cost `q`; its column.
+    pub(crate) fn add_column(&mut self, p: f64, q: f64) -> usize {
+        self.p_diag.push(p);
+        self.q.push(q);
+        self.n += 1;
+        self.n - 1
+    }
+
+    /// Appends `2 a b ≥ z²` (a, b ≥ 0) as the second-order cone ((a + b)/√2, z, (a − b)/√2);
+    /// the slack is b − A x, so each row holds the constant in b and minus the coefficients.
+    fn push_rotated_cone(&mut self, a: &Affine, b: &Affine, z: &Affine) {
+        let r = std::f64::consts::FRAC_1_SQRT_2;
+        let row = self.b.len();
+        let mut put = |row: usize, f: &Affine, by: f64| {
+            self.a.extend(f.1.iter().filter(|e| e.1 != 0.0).map(|&(j, v)| (row, j, -by * v)));
+            by * f.0
+        };
+        let first = put(row, a, r) + put(row, b, r);
+        let middle = put(row + 1, z, 1.0);
+        let last = put(row + 2, a, r) + put(row + 2, b, -r);
+        self.b.extend([first, middle, last]);
+        self.cones.push(Cone::SecondOrder(3));
     }
 }
 

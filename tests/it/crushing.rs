@@ -3,7 +3,8 @@
 //!
 //! Invariants: a column of n blocks needs n·W/A at its base (W one block's weight, A the
 //! joint's area) and crushes just below it; an eccentric resultant at distance a from the
-//! near edge of a rectangular joint of width b needs N / (2 a b); the forces reported for a
+//! near edge of a rectangular joint of width b needs N / (2 a b), and at a₀, a₁ from the near
+//! edges of both axes N / (4 a₀ a₁); the forces reported for a
 //! design that stands are ones the stone carries; the load factor honours the strength
 //! (λ* = (σ_c A − n W) / P under a vertical live load P); σ_c → ∞ gives the answers without a
 //! strength bit for bit; a bad strength is one clear error.
@@ -65,6 +66,24 @@ fn an_eccentric_resultant_needs_n_over_twice_its_distance_to_the_edge() {
     let r = statics(&scene, Some(10.0));
     assert_eq!(r.verdict, Verdict::Stands);
     assert_close(r.crushing.as_ref().unwrap().needed, needed, 1e-6 * needed, "eccentric joint");
+    assert_eq!(statics(&scene, Some(needed * 0.999)).verdict, Verdict::Crushes);
+}
+
+/// A 1 × 1 × h block on a pier's corner: the joint spans x ∈ [0.3, 1] × y ∈ [0.2, 1], the
+/// weight acts at (0.5, 0.5), a₀ = 0.2 and a₁ = 0.3 from the near edges: the biaxial stress
+/// block needs σ = W / (4 a₀ a₁) (a bound per axis would give W / (2 a₀ · 0.8), a third less).
+#[test]
+fn a_resultant_eccentric_along_both_axes_needs_n_over_four_a0_a1() {
+    let h = 0.6;
+    let scene = unit_scene(vec![
+        cuboid("pier", [0.3, 0.2, -1.0], [2.0, 2.0, 0.0]).support(true),
+        cuboid("block", [0.0, 0.0, 0.0], [1.0, 1.0, h]),
+    ]);
+    let needed = h / (4.0 * 0.2 * 0.3);
+    let r = statics(&scene, Some(10.0));
+    assert_eq!(r.verdict, Verdict::Stands);
+    assert_close(r.crushing.as_ref().unwrap().needed, needed, 1e-6 * needed, "corner joint");
+    assert_eq!(statics(&scene, Some(needed * 1.001)).verdict, Verdict::Stands);
     assert_eq!(statics(&scene, Some(needed * 0.999)).verdict, Verdict::Crushes);
 }
 

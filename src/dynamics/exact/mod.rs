@@ -176,7 +176,7 @@ impl World {
             recovery: s.recovery_speed * (g * size).sqrt() / units.speed(),
             strength: strength.map(|sigma| sigma * units.length * units.length / units.force),
         };
-        let bearings = if strength.is_some() { crushing::bearings(&interfaces) } else { Vec::new() };
+        let bearings = if strength.is_some() { crushing::bearings(&interfaces, units.length) } else { Vec::new() };
         let stats = ExactStats {
             coulomb: s.coulomb,
             friction_model: s.friction_model,

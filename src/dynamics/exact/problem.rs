@@ -115,7 +115,7 @@ pub(super) fn build(
     friction_rows(ctx, active, &cols, &mut p);
     if let Some(sigma) = ctx.strength {
         let normals = active.iter().zip(&cols.normal).map(|(a, &column)| (a.contact, column));
-        super::crushing::rows(sigma, ctx.units.length, bearings, contacts, normals, &mut p);
+        super::crushing::rows(sigma, bearings, contacts, normals, &mut p);
     }
     StepProblem { conic: p, cols }
 }
@@ -242,8 +242,16 @@ impl StepProblem {
         for &(row, col, v) in p.a.iter().filter(|e| e.0 < block_rows && e.1 >= residual) {
             p.b[row] -= v * first[col];
         }
+        // The crushing cones' auxiliary columns (after the momentum residual) stay free of cost.
+        let momentum = residual..residual + block_rows;
         for j in 0..p.n {
-            p.p_diag[j] = if j < residual { 1.0 } else { 1.0 / PIN };
+            p.p_diag[j] = if j < residual {
+                1.0
+            } else if momentum.contains(&j) {
+                1.0 / PIN
+            } else {
+                0.0
+            };
             p.q[j] = 0.0;
         }
     }
