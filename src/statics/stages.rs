@@ -399,7 +399,8 @@ impl<'a> ComponentSolve<'a> {
     /// friction: the least strength σ* its equilibria need (the `Strength` stage, on
     /// clarabel) and its governing interface. When σ* ≤ σ_c but the forces found ask more of
     /// some interface than σ_c, `solution` becomes the distribution over the equilibria the
-    /// stone carries (the `Capped` stage), so the forces drawn are ones it can carry.
+    /// stone carries (the `Capped` stage; the least-strength equilibrium itself when that solve
+    /// fails), so the forces drawn are ones it can carry.
     fn crushing(&mut self, solution: &mut Solution) -> Option<(f64, usize)> {
         let sigma = self.settings.strength?;
         let (weight, lightest) = self.weights;
@@ -422,9 +423,9 @@ impl<'a> ComponentSolve<'a> {
             demands.iter().enumerate().fold((0, 0.0), |best, (k, &d)| if d > best.1 { (k, d) } else { best });
         if needed <= sigma * unit && own > sigma * unit {
             let capped = self.stage(&sys, Stage::Capped { strength: sigma * unit });
-            if solved(capped.status) {
-                *solution = Solution { sys, out: capped, tension: 0.0, excess: 0.0 };
-            }
+            // Should that solve fail, the least-strength equilibrium is one the stone carries.
+            let carried = if solved(capped.status) { capped } else { least };
+            *solution = Solution { sys, out: carried, tension: 0.0, excess: 0.0 };
         }
         Some((needed / unit, governing))
     }
