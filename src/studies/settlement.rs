@@ -168,9 +168,8 @@ pub struct Run {
     /// Engine steps taken.
     pub steps: usize,
     /// With a compressive strength: how deep the joints crushed (the largest overlap at a
-    /// contact over the run, m). The joints carry their forces at their polygons' corners, so a
-    /// hinge whose corner crushes closes its joint instead of moving inside its edge: crushing
-    /// is perfectly plastic there (README, "Is the stone strong enough?").
+    /// contact over the run, m). Closed joints crush; an open one (a hinge, its contact its
+    /// rigid edge) is left unbounded (README, "Is the stone strong enough?").
     #[serde(skip_serializing_if = "Option::is_none")]
     pub crushed: Option<f64>,
     /// The blocks' poses at the start, at every stage and just past a collapse, the times

@@ -181,7 +181,7 @@ fn a_bad_strength_is_one_clear_error() {
 /// Invariant (the exact engine): an overloaded joint yields. A block's centred resultant has
 /// the whole joint as its stress block, so the joint carries at most σ_c A and the block sinks
 /// with a = g (1 − σ_c A / W): after n steps its speed is a n h, to 1e-6 relative, without
-/// turning or drifting sideways; with σ_c above W/A it stays at rest.
+/// turning or drifting sideways (1e-7 m/s, rad/s); with σ_c above W/A it stays at rest.
 #[test]
 fn the_exact_engine_lets_an_overloaded_joint_crush() {
     use voussoir::dynamics::exact::World;
@@ -199,7 +199,7 @@ fn the_exact_engine_lets_an_overloaded_joint_crush() {
         let (v, w) = world.velocity(1);
         let expected = -sinking * n as f64 * settings.dt;
         assert!((v.z - expected).abs() <= 1e-6 * (n as f64 * settings.dt), "σ {sigma}: v_z {} vs {expected}", v.z);
-        assert!(v.x.abs() + v.y.abs() + w.norm() < 1e-9, "σ {sigma}: {v:?} {w:?}");
+        assert!(v.x.abs() + v.y.abs() + w.norm() < 1e-7, "σ {sigma}: {v:?} {w:?}");
     }
 }
 

@@ -3,7 +3,7 @@
 
 use super::bodies::{Body, Units};
 use super::contacts::{Contact, Geometry, Side};
-use super::crushing::Bearing;
+use super::crushing::Crush;
 use crate::dynamics::settings::Coulomb;
 use crate::geometry::Vector3;
 use crate::model::FrictionModel;
@@ -73,7 +73,7 @@ pub(super) fn build(
     local: &[usize],
     contacts: &[Contact],
     active: &[Active],
-    bearings: &[Bearing],
+    crush: Option<&Crush>,
 ) -> StepProblem {
     let cols = columns(ctx, active);
     let h = ctx.h();
@@ -113,9 +113,9 @@ pub(super) fn build(
     p.a.retain(|e| e.2 != 0.0);
     p.cones.push(Cone::Zero(p.b.len()));
     friction_rows(ctx, active, &cols, &mut p);
-    if let Some(sigma) = ctx.strength {
+    if let Some(crush) = crush {
         let normals = active.iter().zip(&cols.normal).map(|(a, &column)| (a.contact, column));
-        super::crushing::rows(sigma, bearings, contacts, normals, &mut p);
+        super::crushing::rows(crush, contacts, normals, &mut p);
     }
     StepProblem { conic: p, cols }
 }

@@ -1,10 +1,12 @@
 //! One component's step: the rounds of solves, then its new velocities, forces and account.
 
 use super::World;
+use super::crushing::{self, Crush};
 use super::problem::{self, Active, Solution};
 use crate::dynamics::settings::Coulomb;
 use crate::geometry::Vector3;
 use crate::statics::{ConicOutcome, ConicProblem, SolverStatus, solve_conic};
+use std::collections::BTreeSet;
 
 /// Gaps (fraction of the median block size) beyond which an open contact is left out of the
 /// force selection.
@@ -30,13 +32,18 @@ impl World {
         }
         let exact = self.ctx.coulomb == Coulomb::Exact;
         let mut rounds = 0;
+        let mut bound = BTreeSet::new();
         let accepted = loop {
             rounds += 1;
-            let p = problem::build(&self.ctx, &self.bodies, comp, &local, &self.contacts, &active, &self.bearings);
+            let crush = self.ctx.strength.map(|sigma| Crush { bearings: &self.bearings, sigma, bound: &bound });
+            let p = problem::build(&self.ctx, &self.bodies, comp, &local, &self.contacts, &active, crush.as_ref());
             let Some(out) = self.solve(&p.conic) else { break None };
             let sol = p.read(&self.ctx, &self.bodies, comp, &active, &out.x);
             let rest = self.peak_speed(comp, &sol) <= self.settings.still * self.ctx.units.g * self.ctx.h;
             if rest || !exact {
+                if self.bind(&active, &sol, &mut bound) && rounds < self.settings.max_rounds {
+                    continue;
+                }
                 break Some((sol, rest));
             }
             let open = self.open_contacts(&local, &active, &sol);
@@ -54,7 +61,8 @@ impl World {
                 .chain(active.iter().map(|a| &a.capacity))
                 .fold(mean.max(f64::MIN_POSITIVE), |m, c| m.max(*c));
             let change = next.iter().zip(&active).fold(0.0f64, |m, (c, a)| m.max((c - a.capacity).abs()));
-            if change <= self.settings.settle * largest {
+            let grew = self.bind(&active, &sol, &mut bound);
+            if change <= self.settings.settle * largest && !grew {
                 break Some((sol, false));
             }
             if rounds >= self.settings.max_rounds {
@@ -68,6 +76,15 @@ impl World {
         if let Some((sol, rest)) = accepted {
             self.accept(comp, &active, sol, rest);
         }
+    }
+
+    /// With a strength: adds the closed joints whose forces in `sol` come near it to `bound`
+    /// ([`crushing::binding`]); whether any was added.
+    fn bind(&self, active: &[Active], sol: &Solution, bound: &mut BTreeSet<usize>) -> bool {
+        let Some(sigma) = self.ctx.strength else { return false };
+        let crush = Crush { bearings: &self.bearings, sigma, bound: &BTreeSet::new() };
+        let normals = active.iter().zip(&sol.normal).map(|(a, &f)| (a.contact, a.geometry.gap, f));
+        crushing::binding(&crush, &self.contacts, normals, OPEN * self.size, bound)
     }
 
     /// One solve, counted in the run's account; `None` when it did not reach an answer.
