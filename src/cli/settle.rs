@@ -2,7 +2,7 @@
 //! followed until it collapses — quasi-statically, and in the exact-contact engine and rapier
 //! side by side; the movement at collapse, the hinges and slides stage by stage, the thrust
 //! against the movement (`--plot`). Exit codes: 0 it stands to the end of the path, 1 it
-//! collapses (or does not stand as drawn), 2 bad input.
+//! collapses (or does not stand as drawn, or a solve failed: solver trouble), 2 bad input.
 
 use super::options::SolverOptions;
 use super::{BadInput, load, refuse_overwrite, scene_name, write_output};
@@ -104,7 +104,7 @@ pub fn run(args: &SettleArgs) -> Result<i32, BadInput> {
     write_motion(args, &analysis.assembly, &result.quasi_static)?;
     Ok(match result.quasi_static.outcome {
         Outcome::Stands => 0,
-        Outcome::Collapses { .. } => 1,
+        Outcome::Collapses { .. } | Outcome::Unresolved { .. } => 1,
     })
 }
 
@@ -129,6 +129,10 @@ fn write_motion(args: &SettleArgs, assembly: &crate::model::Assembly, run: &Run)
 fn line(run: &Run, turn: f64) -> String {
     let how = match run.outcome {
         Outcome::Stands => "stands to the end of the path".to_string(),
+        Outcome::Unresolved { fraction, status } => format!(
+            "solver trouble at {:.2} % of the path: a step's solve ended {status:?}; the run stops there",
+            100.0 * fraction
+        ),
         Outcome::Collapses { fraction, movement, relative } => format!(
             "collapses at {:.2} % of the path: {movement:.4e} m ({:.3} % of the model size){}",
             100.0 * fraction,

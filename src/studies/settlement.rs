@@ -26,7 +26,7 @@ use crate::geometry::Vector3;
 use crate::interfaces::Interface;
 use crate::model::{Assembly, Movement};
 use crate::pipeline::Analysis;
-use crate::statics::JointState;
+use crate::statics::{JointState, SolverStatus};
 use serde::Serialize;
 use thiserror::Error;
 
@@ -154,6 +154,9 @@ pub enum Outcome {
     Collapses { fraction: f64, movement: f64, relative: f64 },
     /// It stood to the end of the path.
     Stands,
+    /// A step's solve reached no answer at this fraction of the path (`status`, the worst):
+    /// what the run would say beyond it is not known, and it stops there.
+    Unresolved { fraction: f64, status: SolverStatus },
 }
 
 /// One way through the path.
@@ -353,21 +356,34 @@ fn quasi_static(analysis: &Analysis, paths: &[SupportPath], scale: &PathScale, s
     let step = |fraction: f64| (10.0 * fraction * scale.travel / g).sqrt().max(settings.dt);
     world.set_step(step(1.0 / n as f64));
     run.frame(&world, 0.0);
-    if !increment(&mut world, 0.0, &mut run.steps) {
-        run.crushed = crush_depth(&world, settings, assembly);
+    let held = increment(&mut world, 0.0, &mut run.steps);
+    run.crushed = crush_depth(&world, settings, assembly);
+    if let Some(status) = failure(&world) {
+        return unresolved(run, 0.0, status);
+    }
+    if !held {
         return collapsed(run, analysis, world, 0.0, scale);
     }
     for k in 1..=n {
         let fraction = k as f64 / n as f64;
         let before = world.clone();
-        if increment(&mut world, fraction - done, &mut run.steps) {
+        let held = increment(&mut world, fraction - done, &mut run.steps);
+        run.crushed = crush_depth(&world, settings, assembly);
+        if let Some(status) = failure(&world) {
+            return unresolved(run, fraction, status);
+        }
+        if held {
             done = fraction;
             run.stages.push(stage(assembly, &analysis.interfaces, &world, done, scale));
             run.frame(&world, done);
             continue;
         }
         let h = step(1.0 / n as f64);
-        if let Some(snapped) = snap(world.clone(), g, settings.dt, h, &mut run.steps) {
+        let snapped = snap(world.clone(), g, settings.dt, h, &mut run.steps);
+        if let Err(status) = snapped {
+            return unresolved(run, fraction, status);
+        }
+        if let Ok(Some(snapped)) = snapped {
             world = snapped;
             done = fraction;
             let mut s = stage(assembly, &analysis.interfaces, &world, done, scale);
@@ -382,7 +398,11 @@ fn quasi_static(analysis: &Analysis, paths: &[SupportPath], scale: &PathScale, s
             let mid = 0.5 * (lo + hi);
             let mut w = held.clone();
             w.set_step(step(mid - lo));
-            if increment(&mut w, mid - lo, &mut run.steps) {
+            let stays = increment(&mut w, mid - lo, &mut run.steps);
+            if let Some(status) = failure(&w) {
+                return unresolved(run, mid, status);
+            }
+            if stays {
                 (lo, held) = (mid, w);
             } else {
                 (hi, past) = (mid, w);
@@ -391,7 +411,18 @@ fn quasi_static(analysis: &Analysis, paths: &[SupportPath], scale: &PathScale, s
         run.crushed = crush_depth(&past, settings, assembly);
         return collapsed(run, analysis, past, hi, scale);
     }
-    run.crushed = crush_depth(&world, settings, assembly);
+    run
+}
+
+/// The worst solver status, when a step's solve failed (the world has left the dynamics).
+fn failure(world: &World) -> Option<SolverStatus> {
+    let stats = world.stats();
+    (stats.failed_steps > 0).then_some(stats.status)
+}
+
+/// The run stops at `fraction`: a step's solve failed there ([`Outcome::Unresolved`]).
+fn unresolved(mut run: Run, fraction: f64, status: SolverStatus) -> Run {
+    run.outcome = Outcome::Unresolved { fraction, status };
     run
 }
 
@@ -415,8 +446,9 @@ const SNAP_STEP: f64 = 4.0;
 /// their weight with the supports still and their inertia kept (engine steps of
 /// [`SNAP_STEP`] × `dt`), as a hinge snaps over to another; `Some` with the world at rest in
 /// the new equilibrium (held, as an increment, at the increment step `h`), `None` when a block
-/// falls (moves more than [`SNAP_DROP`] of a block) or nothing settles within [`SNAP_TIME`].
-fn snap(mut world: World, g: f64, dt: f64, h: f64, steps: &mut usize) -> Option<World> {
+/// falls (moves more than [`SNAP_DROP`] of a block) or nothing settles within [`SNAP_TIME`];
+/// the worst status when a step's solve failed.
+fn snap(mut world: World, g: f64, dt: f64, h: f64, steps: &mut usize) -> Result<Option<World>, SolverStatus> {
     let dt = SNAP_STEP * dt;
     let size = world.block_size();
     let start = world.centroids();
@@ -426,20 +458,27 @@ fn snap(mut world: World, g: f64, dt: f64, h: f64, steps: &mut usize) -> Option<
     for k in 1..=limit {
         world.step_supports(0.0);
         *steps += 1;
+        if let Some(status) = failure(&world) {
+            return Err(status);
+        }
         let drift = world.centroids().iter().zip(&start).map(|(p, q)| (p - q).norm()).fold(0.0, f64::max);
         if drift > SNAP_DROP * size {
-            return None;
+            return Ok(None);
         }
         // Every half √(size / g): stopped there, does an equilibrium hold them?
         if k % every == 0 || world.at_rest() {
             let mut held = world.clone();
             held.set_step(h);
-            if increment(&mut held, 0.0, steps) {
-                return Some(held);
+            let stays = increment(&mut held, 0.0, steps);
+            if let Some(status) = failure(&held) {
+                return Err(status);
+            }
+            if stays {
+                return Ok(Some(held));
             }
         }
     }
-    None
+    Ok(None)
 }
 
 /// Hold steps that may settle what an increment left: one step moves the blocks along
@@ -584,6 +623,11 @@ fn in_engine(
     for k in 1..=steps {
         stepper.step_supports(1.0 / steps as f64);
         run.steps += 1;
+        if let Stepper::Exact(w) = &stepper
+            && let Some(status) = failure(w)
+        {
+            return unresolved(run, k as f64 / steps as f64, status);
+        }
         speeds.push(stepper.fastest(assembly));
         if speeds[k - 1] > settings.collapse_speed * unit {
             let fraction = departure(&speeds) as f64 / steps as f64;

@@ -183,6 +183,7 @@ impl Shown<'_> {
                 format!("collapses at {:.1} % of the path ({})", 100.0 * fraction, words::length(movement))
             }
             Outcome::Stands => "stands to the end of the path".into(),
+            Outcome::Unresolved { fraction, .. } => format!("solver trouble at {:.1} % of the path", 100.0 * fraction),
         };
         format!(
             "supports move (quasi-static), true scale\n{:.1} % of the path · {}\n{end}\nviolet: the blocks now · ghost: at the start",

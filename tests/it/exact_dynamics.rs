@@ -311,3 +311,23 @@ fn a_thin_arch_collapses_onto_the_ground_and_rests_there() {
         assert!(lowest > floor - 0.01 * size, "{} reaches {lowest}", block.name);
     }
 }
+
+/// Invariant: a step whose solve reaches no answer is counted, not passed off as dynamics —
+/// with one interior-point iteration allowed, every step of a block on a slab fails, and the
+/// account says so with the status (a settlement stops there: `Outcome::Unresolved`).
+#[test]
+fn a_step_whose_solve_fails_is_counted() {
+    let scene = builtin("stack?n=1&a=0.5").unwrap();
+    let mut settings = exact();
+    settings.exact.max_iterations = 1;
+    let mut world = World::new(&assembly(&scene), &settings);
+    for _ in 0..3 {
+        world.step();
+    }
+    let stats = world.stats();
+    assert_eq!(stats.failed_steps, 3, "{stats:?}");
+    assert_eq!(stats.status, voussoir::statics::SolverStatus::MaxIterations);
+    let mut fine = World::new(&assembly(&scene), &exact());
+    fine.step();
+    assert_eq!(fine.stats().failed_steps, 0);
+}

@@ -35,7 +35,7 @@ fn tilting_stone(b: f64, h: f64, mu: f64, tilt: f64, engines: bool, strength: Op
 fn tilt_at_collapse(outcome: Outcome, tilt: f64) -> f64 {
     match outcome {
         Outcome::Collapses { fraction, .. } => fraction * tilt,
-        Outcome::Stands => panic!("expected a collapse"),
+        other => panic!("expected a collapse, got {other:?}"),
     }
 }
 
@@ -220,7 +220,7 @@ fn a_spreading_arch_collapses_alike_quasi_statically_and_in_both_engines() {
     let s = settle(&analysis, &moves, &settings).unwrap();
     let at = |o: Outcome| match o {
         Outcome::Collapses { fraction, .. } => fraction,
-        Outcome::Stands => panic!("expected a collapse"),
+        other => panic!("expected a collapse, got {other:?}"),
     };
     let (exact, rapier) = (s.exact.as_ref().unwrap(), s.rapier.as_ref().unwrap());
     let q = at(s.quasi_static.outcome);

@@ -96,6 +96,9 @@ pub struct ExactStats {
     pub max_rounds: u32,
     /// Steps of a component whose capacities did not settle within the round limit.
     pub unsettled_steps: u64,
+    /// Steps of a component whose solve reached no answer (the component kept its velocities:
+    /// what follows is not the dynamics').
+    pub failed_steps: u64,
     /// Steps of a component skipped because it slept.
     pub sleeping_steps: u64,
     /// The worst solve, and the largest momentum residual, N.
@@ -184,6 +187,7 @@ impl World {
             iterations: 0,
             max_rounds: 0,
             unsettled_steps: 0,
+            failed_steps: 0,
             sleeping_steps: 0,
             status: SolverStatus::Solved,
             residual: 0.0,

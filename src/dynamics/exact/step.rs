@@ -73,8 +73,9 @@ impl World {
         };
         self.stats.max_rounds = self.stats.max_rounds.max(rounds);
         // A failed solve leaves the component as it was (its status is the run's answer).
-        if let Some((sol, rest)) = accepted {
-            self.accept(comp, &active, sol, rest);
+        match accepted {
+            Some((sol, rest)) => self.accept(comp, &active, sol, rest),
+            None => self.stats.failed_steps += 1,
         }
     }
 

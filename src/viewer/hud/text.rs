@@ -218,6 +218,7 @@ fn settle_text(state: &ViewerState, s: &SettleStatus) -> String {
             format!("collapses\n  at {:.1} % of the path ({})", 100.0 * fraction, words::length(movement))
         }
         Outcome::Stands => format!("stands\n  to the path's end: {}", words::length(r.path_movement)),
+        Outcome::Unresolved { fraction, .. } => format!("solver trouble\n  at {:.1} % of the path", 100.0 * fraction),
     };
     let thrust = |k: usize| run.stages.get(k).and_then(|st| st.reactions.first()).map(|f| f[0].hypot(f[1]));
     let thrusts = match (thrust(0), run.stages.len().checked_sub(1).and_then(thrust)) {
