@@ -94,7 +94,8 @@ type Joint = (usize, bool, Vec<(usize, f64)>);
 /// index, gap in m, force non-dimensional) need more than [`NEAR`] of the strength; whether any
 /// was added. Open by more than `open` m is open.
 pub(super) fn binding(
-    crush: &Crush,
+    bearings: &[Bearing],
+    sigma: f64,
     contacts: &[Contact],
     normal: impl Iterator<Item = (usize, f64, f64)>,
     open: f64,
@@ -111,11 +112,11 @@ pub(super) fn binding(
     }
     let mut grew = false;
     for (interface, (count, opened, forces)) in by_interface {
-        let bearing = &crush.bearings[interface];
+        let bearing = &bearings[interface];
         if opened || count < bearing.along.len() || bound.contains(&interface) {
             continue;
         }
-        if !bearing.hinged(&forces) && bearing.demand(&forces) > NEAR * crush.sigma {
+        if !bearing.hinged(&forces) && bearing.demand(&forces) > NEAR * sigma {
             grew |= bound.insert(interface);
         }
     }

@@ -83,9 +83,8 @@ impl World {
     /// ([`crushing::binding`]); whether any was added.
     fn bind(&self, active: &[Active], sol: &Solution, bound: &mut BTreeSet<usize>) -> bool {
         let Some(sigma) = self.ctx.strength else { return false };
-        let crush = Crush { bearings: &self.bearings, sigma, bound: &BTreeSet::new() };
         let normals = active.iter().zip(&sol.normal).map(|(a, &f)| (a.contact, a.geometry.gap, f));
-        crushing::binding(&crush, &self.contacts, normals, OPEN * self.size, bound)
+        crushing::binding(&self.bearings, sigma, &self.contacts, normals, OPEN * self.size, bound)
     }
 
     /// One solve, counted in the run's account; `None` when it did not reach an answer.
