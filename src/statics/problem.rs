@@ -249,22 +249,33 @@ impl StressBlock {
     }
 
     /// The strength the normal forces `cn` at in-plane points `at` ((u, v), same units as the
-    /// block) need under the biaxial stress block: N / (κ a₀ a₁), a_k = min(e_k − lo_k, hi_k −
-    /// e_k) the resultant's distance to the nearer edge along axis k; 0 without compression, ∞
-    /// when the resultant leaves the polygon's extent.
+    /// block) need under the biaxial stress block ([`Self::need`]).
     pub fn demand(&self, at: &[[f64; 2]], cn: &[f64]) -> f64 {
-        let total: f64 = cn.iter().sum();
-        if total <= 0.0 {
-            return 0.0;
+        let along = at.iter().map(|p| self.axes.map(|a| p[0] * a[0] + p[1] * a[1]));
+        self.need(along.zip(cn.iter().copied()))
+    }
+
+    /// The strength normal forces need, each given with its point's coordinates along the two
+    /// axes: N / (κ a₀ a₁), a_k the resultant's distance to the nearer edge along axis k
+    /// ([`Self::reach`]); 0 without compression, ∞ when the resultant leaves the polygon's extent.
+    pub fn need(&self, forces: impl Iterator<Item = ([f64; 2], f64)> + Clone) -> f64 {
+        let Some([a0, a1]) = self.reach(forces.clone()) else { return 0.0 };
+        let total: f64 = forces.map(|f| f.1).sum();
+        let area = self.kappa() * a0 * a1;
+        if a0 <= 0.0 || a1 <= 0.0 || area <= 0.0 { f64::INFINITY } else { total / area }
+    }
+
+    /// The resultant's distance to the nearer edge along each axis, min(e_k − lo_k, hi_k − e_k),
+    /// of normal forces given with their points' coordinates along the axes; `None` without
+    /// compression.
+    pub fn reach(&self, forces: impl Iterator<Item = ([f64; 2], f64)>) -> Option<[f64; 2]> {
+        let (mut total, mut moment) = (0.0, [0.0; 2]);
+        for (along, f) in forces {
+            total += f;
+            moment[0] += f * along[0];
+            moment[1] += f * along[1];
         }
-        let reach = |k: usize| {
-            let a = self.axes[k];
-            let moment: f64 = at.iter().zip(cn).map(|(p, f)| f * (p[0] * a[0] + p[1] * a[1])).sum();
-            let e = moment / total;
-            (e - self.lo[k]).min(self.hi[k] - e)
-        };
-        let area = self.kappa() * reach(0) * reach(1);
-        if reach(0) <= 0.0 || reach(1) <= 0.0 || area <= 0.0 { f64::INFINITY } else { total / area }
+        (total > 0.0).then(|| [0, 1].map(|k| (moment[k] / total - self.lo[k]).min(self.hi[k] - moment[k] / total)))
     }
 }
 

@@ -90,10 +90,16 @@ fn dome_shell(r: f64, t: f64, oculus: f64, lat: usize, lon: usize) -> Mesh {
     Mesh::new(vertices, faces)
 }
 
-#[test]
-fn a_dome_is_cut_into_a_bond_converging_on_its_apex() {
+/// The test dome: R 1, t 0.12, a 20° oculus, springing on the ground.
+fn dome() -> Scene {
     let mut shape = Scene::new("dome", vec![Block::new("dome", dome_shell(1.0, 0.12, 20.0, 6, 32))]);
     shape.ground = true;
+    shape
+}
+
+#[test]
+fn a_dome_is_cut_into_a_bond_converging_on_its_apex() {
+    let shape = dome();
     let apex = [0.0, 0.0, -0.6];
     let g = pattern(&shape, apex, &BlockSize::Count(40), true).expect("a pattern");
     assert!((25..=80).contains(&g.pieces), "{} pieces for about 40", g.pieces);
@@ -110,8 +116,7 @@ fn a_dome_is_cut_into_a_bond_converging_on_its_apex() {
 /// — stands by compression and friction.
 #[test]
 fn a_dome_cut_towards_its_centre_stands() {
-    let mut shape = Scene::new("dome", vec![Block::new("dome", dome_shell(1.0, 0.12, 20.0, 6, 32))]);
-    shape.ground = true;
+    let shape = dome();
     let apex = [0.0, 0.0, -0.01];
     let g = pattern(&shape, apex, &BlockSize::Count(40), true).expect("a pattern");
     let a = run(&g.design, &AnalysisSettings::default());

@@ -124,29 +124,18 @@ pub(super) fn binding(
 }
 
 impl Bearing {
-    /// The resultant's distance to the nearer edge along axis `k` (0 without compression).
-    fn reach(&self, forces: &[(usize, f64)], k: usize) -> f64 {
-        let total: f64 = forces.iter().map(|f| f.1).sum();
-        if total <= 0.0 {
-            return 0.0;
-        }
-        let e = forces.iter().map(|&(v, f)| f * self.along[v][k]).sum::<f64>() / total;
-        (e - self.block.lo[k]).min(self.block.hi[k] - e)
+    fn forces<'a>(&'a self, forces: &'a [(usize, f64)]) -> impl Iterator<Item = ([f64; 2], f64)> + Clone + 'a {
+        forces.iter().map(|&(v, f)| (self.along[v], f))
     }
 
     /// Whether the resultant sits at an edge ([`HINGE`]): a hinge, or nothing to carry.
     fn hinged(&self, forces: &[(usize, f64)]) -> bool {
-        (0..2).any(|k| self.reach(forces, k) <= HINGE * (self.block.hi[k] - self.block.lo[k]))
+        let b = &self.block;
+        self.block.reach(self.forces(forces)).is_none_or(|r| (0..2).any(|k| r[k] <= HINGE * (b.hi[k] - b.lo[k])))
     }
 
     /// The strength the normal forces (vertex, force) need under the biaxial stress block.
     fn demand(&self, forces: &[(usize, f64)]) -> f64 {
-        let total: f64 = forces.iter().map(|f| f.1).sum();
-        if total <= 0.0 {
-            return 0.0;
-        }
-        let (a0, a1) = (self.reach(forces, 0), self.reach(forces, 1));
-        let area = self.block.kappa() * a0 * a1;
-        if a0 <= 0.0 || a1 <= 0.0 || area <= 0.0 { f64::INFINITY } else { total / area }
+        self.block.need(self.forces(forces))
     }
 }
