@@ -513,5 +513,6 @@ pub fn contact_problem<'a>(sys: &'a System, stage: Stage, settings: &StaticsSett
         factor: None,
         threads,
         crushing,
+        densities: Vec::new(),
     }
 }

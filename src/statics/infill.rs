@@ -25,10 +25,10 @@
 //! by the component's free weight at its current densities, lengths by the model size.
 
 use super::assemble::{PINNED_TENSION, Stage, System, contact_problem};
-use super::backend::solve_conic;
+use super::backend::{self, Backend, QpOutcome, solve_conic};
 use super::components::Component;
 use super::load_factor::{Motion, motions};
-use super::problem::{Accuracy, Cone, ConicProblem, SolverStatus, Strength};
+use super::problem::{Accuracy, Cone, ConicProblem, ContactProblem, DensityColumn, SolverStatus, Strength};
 use super::settings::StaticsSettings;
 use super::stages::LP_TOLERANCE;
 use crate::geometry::{Point3, Vector3};
@@ -104,6 +104,8 @@ pub struct DensityOutcome {
     pub residual: f64,
     pub iterations: u32,
     pub solver_seconds: f64,
+    /// The solver that ran the density problem (clarabel for several loadings side by side).
+    pub backend: Backend,
 }
 
 /// The density columns and the fixed right-hand side of a component's dead or live rows.
@@ -155,9 +157,13 @@ impl Loading {
     }
 }
 
-/// The stage's conic problem over `sys` (its block rows' right-hand side is each copy's, set
-/// by [`stack`]).
-fn stage_conic(sys: &System, stage: Stage, settings: &StaticsSettings, length_scale: f64) -> ConicProblem {
+/// The stage's contact problem over `sys`, without densities.
+fn stage_problem<'s>(
+    sys: &'s System,
+    stage: Stage,
+    settings: &StaticsSettings,
+    length_scale: f64,
+) -> ContactProblem<'s> {
     let mut cp = contact_problem(sys, stage, settings);
     if matches!(stage, Stage::Strict) {
         // Feasibility: the objective is the densities' (the caller's).
@@ -167,7 +173,41 @@ fn stage_conic(sys: &System, stage: Stage, settings: &StaticsSettings, length_sc
     if let Some(s) = settings.strength {
         cp.crushing = Some(sys.crushing(Strength::Fixed(s * sys.strength_scale(length_scale))));
     }
-    cp.to_conic()
+    cp
+}
+
+/// The density variables of one loading (non-dimensional bounds, linear cost).
+fn density_columns(
+    cells: &[DensityCell],
+    loading: &Loading,
+    bounds: &[(f64, f64)],
+    cost: &[f64],
+) -> Vec<DensityColumn> {
+    cells
+        .iter()
+        .zip(&loading.columns)
+        .zip(bounds.iter().zip(cost))
+        .map(|((cell, &column), (&(lo, hi), &cost))| DensityColumn { block: cell.block, column, cost, lo, hi })
+        .collect()
+}
+
+/// The stage's problem over `sys` with the dead loading's density columns, on the statics'
+/// backend (the structured solver eliminates each density into its block's rows); `sys`'s
+/// block rows' right-hand side is set to the loading's. The outcome and its densities.
+fn solve_dead(
+    sys: &mut System,
+    stage: Stage,
+    settings: &StaticsSettings,
+    length_scale: f64,
+    columns: Vec<DensityColumn>,
+    dead: &Loading,
+) -> (QpOutcome, Vec<f64>) {
+    sys.geometry.rhs.clone_from(&dead.rhs);
+    let mut cp = stage_problem(sys, stage, settings, length_scale);
+    cp.densities = columns;
+    let out = backend::run(&cp, settings.backend, accuracy(settings), settings.max_iterations);
+    let rho = backend::densities(&cp, &out).to_vec();
+    (out, rho)
 }
 
 /// One copy of `base` per loading side by side (block-diagonal), each with its block rows'
@@ -233,24 +273,33 @@ pub fn component_densities(
         loadings
             .extend(cases.iter().map(|case| Loading::new(assembly, comp, &sys, cells, rho_ref, Some((lambda, case)))));
     }
-    let base = stage_conic(&sys, Stage::Strict, settings, assembly.scale);
-    let problem = stack(&base, &loadings, cells, &bounds, &cost);
-    let out = solve_conic(&problem, accuracy(settings), settings.max_iterations);
-    let found = matches!(out.status, SolverStatus::Solved | SolverStatus::AlmostSolved);
+    let forces = sys.n();
+    let (status, iterations, backend, x, r) = if loadings.len() == 1 {
+        let columns = density_columns(cells, &loadings[0], &bounds, &cost);
+        let (out, r) = solve_dead(&mut sys, Stage::Strict, settings, assembly.scale, columns, &loadings[0]);
+        (out.status, out.iterations, out.backend, out.x, r)
+    } else {
+        let base = stage_problem(&sys, Stage::Strict, settings, assembly.scale).to_conic();
+        let problem = stack(&base, &loadings, cells, &bounds, &cost);
+        let out = solve_conic(&problem, accuracy(settings), settings.max_iterations);
+        let r = out.x[out.x.len() - cells.len()..].to_vec();
+        (out.status, out.iterations, Backend::Clarabel, out.x, r)
+    };
+    let found = matches!(status, SolverStatus::Solved | SolverStatus::AlmostSolved);
     let mut outcome = DensityOutcome {
-        status: out.status,
+        status,
         densities: Vec::new(),
         motions: Vec::new(),
         excess: 0.0,
         residual: f64::NAN,
-        iterations: out.iterations,
+        iterations,
         solver_seconds: 0.0,
+        backend,
     };
     if found {
-        let r = &out.x[out.x.len() - cells.len()..];
         outcome.densities = r.iter().zip(cells).map(|(r, c)| (r * rho_ref).clamp(c.lo, c.hi)).collect();
-        outcome.residual = residual(&sys, cells, &loadings[0], &out.x[..base.n], r);
-    } else if out.status == SolverStatus::Infeasible && matches!(goal, DensityGoal::Lightest) {
+        outcome.residual = residual(&sys, cells, &loadings[0], &x[..forces], &r);
+    } else if status == SolverStatus::Infeasible && matches!(goal, DensityGoal::Lightest) {
         let cert = certificate(assembly, interfaces, comp, mu, settings, cells, rho_ref);
         outcome.iterations += cert.iterations;
         outcome.motions = cert.motions;
@@ -294,25 +343,19 @@ fn certificate(
     cells: &[DensityCell],
     rho_ref: f64,
 ) -> Certificate {
-    let sys = System::new(assembly, interfaces, comp, mu, settings.friction_model, true);
+    let mut sys = System::new(assembly, interfaces, comp, mu, settings.friction_model, true);
     let dead = Loading::new(assembly, comp, &sys, cells, rho_ref, None);
     let bounds: Vec<(f64, f64)> = cells.iter().map(|c| (c.lo / rho_ref, c.hi / rho_ref)).collect();
     let zero = vec![0.0; bounds.len()];
     let mut iterations = 0;
     for stage in [Stage::Tension, Stage::FrictionExcess { tension: 0.0, penalty: 0.0 }] {
-        let problem = stack(
-            &stage_conic(&sys, stage, settings, assembly.scale),
-            std::slice::from_ref(&dead),
-            cells,
-            &bounds,
-            &zero,
-        );
-        let out = solve_conic(&problem, accuracy(settings), settings.max_iterations);
+        let columns = density_columns(cells, &dead, &bounds, &zero);
+        let (out, _) = solve_dead(&mut sys, stage, settings, assembly.scale, columns, &dead);
         iterations += out.iterations;
         let solved = matches!(out.status, SolverStatus::Solved | SolverStatus::AlmostSolved);
         if solved && out.objective > PINNED_TENSION {
             let blocks = comp.blocks.len();
-            let m = motions(&out.z, blocks, sys.force_scale, assembly.scale, out.objective);
+            let m = motions(&out.duals, blocks, sys.force_scale, assembly.scale, out.objective);
             return Certificate { motions: m, excess: out.objective, iterations };
         }
         if !solved {

@@ -216,6 +216,19 @@ pub struct ContactProblem<'a> {
     pub threads: usize,
     /// The crushing rows, when the material has a compressive strength.
     pub crushing: Option<Crushing<'a>>,
+    /// Density variables ([`super::infill`]), after λ: each loads one block's rows.
+    pub densities: Vec<DensityColumn>,
+}
+
+/// A density variable ρ, lo ≤ ρ ≤ hi: its load per unit ρ in its block's six rows (added to
+/// the equilibrium's left side, as a force column is) and its linear cost.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DensityColumn {
+    pub block: usize,
+    pub column: [f64; 6],
+    pub cost: f64,
+    pub lo: f64,
+    pub hi: f64,
 }
 
 /// The column of a load factor λ in the block rows, its cost in the objective, and whether
@@ -440,8 +453,9 @@ impl ContactProblem<'_> {
     }
 
     /// The same problem for a general conic solver (clarabel): rows in the order zero cone
-    /// (block rows), non-negative cone (every point's rows, then the budgets), then one
-    /// second-order cone per point.
+    /// (block rows), non-negative cone (every point's rows, then the budgets, λ ≥ 0 and each
+    /// density's two bounds), then one second-order cone per point. Columns: the points', λ,
+    /// the densities, then the crushing cones' own.
     pub fn to_conic(&self) -> ConicProblem {
         let g = self.geometry;
         let c = self.per_point();
@@ -482,6 +496,13 @@ impl ContactProblem<'_> {
                 b.push(0.0);
             }
         }
+        let first_density = lambda + usize::from(self.factor.is_some());
+        for (j, d) in self.densities.iter().enumerate() {
+            let col = first_density + j;
+            a.extend((0..6).filter(|&k| d.column[k] != 0.0).map(|k| (6 * d.block + k, col, d.column[k])));
+            a.extend([(b.len(), col, -1.0), (b.len() + 1, col, 1.0)]);
+            b.extend([-d.lo, d.hi]);
+        }
         cones.push(Cone::Nonnegative(b.len() - start));
         if let Some(soc) = &rows.soc {
             for p in 0..np {
@@ -499,6 +520,8 @@ impl ContactProblem<'_> {
             p_diag.push(0.0);
             q.push(f.cost);
         }
+        p_diag.extend(std::iter::repeat_n(0.0, self.densities.len()));
+        q.extend(self.densities.iter().map(|d| d.cost));
         let mut conic = ConicProblem { n: p_diag.len(), p_diag, q, a, b, cones };
         if let Some(crushing) = &self.crushing {
             self.crushing_rows(crushing, &mut conic);

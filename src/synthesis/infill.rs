@@ -169,8 +169,12 @@ pub fn infill(
     settings.validate()?;
     analysis.statics.validate().map_err(|e| DesignError::Settings(e.to_string()))?;
     // One pipeline for both analyses: the infilled design's differs only in its masses, so its
-    // cut pieces, repairs and interfaces are reused.
+    // cut pieces, repairs and interfaces are reused, and its solves start from the design's
+    // (the same layout, other loads: the answer a cold solve's to the solver's tolerance).
     let mut pipeline = Pipeline::new();
+    let mut warm = analysis.clone();
+    warm.statics.warm_start = true;
+    let analysis = &warm;
     let before = pipeline.run(scene, analysis)?;
     let statics_settings = analysis.statics.resolved(&before.assembly);
     let (assembly, interfaces) = (&before.assembly, before.interfaces.as_slice());

@@ -66,7 +66,7 @@ pub(super) fn info<const C: usize>(sh: &Shape<C>, v: &Vars, info: &mut Info, wor
     let [px, ex, gx] = work;
     sh.p_mul(&v.x, px);
     let xpx = dot(&v.x, px);
-    let (qx, bz, sz) = (sh.q_dot(&v.x), dot(&sh.b_e, &v.ze), dot(&v.s, &v.z));
+    let (qx, bz, sz) = (sh.q_dot(&v.x), sh.b_dot(&v.ze, &v.z), dot(&v.s, &v.z));
     // rx_inf = −Aᵀz (kept in info.rx first), rz_inf = A x + s.
     sh.apply(None, &v.x, &v.ze, &v.z, &mut info.rx, ex, gx);
     info.rx.iter_mut().for_each(|r| *r = -*r);
@@ -85,6 +85,11 @@ pub(super) fn info<const C: usize>(sh: &Shape<C>, v: &Vars, info: &mut Info, wor
     for (i, r) in info.re.iter_mut().enumerate() {
         *r = ex[i] - v.tau * sh.b_e[i];
     }
+    // The tail's inequality rows are the only ones with a right-hand side.
+    let row0 = sh.tail_row0();
+    for (g, b) in gx[row0..].iter_mut().zip(&sh.b_tail) {
+        *g -= v.tau * b;
+    }
     // gx is scratch, rewritten whole by the next A x: swapped, not copied.
     std::mem::swap(&mut info.rg, gx);
     let tinv = 1.0 / v.tau;
@@ -92,7 +97,7 @@ pub(super) fn info<const C: usize>(sh: &Shape<C>, v: &Vars, info: &mut Info, wor
     let cost_primal = qx * tinv + half_xpx;
     let cost_dual = -bz * tinv - half_xpx;
     let (normx, normz, norms) = (normx * tinv, normz * tinv, norms * tinv);
-    let norm_b = norm_inf(&sh.b_e);
+    let norm_b = sh.norm_b();
     let norm_q = sh.norm_q();
     let rz = norm_inf(&info.re).max(norm_inf(&info.rg));
     info.rtau = qx + bz + v.kappa + xpx / v.tau;

@@ -439,7 +439,7 @@ mod tests {
         (sh.contacts, sh.rho) = (&contacts, rho);
         let (np, mp, nn) = (sh.points(), sh.m_p, sh.nonneg.len());
         assert_ne!(np % LANES, 0, "a short last batch is exercised");
-        let layout = Layout { points: np, per_point: mp, nonneg: nn, soc: sh.soc.is_some(), tail: sh.tail() };
+        let layout = Layout { points: np, per_point: mp, nonneg: nn, soc: sh.soc.is_some(), tail: sh.tail_rows() };
         let mut rng = Lcg(11);
         // Interior s and z: non-negative rows in [0.5, 1.5], cones with s₀ > |s₁|.
         let mut interior =

@@ -2,12 +2,15 @@
 //! the products with its constraint matrix A = [E; G].
 //!
 //! Vector layouts: x = [the points' variables (point-major), one σ per budget, the load factor
-//! λ if any]; the equality rows [6 per block, one per budget]; the inequality rows [each
-//! point's rows (non-negative first, then its second-order cone), one `−σ ≤ 0` per budget,
-//! `−λ ≤ 0`]. λ's column is the live load in the block rows.
+//! λ if any, the densities ρ]; the equality rows [6 per block, one per budget]; the inequality
+//! rows [each point's rows (non-negative first, then its second-order cone), one `−σ ≤ 0` per
+//! budget, `−λ ≤ 0`, per density `−ρ ≤ −lo` and `ρ ≤ hi`]. λ's column is the live load in the
+//! block rows, a density's its block's load per unit ρ. Only the densities' rows have a
+//! non-zero right-hand side among the inequality rows.
 
 use super::cones::Scaling;
-use crate::statics::problem::{Contact, ContactProblem, motion_at, wrench};
+use super::iterate::{dot, norm_inf};
+use crate::statics::problem::{Contact, ContactProblem, DensityColumn, motion_at, wrench};
 
 pub struct Shape<'a, const C: usize> {
     pub blocks: usize,
@@ -28,6 +31,9 @@ pub struct Shape<'a, const C: usize> {
     pub b_e: Vec<f64>,
     /// The load factor's column in the block rows and its cost.
     pub factor: Option<(&'a [f64], f64)>,
+    pub densities: &'a [DensityColumn],
+    /// Right-hand side of the tail's inequality rows (from [`Self::tail_row0`]).
+    pub b_tail: Vec<f64>,
 }
 
 fn fixed<const C: usize>(v: &[f64]) -> [f64; C] {
@@ -58,6 +64,8 @@ impl<'a, const C: usize> Shape<'a, C> {
         }
         let mut b_e = g.rhs.clone();
         b_e.extend(cp.budgets.iter().map(|b| b.limit));
+        let mut b_tail = vec![0.0; budget_vars.len() + usize::from(cp.factor.is_some())];
+        b_tail.extend(cp.densities.iter().flat_map(|d| [-d.lo, d.hi]));
         Some(Self {
             blocks: g.blocks,
             contacts: &g.contacts,
@@ -71,6 +79,8 @@ impl<'a, const C: usize> Shape<'a, C> {
             m_p: rows.count(),
             b_e,
             factor: cp.factor.as_ref().map(|f| (f.column.as_slice(), f.cost)),
+            densities: &cp.densities,
+            b_tail,
         })
     }
 
@@ -82,9 +92,19 @@ impl<'a, const C: usize> Shape<'a, C> {
         self.budget_vars.len()
     }
 
-    /// The scalar variables after the points': the budgets' slacks, then λ.
+    /// The scalar variables after the points': the budgets' slacks, λ, the densities.
     pub fn tail(&self) -> usize {
-        self.budgets() + self.factor.is_some() as usize
+        self.budgets() + self.factor.is_some() as usize + self.densities.len()
+    }
+
+    /// The inequality rows after the points': one per slack and λ, two per density.
+    pub fn tail_rows(&self) -> usize {
+        self.b_tail.len()
+    }
+
+    /// The first of them.
+    pub fn tail_row0(&self) -> usize {
+        self.points() * self.m_p
     }
 
     pub fn n(&self) -> usize {
@@ -96,14 +116,42 @@ impl<'a, const C: usize> Shape<'a, C> {
         self.points() * C + self.budgets()
     }
 
+    /// Index of the first density in x.
+    pub fn density0(&self) -> usize {
+        self.lambda() + self.factor.is_some() as usize
+    }
+
+    /// Inequality row of density `j`'s lower bound (its upper bound's is the next).
+    pub fn density_row(&self, j: usize) -> usize {
+        self.tail_row0() + self.density0() - self.points() * C + 2 * j
+    }
+
     /// The linear cost of variable `j`.
     pub fn q_at(&self, j: usize) -> f64 {
         let np = self.points() * C;
         match (j < np, self.factor) {
             (true, _) => self.q[j % C],
             (false, Some((_, cost))) if j == self.lambda() => cost,
+            _ if j >= self.density0() => self.densities[j - self.density0()].cost,
             _ => 0.0,
         }
+    }
+
+    /// bᵀz over the equality and inequality rows.
+    pub fn b_dot(&self, ze: &[f64], zg: &[f64]) -> f64 {
+        dot(&self.b_e, ze) + dot(&self.b_tail, &zg[self.tail_row0()..])
+    }
+
+    /// b_G, the inequality rows' right-hand side, into `out`.
+    pub fn b_g_into(&self, out: &mut [f64]) {
+        let row0 = self.tail_row0();
+        out[..row0].fill(0.0);
+        out[row0..].copy_from_slice(&self.b_tail);
+    }
+
+    /// ‖b‖_∞ over both row blocks.
+    pub fn norm_b(&self) -> f64 {
+        norm_inf(&self.b_e).max(norm_inf(&self.b_tail))
     }
 
     pub fn m_e(&self) -> usize {
@@ -111,7 +159,7 @@ impl<'a, const C: usize> Shape<'a, C> {
     }
 
     pub fn m_g(&self) -> usize {
-        self.points() * self.m_p + self.tail()
+        self.tail_row0() + self.tail_rows()
     }
 
     /// `out_e = E x`, `out_g = G x`.
@@ -143,6 +191,14 @@ impl<'a, const C: usize> Shape<'a, C> {
             let xl = x[self.lambda()];
             out_e.iter_mut().zip(column).for_each(|(e, c)| *e += c * xl);
             out_g[np * mp + self.budgets()] = -xl;
+        }
+        for (j, d) in self.densities.iter().enumerate() {
+            let (xr, row) = (x[self.density0() + j], self.density_row(j));
+            for k in 0..6 {
+                out_e[6 * d.block + k] += d.column[k] * xr;
+            }
+            out_g[row] = -xr;
+            out_g[row + 1] = xr;
         }
     }
 
@@ -200,6 +256,11 @@ impl<'a, const C: usize> Shape<'a, C> {
             let lz: f64 = column.iter().zip(ze).map(|(c, z)| c * z).sum();
             out[self.lambda()] = lz - zg[np * mp + self.budgets()];
         }
+        for (j, d) in self.densities.iter().enumerate() {
+            let row = self.density_row(j);
+            let cz: f64 = (0..6).map(|k| d.column[k] * ze[6 * d.block + k]).sum();
+            out[self.density0() + j] = cz - zg[row] + zg[row + 1];
+        }
     }
 
     /// `P x` (σ has no quadratic term).
@@ -226,13 +287,15 @@ impl<'a, const C: usize> Shape<'a, C> {
         if let Some((_, cost)) = self.factor {
             s += cost * x[self.lambda()];
         }
-        s
+        let x_rho = &x[self.density0()..self.density0() + self.densities.len()];
+        s + self.densities.iter().zip(x_rho).map(|(d, x)| d.cost * x).sum::<f64>()
     }
 
     /// ‖q‖_∞.
     pub fn norm_q(&self) -> f64 {
         let points = self.q.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-        self.factor.map_or(points, |(_, cost)| points.max(cost.abs()))
+        let costs = self.densities.iter().fold(points, |m, d| m.max(d.cost.abs()));
+        self.factor.map_or(costs, |(_, cost)| costs.max(cost.abs()))
     }
 
     /// `xᵀ P y`.
@@ -287,8 +350,8 @@ impl<'a, const C: usize> Shape<'a, C> {
         }
         self.tail_products(x, out_e, out_g);
         if let Some(sc) = kkt {
-            let tail = self.points() * mp;
-            for i in tail..tail + self.tail() {
+            let tail = self.tail_row0();
+            for i in tail..tail + self.tail_rows() {
                 out_g[i] -= sc.d[i] * zg[i];
             }
         }

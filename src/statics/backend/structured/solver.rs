@@ -5,7 +5,7 @@
 #![allow(clippy::needless_range_loop)]
 
 use super::cones::{Layout, Scaling, shift_to_interior};
-use super::iterate::{Vars, dot};
+use super::iterate::Vars;
 use super::kkt::{Blocks, FactorPlan, Kkt, Pattern, Rhs, Step};
 use super::measures::{Info, Tolerances, convergence, info};
 use super::profile::{self, Dims, Kernel, Timer};
@@ -222,7 +222,7 @@ impl<'a, const C: usize> Solver<'a, C> {
             per_point: sh.m_p,
             nonneg: sh.nonneg.len(),
             soc: sh.soc.is_some(),
-            tail: sh.tail(),
+            tail: sh.tail_rows(),
         };
         let minus_q: Vec<f64> = (0..n).map(|j| -sh.q_at(j)).collect();
         let newton = Newton {
@@ -356,16 +356,18 @@ impl<'a, const C: usize> Solver<'a, C> {
             return false;
         }
         let (zeros_n, zeros_e, zeros_g) = (vec![0.0; n], vec![0.0; me], vec![0.0; mg]);
+        let mut b_g = vec![0.0; mg];
+        sh.b_g_into(&mut b_g);
         let (v, sc, minus_q) = (&mut self.v, &self.sc, &self.minus_q);
         if sh.p.iter().any(|p| *p != 0.0) {
-            let rhs = Rhs { x: minus_q, eq: &sh.b_e, ineq: &zeros_g };
+            let rhs = Rhs { x: minus_q, eq: &sh.b_e, ineq: &b_g };
             self.kkt.solve(sh, sc, rhs, Step { x: &mut v.x, eq: &mut v.ze, ineq: &mut v.z }, true);
             for i in 0..mg {
                 v.s[i] = -v.z[i];
             }
         } else {
             let mut tmp_e = vec![0.0; me];
-            let rhs = Rhs { x: &zeros_n, eq: &sh.b_e, ineq: &zeros_g };
+            let rhs = Rhs { x: &zeros_n, eq: &sh.b_e, ineq: &b_g };
             self.kkt.solve(sh, sc, rhs, Step { x: &mut v.x, eq: &mut tmp_e, ineq: &mut v.s }, true);
             v.s.iter_mut().for_each(|s| *s = -*s);
             let mut xt = vec![0.0; n];
@@ -411,11 +413,11 @@ impl<'a, const C: usize> Solver<'a, C> {
         if !self.kkt.factor(sh, &self.sc) {
             return Err(SolverStatus::NumericalError);
         }
-        // Constant part of the step: K [x2; z2] = [−q; b; 0] (r_G's buffer is free until the
-        // Newton solves below fill it).
-        let Newton { c2, rhs_ineq: zeros_g, .. } = &mut self.newton;
-        zeros_g.fill(0.0);
-        let rhs = Rhs { x: &self.minus_q, eq: &sh.b_e, ineq: zeros_g };
+        // Constant part of the step: K [x2; z2] = [−q; b_E; b_G] (r_G's buffer is free until
+        // the Newton solves below fill it).
+        let Newton { c2, rhs_ineq: b_g, .. } = &mut self.newton;
+        sh.b_g_into(b_g);
+        let rhs = Rhs { x: &self.minus_q, eq: &sh.b_e, ineq: b_g };
         if !self.kkt.solve(sh, &self.sc, rhs, c2.step(), true) {
             return Err(SolverStatus::NumericalError);
         }
@@ -546,8 +548,8 @@ fn newton<const C: usize>(
         return false;
     }
     let (c1, c2, xi) = (&w.c1, &w.c2, &w.xi);
-    let b_z = |ze: &[f64]| dot(&sh.b_e, ze);
-    let num = rhs.r_tau - rhs.r_kappa / v.tau + sh.q_dot(&c1.x) + b_z(&c1.eq) + 2.0 * sh.p_quad(xi, &c1.x);
+    let num =
+        rhs.r_tau - rhs.r_kappa / v.tau + sh.q_dot(&c1.x) + sh.b_dot(&c1.eq, &c1.ineq) + 2.0 * sh.p_quad(xi, &c1.x);
     let mut quad = 0.0;
     for p in 0..sh.points() {
         for k in 0..C {
@@ -556,7 +558,7 @@ fn newton<const C: usize>(
             quad += sh.p[k] * (d * d - c2.x[j] * c2.x[j]);
         }
     }
-    let den = v.kappa / v.tau - sh.q_dot(&c2.x) - b_z(&c2.eq) + quad;
+    let den = v.kappa / v.tau - sh.q_dot(&c2.x) - sh.b_dot(&c2.eq, &c2.ineq) + quad;
     let dtau = num / den;
     for j in 0..n {
         out.x[j] = c1.x[j] + dtau * c2.x[j];
