@@ -23,8 +23,8 @@ pub struct InfillArgs {
     pub solver: SolverOptions,
     /// Every free block's density bounds, kg/m³ (e.g. `150,600`); default: from a quarter of
     /// each block's density to its density.
-    #[arg(long, value_delimiter = ',', num_args = 2, value_names = ["LO", "HI"])]
-    pub density_range: Option<Vec<f64>>,
+    #[arg(long, value_name = "LO,HI", value_parser = density_range)]
+    pub density_range: Option<(f64, f64)>,
     /// `stand`: the lightest densities that stand; `robust`: those that carry the largest
     /// horizontal load (the scene's live loads when it has some).
     #[arg(long, value_enum, default_value = "stand")]
@@ -64,7 +64,7 @@ pub fn run(args: &InfillArgs) -> Result<i32, BadInput> {
     let name = scene_name(Some(&args.scene)).to_string();
     let scene = load(Some(&args.scene))?;
     let settings = InfillSettings {
-        range: args.density_range.as_ref().map(|r| (r[0], r[1])),
+        range: args.density_range,
         objective: match args.objective {
             Objective::Stand => InfillObjective::Stand,
             Objective::Robust => InfillObjective::Robust,
@@ -140,4 +140,11 @@ pub fn text(r: &InfillReport) -> String {
     }
     s += &format!("  {} density problems in {:.2} s\n", r.solves, r.seconds);
     s
+}
+
+/// `LO,HI` as two numbers (their bounds are checked with the other settings).
+fn density_range(text: &str) -> Result<(f64, f64), String> {
+    text.split_once(',')
+        .and_then(|(lo, hi)| Some((lo.trim().parse::<f64>().ok()?, hi.trim().parse::<f64>().ok()?)))
+        .ok_or_else(|| format!("expected LO,HI in kg/m³, e.g. 150,600 (got {text:?})"))
 }

@@ -733,3 +733,36 @@ fn settle_reports_the_turn_of_a_tilting_support() {
     assert!((at - 0.8f64.atan().to_degrees()).abs() < 0.1, "{at}° against 38.66°: {text}");
     assert_eq!(o.status.code(), Some(1), "{text}");
 }
+
+/// Invariant: `infill --density-range LO,HI` (the README's form) writes the lightest standing
+/// design and its report: the overhang of tests/it/infill.rs (a plank held down by a tail,
+/// the lever rule's ratio 2) gets the plank at 150 and the tail at 300 kg/m³ (1e-6), exit 0,
+/// and `analyze` of the written design stands; a range that is not two numbers exits 2
+/// naming the option and the form.
+#[test]
+fn infill_writes_the_lightest_standing_design() {
+    let scene = tmp("overhang.json");
+    let blocks = [
+        box_json("support", [-1.0, 0.0, -1.0], [0.0, 1.0, 0.0], true),
+        box_json("plank", [-0.8, 0.0, 0.0], [1.2, 1.0, 0.2], false),
+        box_json("tail", [-0.8, 0.0, 0.2], [0.0, 1.0, 0.325], false),
+    ];
+    std::fs::write(&scene, format!(r#"{{"blocks":[{}]}}"#, blocks.join(","))).unwrap();
+    let (design, report) = (tmp("overhang_infilled.json"), tmp("overhang_infill_report.json"));
+    let (s, d, r) = (scene.to_str().unwrap(), design.to_str().unwrap(), report.to_str().unwrap());
+    let out = voussoir(&["infill", s, "--density-range", "150,600", "-o", d, "--json", r]);
+    assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stderr));
+    let v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
+    let after = |name: &str| {
+        let blocks = v["blocks"].as_array().expect("blocks");
+        blocks.iter().find(|b| b["block"] == name).expect("a block")["after"].as_f64().unwrap()
+    };
+    assert!((after("plank") - 150.0).abs() < 150.0 * 1e-6, "plank {}", after("plank"));
+    assert!((after("tail") - 300.0).abs() < 300.0 * 1e-6, "tail {}", after("tail"));
+    let out = voussoir(&["analyze", d]);
+    assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stdout));
+    let out = voussoir(&["infill", s, "--density-range", "150", "-o", d]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("--density-range") && err.contains("LO,HI"), "{err}");
+}
