@@ -2,6 +2,7 @@
 //! that chose them: docs/benchmarks.md); the field docs say what a setting means.
 
 use crate::model::FrictionModel;
+use crate::statics::Backend;
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
@@ -98,6 +99,10 @@ pub struct ExactSettings {
     /// Vertices within this fraction of the median block size of the ground, or reaching it
     /// within two steps, are ground contacts of the step.
     pub envelope: f64,
+    /// The interior-point solver of the step problems: the structured one (each contact a
+    /// force point, the bodies' rows reduced as in the statics) wherever a step has its shape,
+    /// else clarabel; `Clarabel` runs every step on clarabel (to cross-check).
+    pub backend: Backend,
 }
 
 impl Default for ExactSettings {
@@ -116,6 +121,7 @@ impl Default for ExactSettings {
             // Far above a hinge's O(dt² ω² r) overlap per step, far below a falling block's speed.
             recovery_speed: 0.1,
             envelope: 0.02,
+            backend: Backend::default(),
         }
     }
 }

@@ -163,10 +163,11 @@ pub fn side_by_side(analysis: &Analysis, d: &DropResult) -> String {
 fn exact_engine(e: &crate::dynamics::ExactStats) -> String {
     let b = &e.energy;
     let mut o = format!(
-        "  exact contacts ({} Coulomb, {}): {} solves, {} iterations, up to {} round(s) a step{}{}; {:?}, residual {:.1e} N\n",
+        "  exact contacts ({} Coulomb, {}): {} solves ({} on the structured solver), {} iterations, up to {} round(s) a step{}{}; {:?}, residual {:.1e} N\n",
         e.coulomb,
         e.friction_model,
         e.solves,
+        e.structured_solves,
         e.iterations,
         e.max_rounds,
         if e.unsettled_steps > 0 { format!(" ({} steps unsettled)", e.unsettled_steps) } else { String::new() },

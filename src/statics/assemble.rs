@@ -401,16 +401,7 @@ fn contact_geometry(
             let Body::Block(id) = body else { return None };
             let &block = local.get(&id)?;
             let arm: Vector3 = o - assembly.block(id).mass.centroid.coords / l;
-            let mut psi = [[0.0; 6]; 6];
-            for (c, col) in cols.iter().enumerate() {
-                let m = arm.cross(col);
-                for r in 0..3 {
-                    psi[r][c] = sign * col[r];
-                    psi[3 + r][c] = sign * m[r];
-                    psi[3 + r][3 + c] = sign * col[r];
-                }
-            }
-            Some(Side { block, psi })
+            Some(Side::new(block, cols.map(|c| [c.x, c.y, c.z]), [arm.x, arm.y, arm.z], sign))
         };
         contacts.push(Contact { points: start..rho.len(), sides: [side(itf.a, -1.0), side(itf.b, 1.0)] });
     }
@@ -513,6 +504,9 @@ pub fn contact_problem<'a>(sys: &'a System, stage: Stage, settings: &StaticsSett
         factor: None,
         threads,
         crushing,
-        densities: Vec::new(),
+        columns: Vec::new(),
+        rows: None,
+        point_q: Vec::new(),
+        point_b: Vec::new(),
     }
 }

@@ -28,7 +28,7 @@ use super::assemble::{PINNED_TENSION, Stage, System, contact_problem};
 use super::backend::{self, Backend, QpOutcome, solve_conic};
 use super::components::Component;
 use super::load_factor::{Motion, motions};
-use super::problem::{Accuracy, Cone, ConicProblem, ContactProblem, DensityColumn, SolverStatus, Strength};
+use super::problem::{Accuracy, BlockColumn, Cone, ConicProblem, ContactProblem, SolverStatus, Strength};
 use super::settings::StaticsSettings;
 use super::stages::LP_TOLERANCE;
 use crate::geometry::{Point3, Vector3};
@@ -177,17 +177,18 @@ fn stage_problem<'s>(
 }
 
 /// The density variables of one loading (non-dimensional bounds, linear cost).
-fn density_columns(
-    cells: &[DensityCell],
-    loading: &Loading,
-    bounds: &[(f64, f64)],
-    cost: &[f64],
-) -> Vec<DensityColumn> {
+fn density_columns(cells: &[DensityCell], loading: &Loading, bounds: &[(f64, f64)], cost: &[f64]) -> Vec<BlockColumn> {
     cells
         .iter()
         .zip(&loading.columns)
         .zip(bounds.iter().zip(cost))
-        .map(|((cell, &column), (&(lo, hi), &cost))| DensityColumn { block: cell.block, column, cost, lo, hi })
+        .map(|((cell, &column), (&(lo, hi), &cost))| BlockColumn {
+            block: cell.block,
+            column,
+            p: 0.0,
+            cost,
+            bounds: Some((lo, hi)),
+        })
         .collect()
 }
 
@@ -199,14 +200,14 @@ fn solve_dead(
     stage: Stage,
     settings: &StaticsSettings,
     length_scale: f64,
-    columns: Vec<DensityColumn>,
+    columns: Vec<BlockColumn>,
     dead: &Loading,
 ) -> (QpOutcome, Vec<f64>) {
     sys.geometry.rhs.clone_from(&dead.rhs);
     let mut cp = stage_problem(sys, stage, settings, length_scale);
-    cp.densities = columns;
+    cp.columns = columns;
     let out = backend::run(&cp, settings.backend, accuracy(settings), settings.max_iterations);
-    let rho = backend::densities(&cp, &out).to_vec();
+    let rho = backend::block_columns(&cp, &out).to_vec();
     (out, rho)
 }
 

@@ -79,7 +79,10 @@ pub use error::StaticsError;
 pub use infill::{DensityCell, DensityGoal, DensityOutcome, LiveCase, component_densities};
 pub use load_factor::{FactorOutcome, Motion, component_load_factor, failure_mechanism, standing_load_factor};
 pub use mechanism::{BlockMotion, InterfaceMotion, JointState, Mechanism};
-pub use problem::{Accuracy, Cone, ConicProblem, DensityColumn, FrictionModel, SolverStatus, StressBlock};
+pub use problem::{Accuracy, BlockColumn, Cone, ConicProblem, FrictionModel, SolverStatus, StressBlock};
+// The contact form, for the exact-contact engine's steps on the structured solver.
+pub(crate) use backend::run as solve_contact_problem;
+pub(crate) use problem::{Contact, ContactProblem, Geometry, PointRows, Side, Var};
 pub(crate) use problem::{StrengthColumn, stress_block, stress_block_cones};
 pub use rate::{KinematicSettings, RateOutcome, RateState, rate_problem};
 pub use result::{CrushingReport, InterfaceResult, SolverReport, StaticsResult, VertexForce};

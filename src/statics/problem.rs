@@ -125,6 +125,25 @@ pub struct Side {
 impl Side {
     /// `out += Ψ w`: a wrench about the interface origin (in its frame) added to the block's
     /// six rows `out`.
+    /// The side of `block` for an interface with axes `frame` (n, u, v; world components) whose
+    /// origin is at `arm` from the block's centroid: `sign` −1 for side a, +1 for b.
+    pub fn new(block: usize, frame: [[f64; 3]; 3], arm: [f64; 3], sign: f64) -> Self {
+        let mut psi = [[0.0; 6]; 6];
+        for (c, col) in frame.iter().enumerate() {
+            let m = [
+                arm[1] * col[2] - arm[2] * col[1],
+                arm[2] * col[0] - arm[0] * col[2],
+                arm[0] * col[1] - arm[1] * col[0],
+            ];
+            for r in 0..3 {
+                psi[r][c] = sign * col[r];
+                psi[3 + r][c] = sign * m[r];
+                psi[3 + r][3 + c] = sign * col[r];
+            }
+        }
+        Self { block, psi }
+    }
+
     pub fn add_wrench(&self, w: &[f64; 6], out: &mut [f64]) {
         for (o, row) in out[..6].iter_mut().zip(&self.psi) {
             let mut s = 0.0;
@@ -216,19 +235,28 @@ pub struct ContactProblem<'a> {
     pub threads: usize,
     /// The crushing rows, when the material has a compressive strength.
     pub crushing: Option<Crushing<'a>>,
-    /// Density variables ([`super::infill`]), after λ: each loads one block's rows.
-    pub densities: Vec<DensityColumn>,
+    /// Variables after λ that each enter one block's rows only: the densities of
+    /// [`super::infill`], the momentum residual of the exact-contact engine's step.
+    pub columns: Vec<BlockColumn>,
+    /// The points' rows, when not the stage's ([`Self::point_rows`]): the engine's contacts.
+    pub rows: Option<PointRows>,
+    /// Per point, its variables' linear costs (C each, point-major), when they are not all `q`.
+    pub point_q: Vec<f64>,
+    /// Per point, the right-hand side of its rows (non-negative first, then the cone's; point-
+    /// major), when not all zero.
+    pub point_b: Vec<f64>,
 }
 
-/// A density variable ρ, lo ≤ ρ ≤ hi: its load per unit ρ in its block's six rows (added to
-/// the equilibrium's left side, as a force column is) and its linear cost.
+/// A variable that enters one block's six rows only (`column`: its entries there, added to the
+/// equilibrium's left side as a force column is), with weights ½ p x² + cost x and optional
+/// bounds lo ≤ x ≤ hi.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct DensityColumn {
+pub struct BlockColumn {
     pub block: usize,
     pub column: [f64; 6],
+    pub p: f64,
     pub cost: f64,
-    pub lo: f64,
-    pub hi: f64,
+    pub bounds: Option<(f64, f64)>,
 }
 
 /// The column of a load factor λ in the block rows, its cost in the objective, and whether
@@ -391,6 +419,9 @@ impl ContactProblem<'_> {
 
     /// The rows of the module docs, for this stage's variables and friction model.
     pub fn point_rows(&self) -> PointRows {
+        if let Some(rows) = &self.rows {
+            return rows.clone();
+        }
         let c = self.per_point();
         let unit = |var: Var, value: f64| -> Option<Vec<f64>> {
             self.index(var).map(|k| {
@@ -455,7 +486,7 @@ impl ContactProblem<'_> {
     /// The same problem for a general conic solver (clarabel): rows in the order zero cone
     /// (block rows), non-negative cone (every point's rows, then the budgets, λ ≥ 0 and each
     /// density's two bounds), then one second-order cone per point. Columns: the points', λ,
-    /// the densities, then the crushing cones' own.
+    /// the block columns, then the crushing cones' own.
     pub fn to_conic(&self) -> ConicProblem {
         let g = self.geometry;
         let c = self.per_point();
@@ -474,11 +505,13 @@ impl ContactProblem<'_> {
         let mut cones = vec![Cone::Zero(b.len())];
         let start = b.len();
         let rows = self.point_rows();
+        let m_p = rows.count();
+        let rhs = |p: usize, r: usize| self.point_b.get(p * m_p + r).copied().unwrap_or(0.0);
         for p in 0..np {
-            for r in &rows.nonneg {
+            for (r, g) in rows.nonneg.iter().enumerate() {
                 let row = b.len();
-                a.extend(r.iter().enumerate().filter(|e| *e.1 != 0.0).map(|(k, &v)| (row, p * c + k, v)));
-                b.push(0.0);
+                a.extend(g.iter().enumerate().filter(|e| *e.1 != 0.0).map(|(k, &v)| (row, p * c + k, v)));
+                b.push(rhs(p, r));
             }
         }
         for budget in &self.budgets {
@@ -496,32 +529,35 @@ impl ContactProblem<'_> {
                 b.push(0.0);
             }
         }
-        let first_density = lambda + usize::from(self.factor.is_some());
-        for (j, d) in self.densities.iter().enumerate() {
-            let col = first_density + j;
+        let first_column = lambda + usize::from(self.factor.is_some());
+        for (j, d) in self.columns.iter().enumerate() {
+            let col = first_column + j;
             a.extend((0..6).filter(|&k| d.column[k] != 0.0).map(|k| (6 * d.block + k, col, d.column[k])));
-            a.extend([(b.len(), col, -1.0), (b.len() + 1, col, 1.0)]);
-            b.extend([-d.lo, d.hi]);
+            if let Some((lo, hi)) = d.bounds {
+                a.extend([(b.len(), col, -1.0), (b.len() + 1, col, 1.0)]);
+                b.extend([-lo, hi]);
+            }
         }
         cones.push(Cone::Nonnegative(b.len() - start));
         if let Some(soc) = &rows.soc {
+            let nn = rows.nonneg.len();
             for p in 0..np {
-                for r in soc {
+                for (r, g) in soc.iter().enumerate() {
                     let row = b.len();
-                    a.extend(r.iter().enumerate().filter(|e| *e.1 != 0.0).map(|(k, &v)| (row, p * c + k, v)));
-                    b.push(0.0);
+                    a.extend(g.iter().enumerate().filter(|e| *e.1 != 0.0).map(|(k, &v)| (row, p * c + k, v)));
+                    b.push(rhs(p, nn + r));
                 }
                 cones.push(Cone::SecondOrder(3));
             }
         }
         let mut p_diag: Vec<f64> = (0..n).map(|j| self.p[j % c]).collect();
-        let mut q: Vec<f64> = (0..n).map(|j| self.q[j % c]).collect();
+        let mut q: Vec<f64> = (0..n).map(|j| self.point_q.get(j).copied().unwrap_or(self.q[j % c])).collect();
         if let Some(f) = &self.factor {
             p_diag.push(0.0);
             q.push(f.cost);
         }
-        p_diag.extend(std::iter::repeat_n(0.0, self.densities.len()));
-        q.extend(self.densities.iter().map(|d| d.cost));
+        p_diag.extend(self.columns.iter().map(|d| d.p));
+        q.extend(self.columns.iter().map(|d| d.cost));
         let mut conic = ConicProblem { n: p_diag.len(), p_diag, q, a, b, cones };
         if let Some(crushing) = &self.crushing {
             self.crushing_rows(crushing, &mut conic);

@@ -45,6 +45,7 @@
 //! same trajectory (the same solves in the same order).
 
 mod bodies;
+mod contact_form;
 mod contacts;
 mod crushing;
 mod problem;
@@ -93,6 +94,8 @@ pub struct ExactStats {
     /// Interior-point solves, their iterations, and the most rounds of a step.
     pub solves: u64,
     pub iterations: u64,
+    /// Of the solves, those on the structured solver (the rest on clarabel).
+    pub structured_solves: u64,
     pub max_rounds: u32,
     /// Steps of a component whose capacities did not settle within the round limit.
     pub unsettled_steps: u64,
@@ -185,6 +188,7 @@ impl World {
             friction_model: s.friction_model,
             solves: 0,
             iterations: 0,
+            structured_solves: 0,
             max_rounds: 0,
             unsettled_steps: 0,
             failed_steps: 0,

@@ -46,15 +46,15 @@ pub(super) struct Active {
 
 /// Where the variables sit: each contact's normal force and its friction pair (when it has
 /// friction this round), then 6 residual columns per body (force, then moment).
-struct Columns {
-    normal: Vec<usize>,
-    friction: Vec<Option<(usize, usize)>>,
-    residual: usize,
+pub(super) struct Columns {
+    pub normal: Vec<usize>,
+    pub friction: Vec<Option<(usize, usize)>>,
+    pub residual: usize,
 }
 
 pub(super) struct StepProblem {
     pub conic: ConicProblem,
-    cols: Columns,
+    pub cols: Columns,
 }
 
 /// A capacity below this fraction of the largest is none (a cone of radius ~0 leaves the
@@ -120,8 +120,13 @@ pub(super) fn build(
     StepProblem { conic: p, cols }
 }
 
+/// The capacity below which a contact has no friction columns.
+pub(super) fn capacity_floor(active: &[Active]) -> f64 {
+    active.iter().fold(0.0f64, |m, a| m.max(a.capacity)) * CAPACITY_FLOOR
+}
+
 fn columns(ctx: &StepContext, active: &[Active]) -> Columns {
-    let floor = active.iter().fold(0.0f64, |m, a| m.max(a.capacity)) * CAPACITY_FLOOR;
+    let floor = capacity_floor(active);
     let mut n = 0;
     let mut normal = Vec::with_capacity(active.len());
     let mut friction = Vec::with_capacity(active.len());

@@ -1,12 +1,22 @@
 //! One component's step: the rounds of solves, then its new velocities, forces and account.
 
 use super::World;
+use super::contact_form::{self, StepData};
 use super::crushing::{self, Crush};
-use super::problem::{self, Active, Solution};
+use super::problem::{self, Active, Solution, StepProblem};
 use crate::dynamics::settings::Coulomb;
 use crate::geometry::Vector3;
-use crate::statics::{ConicOutcome, ConicProblem, SolverStatus, solve_conic};
+use crate::statics::{Backend, ConicOutcome, SolverStatus, solve_conic};
 use std::collections::BTreeSet;
+
+/// The component a solve is for, and which of its active contacts take part.
+#[derive(Clone, Copy)]
+struct Part<'a> {
+    comp: &'a [usize],
+    local: &'a [usize],
+    active: &'a [Active],
+    taking_part: &'a [bool],
+}
 
 /// Gaps (fraction of the median block size) beyond which an open contact is left out of the
 /// force selection.
@@ -37,7 +47,10 @@ impl World {
             rounds += 1;
             let crush = self.ctx.strength.map(|sigma| Crush { bearings: &self.bearings, sigma, bound: &bound });
             let p = problem::build(&self.ctx, &self.bodies, comp, &local, &self.contacts, &active, crush.as_ref());
-            let Some(out) = self.solve(&p.conic) else { break None };
+            let all = vec![true; active.len()];
+            let Some(out) = self.solve(&p, Part { comp, local: &local, active: &active, taking_part: &all }) else {
+                break None;
+            };
             let sol = p.read(&self.ctx, &self.bodies, comp, &active, &out.x);
             let rest = self.peak_speed(comp, &sol) <= self.settings.still * self.ctx.units.g * self.ctx.h;
             if rest || !exact {
@@ -50,7 +63,9 @@ impl World {
             let mut selection = p;
             selection.select_forces(&out.x, &open);
             // Without the selection the round's own forces stand (its velocities are the step's).
-            let Some(forces) = self.solve(&selection.conic) else { break Some((sol, false)) };
+            let closed: Vec<bool> = open.iter().map(|o| !o).collect();
+            let part = Part { comp, local: &local, active: &active, taking_part: &closed };
+            let Some(forces) = self.solve(&selection, part) else { break Some((sol, false)) };
             let sol = selection.read_selected(&self.ctx, &self.bodies, comp, &active, &out.x, &forces.x);
             let next = capacities(&sol.normal, mu, self.settings.solver_tolerance);
             // Against the mean capacity per point at the least: capacities of ~0 that merely
@@ -87,9 +102,28 @@ impl World {
         crushing::binding(&self.bearings, sigma, &self.contacts, normals, OPEN * self.size, bound)
     }
 
-    /// One solve, counted in the run's account; `None` when it did not reach an answer.
-    fn solve(&mut self, conic: &ConicProblem) -> Option<ConicOutcome> {
-        let out = solve_conic(conic, self.acc, self.settings.max_iterations);
+    /// One solve of `p` — in the contact form on the structured solver when it has that shape
+    /// and the settings ask for it, else on clarabel — counted in the run's account; `None`
+    /// when it did not reach an answer.
+    fn solve(&mut self, p: &StepProblem, part: Part) -> Option<ConicOutcome> {
+        let (conic, max_iter) = (&p.conic, self.settings.max_iterations);
+        let structured = (self.settings.backend == Backend::Structured)
+            .then(|| {
+                let data = StepData {
+                    ctx: &self.ctx,
+                    bodies: &self.bodies,
+                    comp: part.comp,
+                    local: part.local,
+                    contacts: &self.contacts,
+                    active: part.active,
+                    cols: &p.cols,
+                    taking_part: part.taking_part,
+                };
+                contact_form::solve(&data, conic, self.acc, max_iter)
+            })
+            .flatten();
+        self.stats.structured_solves += u64::from(structured.is_some());
+        let out = structured.unwrap_or_else(|| solve_conic(conic, self.acc, max_iter));
         self.stats.solves += 1;
         self.stats.iterations += u64::from(out.iterations);
         self.stats.status = self.stats.status.max(out.status);

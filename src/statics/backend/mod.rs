@@ -53,10 +53,10 @@ pub fn run_warm(
     (clarabel::solve(cp, acc, max_iter), None)
 }
 
-/// `cp`'s densities in `out.x`: after the points' variables, the budgets' slacks (the
+/// `cp`'s block columns in `out.x`: after the points' variables, the budgets' slacks (the
 /// structured solver's own columns; clarabel takes a budget as an inequality row) and λ.
-pub fn densities<'o>(cp: &ContactProblem, out: &'o QpOutcome) -> &'o [f64] {
+pub fn block_columns<'o>(cp: &ContactProblem, out: &'o QpOutcome) -> &'o [f64] {
     let slacks = if out.backend == Backend::Structured { cp.budgets.len() } else { 0 };
     let at = cp.geometry.points() * cp.per_point() + slacks + usize::from(cp.factor.is_some());
-    out.x.get(at..at + cp.densities.len()).unwrap_or(&[])
+    out.x.get(at..at + cp.columns.len()).unwrap_or(&[])
 }

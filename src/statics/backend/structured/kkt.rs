@@ -24,9 +24,10 @@
 //! `Lᵀ z_E + H_λ x_λ = r̃x_λ` give `x_λ = (r̃x_λ − Lᵀy) / (Lᵀw + H_λ)`, `z_E = y + w x_λ` —
 //! no division by a vanishing H_λ.
 //!
-//! A density ρ_j (its column c_j in one block's six rows, two bound rows) is eliminated like a
-//! point's variables: H_j = ε + Σ Hs⁻¹ over its rows, and S's diagonal block of that block
-//! gains c_j c_jᵀ / H_j — no new fill.
+//! A block column y_j (its entries c_j in one block's six rows, its weight p_j, two bound rows
+//! or none: a density, the engine's momentum residual) is eliminated like a point's variables:
+//! H_j = p_j + ε + Σ Hs⁻¹ over its rows, and S's diagonal block of that block gains
+//! c_j c_jᵀ / H_j — no new fill.
 
 use super::block_cholesky::{BlockFactor, BlockSymbolic};
 use super::cones::Scaling;
@@ -193,9 +194,9 @@ pub struct Kkt<const C: usize> {
     y: Vec<[[f64; 3]; 3]>,
     /// H_σ⁻¹ per budget slack.
     hinv_sigma: Vec<f64>,
-    /// H_ρ⁻¹ per density, and its r̃x in the current solve.
-    hinv_rho: Vec<f64>,
-    rt_rho: Vec<f64>,
+    /// H⁻¹ per block column, and its r̃x in the current solve.
+    hinv_col: Vec<f64>,
+    rt_col: Vec<f64>,
     /// With a load factor: its part of the bordered solves.
     factor: Option<LoadFactor>,
     slots: Vec<Option<ContactSlots>>,
@@ -433,8 +434,8 @@ impl<const C: usize> Kkt<C> {
             chol: vec![[[0.0; C]; C]; sh.points()],
             y: vec![[[0.0; 3]; 3]; sh.points()],
             hinv_sigma: vec![0.0; nk],
-            hinv_rho: vec![0.0; sh.densities.len()],
-            rt_rho: vec![0.0; sh.densities.len()],
+            hinv_col: vec![0.0; sh.columns.len()],
+            rt_col: vec![0.0; sh.columns.len()],
             factor: None,
             slots,
             m_e,
@@ -495,7 +496,7 @@ impl<const C: usize> Kkt<C> {
             self.add_contact(sh, ci, &contact.sides, &k6, &v);
         }
         self.add_budgets(sh, sc, &mut bb);
-        self.add_densities(sh, sc);
+        self.add_columns(sh, sc);
         drop(form);
         let _factor = Timer::start(Kernel::FactorS);
         self.factor_numeric() && self.load_factor_update(sh, sc)
@@ -639,12 +640,12 @@ impl<const C: usize> Kkt<C> {
         }
     }
 
-    /// Each density's c c_ᵀ / H_ρ into its block's diagonal block (module docs).
-    fn add_densities(&mut self, sh: &Shape<C>, sc: &Scaling) {
-        for (j, d) in sh.densities.iter().enumerate() {
-            let row = sh.density_row(j);
-            let hinv = 1.0 / (EPS + sc.dinv[row] + sc.dinv[row + 1]);
-            self.hinv_rho[j] = hinv;
+    /// Each block column's c cᵀ / H into its block's diagonal block (module docs).
+    fn add_columns(&mut self, sh: &Shape<C>, sc: &Scaling) {
+        for (j, (d, row)) in sh.columns.iter().zip(&sh.column_rows).enumerate() {
+            let barrier = row.map_or(0.0, |r| sc.dinv[r] + sc.dinv[r + 1]);
+            let hinv = 1.0 / (d.p + EPS + barrier);
+            self.hinv_col[j] = hinv;
             let mut m = [[0.0f64; 6]; 6];
             for r in 0..6 {
                 for c in 0..=r {
@@ -702,7 +703,7 @@ impl<const C: usize> Kkt<C> {
         let _back = Timer::start(Kernel::BackSubstitute);
         self.back_substitute(sh, sc, rhs, out);
         self.budget_slacks(sh, sc, rhs, &rt_sigma, out);
-        self.densities(sh, sc, rhs, out);
+        self.block_columns(sh, sc, rhs, out);
     }
 
     /// S's right side E H⁻¹ r̃x − r_E into `rhs_s`, with r̃x = r_x + Gᵀ Hs⁻¹ r_G kept per point
@@ -736,13 +737,13 @@ impl<const C: usize> Kkt<C> {
             rt_sigma[kb] = rhs.x[np * C + kb] - rhs.ineq[i] * sc.dinv[i];
             self.rhs_s[6 * nb + kb] += self.hinv_sigma[kb] * rt_sigma[kb];
         }
-        for (j, d) in sh.densities.iter().enumerate() {
-            let row = sh.density_row(j);
+        for (j, (d, row)) in sh.columns.iter().zip(&sh.column_rows).enumerate() {
             // Its G rows are −1 (lower bound) and +1 (upper).
-            let rt = rhs.x[sh.density0() + j] - rhs.ineq[row] * sc.dinv[row] + rhs.ineq[row + 1] * sc.dinv[row + 1];
-            self.rt_rho[j] = rt;
+            let rx = rhs.x[sh.column0() + j];
+            let rt = row.map_or(rx, |r| rx - rhs.ineq[r] * sc.dinv[r] + rhs.ineq[r + 1] * sc.dinv[r + 1]);
+            self.rt_col[j] = rt;
             for k in 0..6 {
-                self.rhs_s[6 * d.block + k] += d.column[k] * self.hinv_rho[j] * rt;
+                self.rhs_s[6 * d.block + k] += d.column[k] * self.hinv_col[j] * rt;
             }
         }
         rt_sigma
@@ -787,15 +788,17 @@ impl<const C: usize> Kkt<C> {
         }
     }
 
-    /// The densities' x = H_ρ⁻¹ (r̃x_ρ − cᵀ z_E) and their rows' z_G.
-    fn densities(&self, sh: &Shape<C>, sc: &Scaling, rhs: Rhs, out: &mut Step) {
-        for (j, d) in sh.densities.iter().enumerate() {
-            let (row, ze) = (sh.density_row(j), &out.eq[6 * d.block..6 * d.block + 6]);
+    /// The block columns' x = H⁻¹ (r̃x − cᵀ z_E) and their bound rows' z_G.
+    fn block_columns(&self, sh: &Shape<C>, sc: &Scaling, rhs: Rhs, out: &mut Step) {
+        for (j, (d, row)) in sh.columns.iter().zip(&sh.column_rows).enumerate() {
+            let ze = &out.eq[6 * d.block..6 * d.block + 6];
             let cz: f64 = (0..6).map(|k| d.column[k] * ze[k]).sum();
-            let x = self.hinv_rho[j] * (self.rt_rho[j] - cz);
-            out.x[sh.density0() + j] = x;
-            out.ineq[row] = (-x - rhs.ineq[row]) * sc.dinv[row];
-            out.ineq[row + 1] = (x - rhs.ineq[row + 1]) * sc.dinv[row + 1];
+            let x = self.hinv_col[j] * (self.rt_col[j] - cz);
+            out.x[sh.column0() + j] = x;
+            if let Some(r) = *row {
+                out.ineq[r] = (-x - rhs.ineq[r]) * sc.dinv[r];
+                out.ineq[r + 1] = (x - rhs.ineq[r + 1]) * sc.dinv[r + 1];
+            }
         }
     }
 

@@ -85,10 +85,15 @@ pub(super) fn info<const C: usize>(sh: &Shape<C>, v: &Vars, info: &mut Info, wor
     for (i, r) in info.re.iter_mut().enumerate() {
         *r = ex[i] - v.tau * sh.b_e[i];
     }
-    // The tail's inequality rows are the only ones with a right-hand side.
+    // Only the tail's rows and the points' own (`b_points`) have a right-hand side.
     let row0 = sh.tail_row0();
     for (g, b) in gx[row0..].iter_mut().zip(&sh.b_tail) {
         *g -= v.tau * b;
+    }
+    if let Some(bp) = sh.b_points {
+        for (g, b) in gx[..row0].iter_mut().zip(bp) {
+            *g -= v.tau * b;
+        }
     }
     // gx is scratch, rewritten whole by the next A x: swapped, not copied.
     std::mem::swap(&mut info.rg, gx);

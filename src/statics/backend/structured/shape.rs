@@ -2,15 +2,16 @@
 //! the products with its constraint matrix A = [E; G].
 //!
 //! Vector layouts: x = [the points' variables (point-major), one σ per budget, the load factor
-//! λ if any, the densities ρ]; the equality rows [6 per block, one per budget]; the inequality
-//! rows [each point's rows (non-negative first, then its second-order cone), one `−σ ≤ 0` per
-//! budget, `−λ ≤ 0`, per density `−ρ ≤ −lo` and `ρ ≤ hi`]. λ's column is the live load in the
-//! block rows, a density's its block's load per unit ρ. Only the densities' rows have a
-//! non-zero right-hand side among the inequality rows.
+//! λ if any, the block columns y]; the equality rows [6 per block, one per budget]; the
+//! inequality rows [each point's rows (non-negative first, then its second-order cone), one
+//! `−σ ≤ 0` per budget, `−λ ≤ 0`, per bounded block column `−y ≤ −lo` and `y ≤ hi`]. λ's column
+//! is the live load in the block rows, a block column's its entries in its block's rows. The
+//! inequality rows' right-hand side is zero but for the block columns' bounds and the points'
+//! own (`point_b`: the exact-contact engine's friction capacities).
 
 use super::cones::Scaling;
 use super::iterate::{dot, norm_inf};
-use crate::statics::problem::{Contact, ContactProblem, DensityColumn, motion_at, wrench};
+use crate::statics::problem::{BlockColumn, Contact, ContactProblem, motion_at, wrench};
 
 pub struct Shape<'a, const C: usize> {
     pub blocks: usize,
@@ -23,6 +24,10 @@ pub struct Shape<'a, const C: usize> {
     pub fmap: [[f64; C]; 3],
     pub p: [f64; C],
     pub q: [f64; C],
+    /// Per point its own linear costs, when not all `q` (np × C).
+    pub q_points: Option<&'a [f64]>,
+    /// Per point the right-hand side of its rows, when not all zero (np × m_p).
+    pub b_points: Option<&'a [f64]>,
     /// Column (within a point) of each budget's variable.
     pub budget_vars: Vec<usize>,
     /// Inequality rows per point.
@@ -31,7 +36,9 @@ pub struct Shape<'a, const C: usize> {
     pub b_e: Vec<f64>,
     /// The load factor's column in the block rows and its cost.
     pub factor: Option<(&'a [f64], f64)>,
-    pub densities: &'a [DensityColumn],
+    pub columns: &'a [BlockColumn],
+    /// The inequality row of each block column's lower bound (its upper bound's is the next).
+    pub column_rows: Vec<Option<usize>>,
     /// Right-hand side of the tail's inequality rows (from [`Self::tail_row0`]).
     pub b_tail: Vec<f64>,
 }
@@ -62,10 +69,21 @@ impl<'a, const C: usize> Shape<'a, C> {
         if cp.crushing.is_some() {
             return None;
         }
+        let m_p = rows.count();
+        if !(cp.point_q.is_empty() || cp.point_q.len() == g.points() * C)
+            || !(cp.point_b.is_empty() || cp.point_b.len() == g.points() * m_p)
+        {
+            return None;
+        }
         let mut b_e = g.rhs.clone();
         b_e.extend(cp.budgets.iter().map(|b| b.limit));
         let mut b_tail = vec![0.0; budget_vars.len() + usize::from(cp.factor.is_some())];
-        b_tail.extend(cp.densities.iter().flat_map(|d| [-d.lo, d.hi]));
+        let row0 = g.points() * m_p;
+        let mut column_rows = Vec::with_capacity(cp.columns.len());
+        for c in &cp.columns {
+            column_rows.push(c.bounds.map(|_| row0 + b_tail.len()));
+            b_tail.extend(c.bounds.iter().flat_map(|&(lo, hi)| [-lo, hi]));
+        }
         Some(Self {
             blocks: g.blocks,
             contacts: &g.contacts,
@@ -75,11 +93,14 @@ impl<'a, const C: usize> Shape<'a, C> {
             fmap: [fixed(&fm[0]), fixed(&fm[1]), fixed(&fm[2])],
             p: fixed(&cp.p),
             q: fixed(&cp.q),
+            q_points: (!cp.point_q.is_empty()).then_some(cp.point_q.as_slice()),
+            b_points: (!cp.point_b.is_empty()).then_some(cp.point_b.as_slice()),
             budget_vars,
-            m_p: rows.count(),
+            m_p,
             b_e,
             factor: cp.factor.as_ref().map(|f| (f.column.as_slice(), f.cost)),
-            densities: &cp.densities,
+            columns: &cp.columns,
+            column_rows,
             b_tail,
         })
     }
@@ -92,12 +113,12 @@ impl<'a, const C: usize> Shape<'a, C> {
         self.budget_vars.len()
     }
 
-    /// The scalar variables after the points': the budgets' slacks, λ, the densities.
+    /// The scalar variables after the points': the budgets' slacks, λ, the block columns.
     pub fn tail(&self) -> usize {
-        self.budgets() + self.factor.is_some() as usize + self.densities.len()
+        self.budgets() + self.factor.is_some() as usize + self.columns.len()
     }
 
-    /// The inequality rows after the points': one per slack and λ, two per density.
+    /// The inequality rows after the points': one per slack and λ, two per bounded column.
     pub fn tail_rows(&self) -> usize {
         self.b_tail.len()
     }
@@ -116,42 +137,48 @@ impl<'a, const C: usize> Shape<'a, C> {
         self.points() * C + self.budgets()
     }
 
-    /// Index of the first density in x.
-    pub fn density0(&self) -> usize {
+    /// Index of the first block column in x.
+    pub fn column0(&self) -> usize {
         self.lambda() + self.factor.is_some() as usize
     }
 
-    /// Inequality row of density `j`'s lower bound (its upper bound's is the next).
-    pub fn density_row(&self, j: usize) -> usize {
-        self.tail_row0() + self.density0() - self.points() * C + 2 * j
+    /// Whether P has any non-zero entry.
+    pub fn quadratic(&self) -> bool {
+        self.p.iter().any(|p| *p != 0.0) || self.columns.iter().any(|c| c.p != 0.0)
     }
 
     /// The linear cost of variable `j`.
     pub fn q_at(&self, j: usize) -> f64 {
         let np = self.points() * C;
         match (j < np, self.factor) {
-            (true, _) => self.q[j % C],
+            (true, _) => self.q_points.map_or(self.q[j % C], |q| q[j]),
             (false, Some((_, cost))) if j == self.lambda() => cost,
-            _ if j >= self.density0() => self.densities[j - self.density0()].cost,
+            _ if j >= self.column0() => self.columns[j - self.column0()].cost,
             _ => 0.0,
         }
     }
 
     /// bᵀz over the equality and inequality rows.
     pub fn b_dot(&self, ze: &[f64], zg: &[f64]) -> f64 {
-        dot(&self.b_e, ze) + dot(&self.b_tail, &zg[self.tail_row0()..])
+        let row0 = self.tail_row0();
+        let points = self.b_points.map_or(0.0, |b| dot(b, &zg[..row0]));
+        dot(&self.b_e, ze) + dot(&self.b_tail, &zg[row0..]) + points
     }
 
     /// b_G, the inequality rows' right-hand side, into `out`.
     pub fn b_g_into(&self, out: &mut [f64]) {
         let row0 = self.tail_row0();
-        out[..row0].fill(0.0);
+        match self.b_points {
+            Some(b) => out[..row0].copy_from_slice(b),
+            None => out[..row0].fill(0.0),
+        }
         out[row0..].copy_from_slice(&self.b_tail);
     }
 
     /// ‖b‖_∞ over both row blocks.
     pub fn norm_b(&self) -> f64 {
-        norm_inf(&self.b_e).max(norm_inf(&self.b_tail))
+        let points = self.b_points.map_or(0.0, norm_inf);
+        norm_inf(&self.b_e).max(norm_inf(&self.b_tail)).max(points)
     }
 
     pub fn m_e(&self) -> usize {
@@ -192,13 +219,15 @@ impl<'a, const C: usize> Shape<'a, C> {
             out_e.iter_mut().zip(column).for_each(|(e, c)| *e += c * xl);
             out_g[np * mp + self.budgets()] = -xl;
         }
-        for (j, d) in self.densities.iter().enumerate() {
-            let (xr, row) = (x[self.density0() + j], self.density_row(j));
+        for (d, (j, row)) in self.columns.iter().zip(self.column_rows.iter().enumerate()) {
+            let xr = x[self.column0() + j];
             for k in 0..6 {
                 out_e[6 * d.block + k] += d.column[k] * xr;
             }
-            out_g[row] = -xr;
-            out_g[row + 1] = xr;
+            if let Some(row) = *row {
+                out_g[row] = -xr;
+                out_g[row + 1] = xr;
+            }
         }
     }
 
@@ -256,14 +285,18 @@ impl<'a, const C: usize> Shape<'a, C> {
             let lz: f64 = column.iter().zip(ze).map(|(c, z)| c * z).sum();
             out[self.lambda()] = lz - zg[np * mp + self.budgets()];
         }
-        for (j, d) in self.densities.iter().enumerate() {
-            let row = self.density_row(j);
+        for (d, (j, row)) in self.columns.iter().zip(self.column_rows.iter().enumerate()) {
             let cz: f64 = (0..6).map(|k| d.column[k] * ze[6 * d.block + k]).sum();
-            out[self.density0() + j] = cz - zg[row] + zg[row + 1];
+            out[self.column0() + j] = cz + row.map_or(0.0, |r| zg[r + 1] - zg[r]);
         }
     }
 
-    /// `P x` (σ has no quadratic term).
+    /// The block columns' part of x.
+    fn column_x<'x>(&self, x: &'x [f64]) -> &'x [f64] {
+        &x[self.column0()..self.column0() + self.columns.len()]
+    }
+
+    /// `P x` (σ and λ have no quadratic term).
     pub fn p_mul(&self, x: &[f64], out: &mut [f64]) {
         let np = self.points();
         for p in 0..np {
@@ -274,27 +307,35 @@ impl<'a, const C: usize> Shape<'a, C> {
         for v in out[np * C..].iter_mut() {
             *v = 0.0;
         }
+        let c0 = self.column0();
+        for (j, (c, x)) in self.columns.iter().zip(self.column_x(x)).enumerate() {
+            out[c0 + j] = c.p * x;
+        }
     }
 
     /// `qᵀ x`.
     pub fn q_dot(&self, x: &[f64]) -> f64 {
         let mut s = 0.0;
-        for p in 0..self.points() {
-            for k in 0..C {
-                s += self.q[k] * x[p * C + k];
+        match self.q_points {
+            Some(q) => s += dot(q, &x[..q.len()]),
+            None => {
+                for p in 0..self.points() {
+                    for k in 0..C {
+                        s += self.q[k] * x[p * C + k];
+                    }
+                }
             }
         }
         if let Some((_, cost)) = self.factor {
             s += cost * x[self.lambda()];
         }
-        let x_rho = &x[self.density0()..self.density0() + self.densities.len()];
-        s + self.densities.iter().zip(x_rho).map(|(d, x)| d.cost * x).sum::<f64>()
+        s + self.columns.iter().zip(self.column_x(x)).map(|(d, x)| d.cost * x).sum::<f64>()
     }
 
     /// ‖q‖_∞.
     pub fn norm_q(&self) -> f64 {
-        let points = self.q.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-        let costs = self.densities.iter().fold(points, |m, d| m.max(d.cost.abs()));
+        let points = self.q_points.map_or_else(|| self.q.iter().fold(0.0f64, |m, v| m.max(v.abs())), norm_inf);
+        let costs = self.columns.iter().fold(points, |m, d| m.max(d.cost.abs()));
         self.factor.map_or(costs, |(_, cost)| costs.max(cost.abs()))
     }
 
@@ -306,7 +347,8 @@ impl<'a, const C: usize> Shape<'a, C> {
                 s += self.p[k] * x[p * C + k] * y[p * C + k];
             }
         }
-        s
+        let (c0, n) = (self.column0(), self.columns.len());
+        s + self.columns.iter().zip(&x[c0..c0 + n]).zip(&y[c0..c0 + n]).map(|((c, x), y)| c.p * x * y).sum::<f64>()
     }
 
     /// The unregularised KKT matrix times [x; z_E; z_G] (module docs of the kkt): E x, G x −
@@ -356,6 +398,12 @@ impl<'a, const C: usize> Shape<'a, C> {
             }
         }
         self.tail_transposed(ze, zg, out_x);
+        if kkt.is_some() {
+            let c0 = self.column0();
+            for (j, (c, x)) in self.columns.iter().zip(self.column_x(x)).enumerate() {
+                out_x[c0 + j] += c.p * x;
+            }
+        }
     }
 
     /// One point's Eᵀz_E + Gᵀz_G into `out` (`u`: its contact's block rows seen in the

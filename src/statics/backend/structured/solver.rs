@@ -359,7 +359,7 @@ impl<'a, const C: usize> Solver<'a, C> {
         let mut b_g = vec![0.0; mg];
         sh.b_g_into(&mut b_g);
         let (v, sc, minus_q) = (&mut self.v, &self.sc, &self.minus_q);
-        if sh.p.iter().any(|p| *p != 0.0) {
+        if sh.quadratic() {
             let rhs = Rhs { x: minus_q, eq: &sh.b_e, ineq: &b_g };
             self.kkt.solve(sh, sc, rhs, Step { x: &mut v.x, eq: &mut v.ze, ineq: &mut v.z }, true);
             for i in 0..mg {
@@ -557,6 +557,11 @@ fn newton<const C: usize>(
             let d = xi[j] - c2.x[j];
             quad += sh.p[k] * (d * d - c2.x[j] * c2.x[j]);
         }
+    }
+    for (i, c) in sh.columns.iter().enumerate() {
+        let j = sh.column0() + i;
+        let d = xi[j] - c2.x[j];
+        quad += c.p * (d * d - c2.x[j] * c2.x[j]);
     }
     let den = v.kappa / v.tau - sh.q_dot(&c2.x) - sh.b_dot(&c2.eq, &c2.ineq) + quad;
     let dtau = num / den;

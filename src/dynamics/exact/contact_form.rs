@@ -1,0 +1,195 @@
+//! A step's problem in the statics' contact form, for the structured interior-point solver:
+//! each active contact one force point in its own frame (at the frame's origin), the momentum
+//! residual r as block columns (each enters one body's six rows), the friction capacities as
+//! the points' own right-hand side. The same rows, columns, weights and costs as the general
+//! conic problem of [`super::problem::build`], read from it; the answer is written back in its
+//! column layout. Where some contacts have friction columns and some not (a capacity below
+//! the floor), the latter get them here with the floor's capacity — friction of 1e-9 of the
+//! largest capacity, below every tolerance — so every point has the same variables; their
+//! friction is dropped in the answer. Crushing cones stay on clarabel, and so does a solve the
+//! structured solver ends short of an answer.
+
+use super::bodies::Body;
+use super::contacts::{Contact, Side as ContactSide};
+use super::problem::{Active, Columns, StepContext, capacity_floor};
+use crate::dynamics::settings::Coulomb;
+use crate::model::FrictionModel;
+use crate::statics::{
+    Accuracy, Backend, BlockColumn, ConicOutcome, ConicProblem, Contact as Points, ContactProblem, Geometry, PointRows,
+    Side, SolverStatus, Var, solve_contact_problem,
+};
+
+/// What the contact form needs beside the conic problem: the step's bodies and contacts, and
+/// which active contacts take part (the force selection leaves the open ones out).
+pub(super) struct StepData<'a> {
+    pub ctx: &'a StepContext,
+    pub bodies: &'a [Body],
+    pub comp: &'a [usize],
+    pub local: &'a [usize],
+    pub contacts: &'a [Contact],
+    pub active: &'a [Active],
+    pub cols: &'a Columns,
+    pub taking_part: &'a [bool],
+}
+
+/// Solves `conic` (built from `data`) on the structured solver; `None` when its shape is not
+/// the contact form's (the caller then runs clarabel).
+pub(super) fn solve(data: &StepData, conic: &ConicProblem, acc: Accuracy, max_iter: u32) -> Option<ConicOutcome> {
+    let t = std::time::Instant::now();
+    let points: Vec<usize> = (0..data.active.len()).filter(|&i| data.taking_part[i]).collect();
+    let per_point = per_point(data, conic, &points)?;
+    let geometry = geometry(data, conic, &points);
+    let rows = point_rows(data.ctx, per_point);
+    let mut cp = ContactProblem {
+        geometry: &geometry,
+        vars: [Var::CnPos, Var::Cu, Var::Cv][..per_point].to_vec(),
+        model: data.ctx.model,
+        mu: data.ctx.mu,
+        p: Vec::new(),
+        q: vec![0.0; per_point],
+        budgets: Vec::new(),
+        factor: None,
+        threads: 1,
+        crushing: None,
+        columns: residual_columns(data, conic),
+        rows: None,
+        point_q: Vec::new(),
+        point_b: point_b(data, &points, &rows),
+    };
+    cp.p = uniform_weights(data, conic, &points, per_point)?;
+    let q = |c: Option<usize>| c.map_or(0.0, |c| conic.q[c]);
+    cp.point_q = points.iter().flat_map(|&i| point_columns(data, i, per_point).map(q)).collect();
+    cp.rows = Some(rows);
+    let out = solve_contact_problem(&cp, Backend::Structured, acc, max_iter);
+    // A solve that ends short of an answer is run again on clarabel (the caller's).
+    let answered = matches!(out.status, SolverStatus::Solved | SolverStatus::AlmostSolved);
+    if out.backend != Backend::Structured || !answered {
+        return None;
+    }
+    let mut x = vec![0.0; conic.n];
+    for (j, &i) in points.iter().enumerate() {
+        for (k, c) in point_columns(data, i, per_point).enumerate() {
+            if let Some(c) = c {
+                x[c] = out.x[j * per_point + k];
+            }
+        }
+    }
+    let first = points.len() * per_point;
+    x[data.cols.residual..].copy_from_slice(&out.x[first..first + conic.n - data.cols.residual]);
+    Some(ConicOutcome {
+        status: out.status,
+        x,
+        z: Vec::new(),
+        objective: out.objective,
+        iterations: out.iterations,
+        convert_seconds: 0.0,
+        solver_seconds: t.elapsed().as_secs_f64(),
+    })
+}
+
+/// The variables of every taking-part contact: 3 when any has friction columns, else 1;
+/// `None` when the conic problem has columns beyond the residual's (the crushing cones'), or
+/// no point takes part.
+fn per_point(data: &StepData, conic: &ConicProblem, points: &[usize]) -> Option<usize> {
+    if points.is_empty() || conic.n != data.cols.residual + 6 * data.comp.len() {
+        return None;
+    }
+    let with = points.iter().filter(|&&i| data.cols.friction[i].is_some()).count();
+    Some(if with > 0 { 3 } else { 1 })
+}
+
+/// Contact `i`'s columns in the conic problem: its normal force, then its friction pair (None
+/// when it has none there).
+fn point_columns(data: &StepData, i: usize, per_point: usize) -> impl Iterator<Item = Option<usize>> {
+    let n = data.cols.normal[i];
+    let (u, v) = data.cols.friction[i].unzip();
+    [Some(n), u, v].into_iter().take(per_point)
+}
+
+/// The block rows' right-hand side, and each taking-part contact as one point at its frame's
+/// origin with a side per free body.
+fn geometry(data: &StepData, conic: &ConicProblem, points: &[usize]) -> Geometry {
+    let length = data.ctx.units.length;
+    let blocks = data.comp.len();
+    let contacts = points
+        .iter()
+        .enumerate()
+        .map(|(j, &i)| {
+            let act = &data.active[i];
+            let frame = act.geometry.frame.map(|d| [d.x, d.y, d.z]);
+            let c = &data.contacts[act.contact];
+            let side = |s: ContactSide, sign: f64| match s {
+                ContactSide::Free(k) => {
+                    let arm = (act.geometry.point - data.bodies[k].x) / length;
+                    Some(Side::new(data.local[k], frame, [arm.x, arm.y, arm.z], sign))
+                }
+                _ => None,
+            };
+            Points { points: j..j + 1, sides: [side(c.a, -1.0), side(c.b, 1.0)] }
+        })
+        .collect();
+    Geometry { blocks, rhs: conic.b[..6 * blocks].to_vec(), contacts, rho: vec![[0.0; 3]; points.len()] }
+}
+
+/// Every point's rows (the general problem's friction rows): f_n ≥ 0, then the friction set —
+/// the round's capacity c (facets du f_u + dv f_v ≤ s c, or ‖(f_u, f_v)‖ ≤ c: the capacity in
+/// the right-hand side) or the relaxed coupling with μ f_n.
+fn point_rows(ctx: &StepContext, per_point: usize) -> PointRows {
+    let mut nonneg = vec![[-1.0, 0.0, 0.0][..per_point].to_vec()];
+    if per_point == 1 {
+        return PointRows { nonneg, soc: None };
+    }
+    let mu = if ctx.coulomb == Coulomb::Relaxed { ctx.mu } else { 0.0 };
+    nonneg.extend(ctx.model.facets().iter().map(|&(du, dv, s)| vec![-s * mu, du, dv]));
+    let soc =
+        (ctx.model == FrictionModel::Cone).then(|| [vec![-mu, 0.0, 0.0], vec![0.0, -1.0, 0.0], vec![0.0, 0.0, -1.0]]);
+    PointRows { nonneg, soc }
+}
+
+/// The points' rows' right-hand side: the exact round's capacities (zero when relaxed).
+fn point_b(data: &StepData, points: &[usize], rows: &PointRows) -> Vec<f64> {
+    let frictionless = rows.nonneg.len() == 1 && rows.soc.is_none();
+    if frictionless || data.ctx.coulomb == Coulomb::Relaxed {
+        return Vec::new();
+    }
+    let facets = data.ctx.model.facets();
+    let floor = capacity_floor(data.active);
+    points
+        .iter()
+        .flat_map(|&i| {
+            let c = if data.cols.friction[i].is_some() { data.active[i].capacity } else { floor };
+            let soc = rows.soc.as_ref().map(|_| [c, 0.0, 0.0]);
+            std::iter::once(0.0).chain(facets.iter().map(move |&(_, _, s)| s * c)).chain(soc.into_iter().flatten())
+        })
+        .collect()
+}
+
+/// The quadratic weight of each of a point's variables, the same at every point (else `None`;
+/// friction columns the conic problem lacks take their normal's).
+fn uniform_weights(data: &StepData, conic: &ConicProblem, points: &[usize], per_point: usize) -> Option<Vec<f64>> {
+    let weights = |i: usize| {
+        let normal = conic.p_diag[data.cols.normal[i]];
+        point_columns(data, i, per_point).map(move |c| c.map_or(normal, |c| conic.p_diag[c]))
+    };
+    let first: Vec<f64> = weights(points[0]).collect();
+    points.iter().all(|&i| weights(i).eq(first.iter().copied())).then_some(first)
+}
+
+/// The momentum residual's columns: each one body's, with its entries in that body's rows.
+fn residual_columns(data: &StepData, conic: &ConicProblem) -> Vec<BlockColumn> {
+    let start = data.cols.residual;
+    let mut columns: Vec<BlockColumn> = (0..conic.n - start)
+        .map(|j| BlockColumn {
+            block: j / 6,
+            column: [0.0; 6],
+            p: conic.p_diag[start + j],
+            cost: conic.q[start + j],
+            bounds: None,
+        })
+        .collect();
+    for &(row, col, v) in conic.a.iter().filter(|e| e.1 >= start && e.0 < 6 * data.comp.len()) {
+        let c = &mut columns[col - start];
+        c.column[row - 6 * c.block] += v;
+    }
+    columns
+}
