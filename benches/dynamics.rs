@@ -1,7 +1,8 @@
 //! The drop test: 2 s simulated at the default dt (1/240 s) for a 15-voussoir arch and a
 //! 10 × 10 running-bond wall on both engines; the goal of issue #7: the Armadillo (399 bodies),
 //! 10 s simulated (2400 steps) on rapier, and 2 s on both engines; and the exact engine on a
-//! collapsing arch (t/R 0.08, 2 s: every step solved). The cost per body-step is the median /
+//! collapsing arch (t/R 0.08, 2 s: every step solved), its steps on the structured solver and on
+//! clarabel. The cost per body-step is the median /
 //! (steps × bodies).
 
 use criterion::{Criterion, criterion_group, criterion_main};
@@ -9,6 +10,7 @@ use std::hint::black_box;
 use std::time::Duration;
 use voussoir::dynamics::{DropSettings, Engine, drop_test};
 use voussoir::model::{Assembly, builtin};
+use voussoir::statics::Backend;
 
 fn drops(c: &mut Criterion) {
     let mut g = c.benchmark_group("dynamics/drop_2s");
@@ -25,6 +27,12 @@ fn drops(c: &mut Criterion) {
     }
     let asm = Assembly::new(&builtin("arch?n=15&t=0.08").unwrap(), &Default::default()).unwrap();
     g.bench_function("exact/collapsing arch?n=15&t=0.08", |b| b.iter(|| black_box(drop_test(&asm, &exact).unwrap())));
+    // The same steps on clarabel (every step problem as a general conic problem): the ratio.
+    let mut on_clarabel = exact.clone();
+    on_clarabel.exact.backend = Backend::Clarabel;
+    g.bench_function("exact_clarabel/collapsing arch?n=15&t=0.08", |b| {
+        b.iter(|| black_box(drop_test(&asm, &on_clarabel).unwrap()))
+    });
     g.finish();
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/compas/compas_cra/armadillo_cra.json");
     let mut scene = voussoir::io::load_scene(&path).unwrap();

@@ -29,6 +29,10 @@ fn quasi_static(c: &mut Criterion) {
     let mut g = c.benchmark_group("settle");
     g.sample_size(10).measurement_time(Duration::from_secs(60));
     g.bench_function("arch15_spread_quasi_static", |b| b.iter(|| black_box(settle(&arch, &spread, &only).unwrap())));
+    let on_clarabel = SettleSettings { backend: voussoir::statics::Backend::Clarabel, ..only.clone() };
+    g.bench_function("arch15_spread_quasi_static_clarabel", |b| {
+        b.iter(|| black_box(settle(&arch, &spread, &on_clarabel).unwrap()))
+    });
     let mut block = voussoir::model::builtin("stack?n=1&a=0.5").unwrap();
     block.material.friction = 0.8;
     let block = analyze(&block, &AnalysisSettings::default()).unwrap();

@@ -139,7 +139,7 @@ pub fn run(args: &AnalyzeArgs) -> Result<i32, BadInput> {
         println!("  {live} live load(s) not applied: `voussoir robustness` gives their load factor");
     }
     let dynamic = if args.dynamic {
-        let settings = args.drop.settings(args.solver.mu, args.solver.friction_model);
+        let settings = args.drop.settings(args.solver.mu, args.solver.friction_model, args.solver.solver);
         let d = if args.frames.is_some() || args.strip.is_some() {
             let (d, motion) = crate::dynamics::record(&analysis.assembly, &settings, FRAMES_PER_SECOND)
                 .map_err(|e| BadInput(e.to_string()))?;

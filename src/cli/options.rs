@@ -24,8 +24,9 @@ pub struct SolverOptions {
         default_value_t = StaticsSettings::default().friction_model
     )]
     pub friction_model: FrictionModel,
-    /// Interior-point solver: structured (the Newton system reduced to the equilibrium rows) or
-    /// clarabel (its general LDL), to cross-check.
+    /// Interior-point solver of the statics and of the exact engine's steps: structured (the
+    /// Newton system reduced to the equilibrium rows) or clarabel (its general LDL), to
+    /// cross-check.
     #[arg(long, value_enum, value_parser = Choice::<Backend>::new(), default_value_t = StaticsSettings::default().backend)]
     pub solver: Backend,
     /// Friction coefficient μ (default: the scene's).
@@ -88,10 +89,10 @@ pub struct DropOptions {
 
 impl DropOptions {
     /// The drop-test settings: the library's defaults with these options, the friction
-    /// coefficient `friction` (`--mu`, the same as the statics'; `None`: the scene's) and the
-    /// statics' friction model (the exact engine's contacts take it).
-    pub fn settings(&self, friction: Option<f64>, friction_model: FrictionModel) -> DropSettings {
-        let exact = ExactSettings { coulomb: self.coulomb, friction_model, ..Default::default() };
+    /// coefficient `friction` (`--mu`, the same as the statics'; `None`: the scene's), and the
+    /// statics' friction model and solver (the exact engine's contacts and steps take them).
+    pub fn settings(&self, friction: Option<f64>, friction_model: FrictionModel, backend: Backend) -> DropSettings {
+        let exact = ExactSettings { coulomb: self.coulomb, friction_model, backend, ..Default::default() };
         DropSettings {
             engine: self.engine,
             exact,

@@ -69,7 +69,9 @@ pub fn run(args: &SequenceArgs) -> Result<i32, BadInput> {
     };
     let settings = args.solver.settings();
     let per_step = StepChecks {
-        dynamic: args.dynamic.then(|| args.drop.settings(args.solver.mu, args.solver.friction_model)),
+        dynamic: args
+            .dynamic
+            .then(|| args.drop.settings(args.solver.mu, args.solver.friction_model, args.solver.solver)),
         kinematic: args.kinematic.then(Default::default),
     };
     let search_settings = SearchSettings { max_checks: args.max_checks, ..Default::default() };

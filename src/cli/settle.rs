@@ -69,6 +69,7 @@ pub fn run(args: &SettleArgs) -> Result<i32, BadInput> {
         strength: args.solver.strength,
         engines: !args.quasi_static,
         speed: args.speed,
+        backend: args.solver.solver,
         ..Default::default()
     };
     let result = settle(&analysis, &scene.movements, &settings).map_err(|e| BadInput(format!("{name}: {e}")))?;

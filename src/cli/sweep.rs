@@ -123,7 +123,7 @@ pub fn run(args: &SweepArgs) -> Result<i32, BadInput> {
     if range.0.partial_cmp(&range.1) != Some(std::cmp::Ordering::Less) {
         return Err(BadInput(format!("--lo {} must be below --hi {}", range.0, range.1)));
     }
-    let drop = args.drop.settings(None, FrictionModel::default());
+    let drop = args.drop.settings(None, FrictionModel::default(), Default::default());
     let engines = if args.both_engines { vec![Engine::Rapier, Engine::Exact] } else { vec![drop.engine] };
     let bar = indicatif::ProgressBar::new((1 + engines.len() as u64) * (args.iterations as u64 + 2));
     bar.set_message(format!("sweeping {name}"));

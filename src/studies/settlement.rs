@@ -21,12 +21,12 @@
 //! size. Units SI, z up; rotations of the paths in degrees (input) about the support's centroid.
 
 use crate::dynamics::exact::World;
-use crate::dynamics::{DropSettings, Engine, Stepper, SupportPath, Trajectory};
+use crate::dynamics::{DropSettings, Engine, ExactSettings, Stepper, SupportPath, Trajectory};
 use crate::geometry::Vector3;
 use crate::interfaces::Interface;
 use crate::model::{Assembly, Movement};
 use crate::pipeline::Analysis;
-use crate::statics::{JointState, SolverStatus};
+use crate::statics::{Backend, JointState, SolverStatus};
 use serde::Serialize;
 use thiserror::Error;
 
@@ -55,6 +55,8 @@ pub struct SettleSettings {
     pub speed: f64,
     /// A block faster than this fraction of √(g × block size) has collapsed (engines' runs).
     pub collapse_speed: f64,
+    /// The interior-point solver of the exact engine's steps (the quasi-static run's too).
+    pub backend: Backend,
 }
 
 impl Default for SettleSettings {
@@ -70,6 +72,7 @@ impl Default for SettleSettings {
             // Slow against a block's fall (√(g size)) and its collapse threshold: quasi-static.
             speed: 0.01,
             collapse_speed: 0.2,
+            backend: Backend::default(),
         }
     }
 }
@@ -332,6 +335,7 @@ fn engine_settings(settings: &SettleSettings, engine: Engine) -> DropSettings {
         friction: settings.friction,
         strength: settings.strength,
         perturbation: 0.0,
+        exact: ExactSettings { backend: settings.backend, ..Default::default() },
         ..Default::default()
     }
 }

@@ -440,7 +440,10 @@ fn the_options_default_to_the_librarys_settings() {
     use voussoir::cli::{AnalyzeArgs, Cli, Command as Cmd};
     let args = AnalyzeArgs::defaults();
     assert_eq!(args.solver.settings(), voussoir::pipeline::AnalysisSettings::default());
-    assert_eq!(args.drop.settings(None, Default::default()), voussoir::dynamics::DropSettings::default());
+    assert_eq!(
+        args.drop.settings(None, Default::default(), Default::default()),
+        voussoir::dynamics::DropSettings::default()
+    );
     let Ok(Cli { command: Some(Cmd::Analyze(parsed)) }) = Cli::try_parse_from(["voussoir", "analyze"]) else {
         panic!("analyze parses")
     };

@@ -1,7 +1,7 @@
 //! A step's problem in the statics' contact form, for the structured interior-point solver:
-//! each active contact one force point in its own frame (at the frame's origin), the momentum
-//! residual r as block columns (each enters one body's six rows), the friction capacities as
-//! the points' own right-hand side. The same rows, columns, weights and costs as the general
+//! each active contact one force point (an interface's vertices, sharing a frame, one
+//! contact), the momentum residual r as block columns (each enters one body's six rows), the
+//! friction capacities as the points' own right-hand side. The same rows, columns, weights and costs as the general
 //! conic problem of [`super::problem::build`], read from it; the answer is written back in its
 //! column layout. Where some contacts have friction columns and some not (a capacity below
 //! the floor), the latter get them here with the floor's capacity — friction of 1e-9 of the
@@ -18,6 +18,7 @@ use crate::statics::{
     Accuracy, Backend, BlockColumn, ConicOutcome, ConicProblem, Contact as Points, ContactProblem, Geometry, PointRows,
     Side, SolverStatus, Var, solve_contact_problem,
 };
+use nalgebra::{Matrix6, Vector6};
 
 /// What the contact form needs beside the conic problem: the step's bodies and contacts, and
 /// which active contacts take part (the force selection leaves the open ones out).
@@ -37,6 +38,9 @@ pub(super) struct StepData<'a> {
 pub(super) fn solve(data: &StepData, conic: &ConicProblem, acc: Accuracy, max_iter: u32) -> Option<ConicOutcome> {
     let t = std::time::Instant::now();
     let points: Vec<usize> = (0..data.active.len()).filter(|&i| data.taking_part[i]).collect();
+    if points.is_empty() && conic.n == data.cols.residual + 6 * data.comp.len() {
+        return without_contacts(data, conic, t);
+    }
     let per_point = per_point(data, conic, &points)?;
     let geometry = geometry(data, conic, &points);
     let rows = point_rows(data.ctx, per_point);
@@ -87,6 +91,30 @@ pub(super) fn solve(data: &StepData, conic: &ConicProblem, acc: Accuracy, max_it
     })
 }
 
+/// A problem in which no contact takes part (a force selection whose contacts all open): each
+/// body's six rows hold its six residual columns alone, so the residual is their solution
+/// (no solve); the contacts' forces are zero.
+fn without_contacts(data: &StepData, conic: &ConicProblem, t: std::time::Instant) -> Option<ConicOutcome> {
+    let columns = residual_columns(data, conic);
+    let mut x = vec![0.0; conic.n];
+    for (j, body) in columns.chunks(6).enumerate() {
+        let m = Matrix6::from_fn(|r, c| body[c].column[r]);
+        let b = Vector6::from_column_slice(&conic.b[6 * j..6 * j + 6]);
+        let r = m.lu().solve(&b)?;
+        x[data.cols.residual + 6 * j..][..6].copy_from_slice(r.as_slice());
+    }
+    let objective = columns.iter().zip(&x[data.cols.residual..]).map(|(c, r)| 0.5 * c.p * r * r + c.cost * r).sum();
+    Some(ConicOutcome {
+        status: SolverStatus::Solved,
+        x,
+        z: Vec::new(),
+        objective,
+        iterations: 0,
+        convert_seconds: 0.0,
+        solver_seconds: t.elapsed().as_secs_f64(),
+    })
+}
+
 /// The variables of every taking-part contact: 3 when any has friction columns, else 1;
 /// `None` when the conic problem has columns beyond the residual's (the crushing cones'), or
 /// no point takes part.
@@ -106,29 +134,43 @@ fn point_columns(data: &StepData, i: usize, per_point: usize) -> impl Iterator<I
     [Some(n), u, v].into_iter().take(per_point)
 }
 
-/// The block rows' right-hand side, and each taking-part contact as one point at its frame's
-/// origin with a side per free body.
+/// The block rows' right-hand side, and the taking-part contacts as force points: each run of
+/// them with the same two sides and the same frame (an interface's vertices) one contact at
+/// its first point, so that its points are summed in that frame once.
 fn geometry(data: &StepData, conic: &ConicProblem, points: &[usize]) -> Geometry {
     let length = data.ctx.units.length;
     let blocks = data.comp.len();
-    let contacts = points
-        .iter()
-        .enumerate()
-        .map(|(j, &i)| {
-            let act = &data.active[i];
-            let frame = act.geometry.frame.map(|d| [d.x, d.y, d.z]);
-            let c = &data.contacts[act.contact];
+    let mut contacts: Vec<Points> = Vec::new();
+    let mut rho = Vec::with_capacity(points.len());
+    let mut origin = None;
+    for (j, &i) in points.iter().enumerate() {
+        let act = &data.active[i];
+        let c = &data.contacts[act.contact];
+        let frame = act.geometry.frame;
+        let joins = j > 0 && {
+            let prev = &data.active[points[j - 1]];
+            let p = &data.contacts[prev.contact];
+            (p.a, p.b) == (c.a, c.b) && prev.geometry.frame == frame
+        };
+        if !joins {
+            let o = act.geometry.point;
+            let axes = frame.map(|d| [d.x, d.y, d.z]);
             let side = |s: ContactSide, sign: f64| match s {
                 ContactSide::Free(k) => {
-                    let arm = (act.geometry.point - data.bodies[k].x) / length;
-                    Some(Side::new(data.local[k], frame, [arm.x, arm.y, arm.z], sign))
+                    let arm = (o - data.bodies[k].x) / length;
+                    Some(Side::new(data.local[k], axes, [arm.x, arm.y, arm.z], sign))
                 }
                 _ => None,
             };
-            Points { points: j..j + 1, sides: [side(c.a, -1.0), side(c.b, 1.0)] }
-        })
-        .collect();
-    Geometry { blocks, rhs: conic.b[..6 * blocks].to_vec(), contacts, rho: vec![[0.0; 3]; points.len()] }
+            contacts.push(Points { points: j..j, sides: [side(c.a, -1.0), side(c.b, 1.0)] });
+            origin = Some(o);
+        }
+        let o = origin.expect("a contact starts at the run's first point");
+        let d = (act.geometry.point - o) / length;
+        rho.push([frame[0].dot(&d), frame[1].dot(&d), frame[2].dot(&d)]);
+        contacts.last_mut().expect("a contact per run").points.end = j + 1;
+    }
+    Geometry { blocks, rhs: conic.b[..6 * blocks].to_vec(), contacts, rho }
 }
 
 /// Every point's rows (the general problem's friction rows): f_n ≥ 0, then the friction set —

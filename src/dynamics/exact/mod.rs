@@ -94,7 +94,8 @@ pub struct ExactStats {
     /// Interior-point solves, their iterations, and the most rounds of a step.
     pub solves: u64,
     pub iterations: u64,
-    /// Of the solves, those on the structured solver (the rest on clarabel).
+    /// Of the solves, those clarabel did not run: on the structured solver, or in closed form
+    /// (a force selection whose contacts all open).
     pub structured_solves: u64,
     pub max_rounds: u32,
     /// Steps of a component whose capacities did not settle within the round limit.
