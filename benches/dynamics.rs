@@ -1,8 +1,8 @@
 //! The drop test: 2 s simulated at the default dt (1/240 s) for a 15-voussoir arch and a
 //! 10 × 10 running-bond wall on both engines; the goal of issue #7: the Armadillo (399 bodies),
 //! 10 s simulated (2400 steps) on rapier, and 2 s on both engines; and the exact engine on a
-//! collapsing arch (t/R 0.08, 2 s: every step solved), its steps on the structured solver and on
-//! clarabel. The cost per body-step is the median /
+//! collapsing arch (t/R 0.08, 2 s: every step solved), its steps on the structured solver warm-
+//! started and cold, and on clarabel. The cost per body-step is the median /
 //! (steps × bodies).
 
 use criterion::{Criterion, criterion_group, criterion_main};
@@ -27,6 +27,12 @@ fn drops(c: &mut Criterion) {
     }
     let asm = Assembly::new(&builtin("arch?n=15&t=0.08").unwrap(), &Default::default()).unwrap();
     g.bench_function("exact/collapsing arch?n=15&t=0.08", |b| b.iter(|| black_box(drop_test(&asm, &exact).unwrap())));
+    // Each structured solve cold (no kept iterate): the warm starts' share.
+    let mut cold = exact.clone();
+    cold.exact.warm_start = false;
+    g.bench_function("exact_cold/collapsing arch?n=15&t=0.08", |b| {
+        b.iter(|| black_box(drop_test(&asm, &cold).unwrap()))
+    });
     // The same steps on clarabel (every step problem as a general conic problem): the ratio.
     let mut on_clarabel = exact.clone();
     on_clarabel.exact.backend = Backend::Clarabel;

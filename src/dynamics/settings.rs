@@ -99,6 +99,10 @@ pub struct ExactSettings {
     /// Vertices within this fraction of the median block size of the ground, or reaching it
     /// within two steps, are ground contacts of the step.
     pub envelope: f64,
+    /// Start each structured solve from the iterate the component's previous solve of the same
+    /// layout kept (the last step's, or the last round's): the same answers to the solver's
+    /// tolerance in fewer iterations.
+    pub warm_start: bool,
     /// The interior-point solver of the step problems: the structured one (each contact a
     /// force point, the bodies' rows reduced as in the statics) wherever a step has its shape,
     /// else clarabel; `Clarabel` runs every step on clarabel (to cross-check).
@@ -121,6 +125,7 @@ impl Default for ExactSettings {
             // Far above a hinge's O(dt² ω² r) overlap per step, far below a falling block's speed.
             recovery_speed: 0.1,
             envelope: 0.02,
+            warm_start: true,
             backend: Backend::default(),
         }
     }

@@ -16,7 +16,7 @@ use crate::dynamics::settings::Coulomb;
 use crate::model::FrictionModel;
 use crate::statics::{
     Accuracy, Backend, BlockColumn, ConicOutcome, ConicProblem, Contact as Points, ContactProblem, Geometry, PointRows,
-    Side, SolverStatus, Var, solve_contact_problem,
+    Side, SolverStatus, Var, Warm, WarmStart, solve_contact_problem,
 };
 use nalgebra::{Matrix6, Vector6};
 
@@ -33,13 +33,20 @@ pub(super) struct StepData<'a> {
     pub taking_part: &'a [bool],
 }
 
-/// Solves `conic` (built from `data`) on the structured solver; `None` when its shape is not
-/// the contact form's (the caller then runs clarabel).
-pub(super) fn solve(data: &StepData, conic: &ConicProblem, acc: Accuracy, max_iter: u32) -> Option<ConicOutcome> {
+/// Solves `conic` (built from `data`) on the structured solver, from `warm` when given (a
+/// previous solve's iterate of the same layout), and the iterate it keeps for the next;
+/// `None` when its shape is not the contact form's (the caller then runs clarabel).
+pub(super) fn solve(
+    data: &StepData,
+    conic: &ConicProblem,
+    acc: Accuracy,
+    max_iter: u32,
+    warm: Option<&WarmStart>,
+) -> Option<(ConicOutcome, Option<WarmStart>)> {
     let t = std::time::Instant::now();
     let points: Vec<usize> = (0..data.active.len()).filter(|&i| data.taking_part[i]).collect();
     if points.is_empty() && conic.n == data.cols.residual + 6 * data.comp.len() {
-        return without_contacts(data, conic, t);
+        return without_contacts(data, conic, t).map(|out| (out, None));
     }
     let per_point = per_point(data, conic, &points)?;
     let geometry = geometry(data, conic, &points);
@@ -64,7 +71,8 @@ pub(super) fn solve(data: &StepData, conic: &ConicProblem, acc: Accuracy, max_it
     let q = |c: Option<usize>| c.map_or(0.0, |c| conic.q[c]);
     cp.point_q = points.iter().flat_map(|&i| point_columns(data, i, per_point).map(q)).collect();
     cp.rows = Some(rows);
-    let out = solve_contact_problem(&cp, Backend::Structured, acc, max_iter);
+    let warm = warm.map_or(Warm::Keep, Warm::From);
+    let (out, kept) = solve_contact_problem(&cp, Backend::Structured, acc, max_iter, warm);
     // A solve that ends short of an answer is run again on clarabel (the caller's).
     let answered = matches!(out.status, SolverStatus::Solved | SolverStatus::AlmostSolved);
     if out.backend != Backend::Structured || !answered {
@@ -80,7 +88,7 @@ pub(super) fn solve(data: &StepData, conic: &ConicProblem, acc: Accuracy, max_it
     }
     let first = points.len() * per_point;
     x[data.cols.residual..].copy_from_slice(&out.x[first..first + conic.n - data.cols.residual]);
-    Some(ConicOutcome {
+    let out = ConicOutcome {
         status: out.status,
         x,
         z: Vec::new(),
@@ -88,7 +96,8 @@ pub(super) fn solve(data: &StepData, conic: &ConicProblem, acc: Accuracy, max_it
         iterations: out.iterations,
         convert_seconds: 0.0,
         solver_seconds: t.elapsed().as_secs_f64(),
-    })
+    };
+    Some((out, kept))
 }
 
 /// A problem in which no contact takes part (a force selection whose contacts all open): each

@@ -56,11 +56,12 @@ use crate::dynamics::settings::Coulomb;
 use crate::dynamics::{DropSettings, SupportPath};
 use crate::geometry::{Point3, Vector3};
 use crate::model::{Assembly, FrictionModel};
-use crate::statics::{Accuracy, SolverStatus};
+use crate::statics::{Accuracy, SolverStatus, WarmStart};
 use bodies::{Body, Units};
 use contacts::{Contact, Poses, Side};
 use problem::{Active, StepContext};
 use serde::Serialize;
+use std::collections::HashMap;
 
 /// Faces turned further apart than this cosine (60°) no longer make a contact.
 const FACING: f64 = 0.5;
@@ -131,6 +132,9 @@ pub struct World {
     solids: touches::Solids,
     /// Every interface's stress block, when the stone crushes (else none).
     bearings: Vec<crushing::Bearing>,
+    /// The last structured solve's kept iterate per (force selection?, component's first
+    /// body), with its layout ([`step`]'s `layout_key`).
+    warm_starts: HashMap<(bool, usize), (u64, WarmStart)>,
     ctx: StepContext,
     acc: Accuracy,
     settings: crate::dynamics::settings::ExactSettings,
@@ -211,6 +215,7 @@ impl World {
             sides,
             solids,
             bearings,
+            warm_starts: HashMap::new(),
             ctx,
             acc,
             settings: s.clone(),

@@ -9,13 +9,27 @@ use crate::geometry::Vector3;
 use crate::statics::{Backend, ConicOutcome, SolverStatus, solve_conic};
 use std::collections::BTreeSet;
 
-/// The component a solve is for, and which of its active contacts take part.
+/// The component a solve is for, which of its active contacts take part, and whether it is
+/// the force selection.
 #[derive(Clone, Copy)]
 struct Part<'a> {
     comp: &'a [usize],
     local: &'a [usize],
     active: &'a [Active],
     taking_part: &'a [bool],
+    selection: bool,
+}
+
+/// What a kept iterate must share with the next problem to start it: the component's bodies,
+/// its contacts, which take part and which have friction columns.
+fn layout_key(part: &Part, cols: &problem::Columns) -> u64 {
+    use std::hash::{Hash, Hasher};
+    let mut h = std::collections::hash_map::DefaultHasher::new();
+    part.comp.hash(&mut h);
+    part.active.iter().map(|a| a.contact).for_each(|c| c.hash(&mut h));
+    part.taking_part.hash(&mut h);
+    cols.friction.iter().map(Option::is_some).for_each(|f| f.hash(&mut h));
+    h.finish()
 }
 
 /// Gaps (fraction of the median block size) beyond which an open contact is left out of the
@@ -48,7 +62,8 @@ impl World {
             let crush = self.ctx.strength.map(|sigma| Crush { bearings: &self.bearings, sigma, bound: &bound });
             let p = problem::build(&self.ctx, &self.bodies, comp, &local, &self.contacts, &active, crush.as_ref());
             let all = vec![true; active.len()];
-            let Some(out) = self.solve(&p, Part { comp, local: &local, active: &active, taking_part: &all }) else {
+            let part = Part { comp, local: &local, active: &active, taking_part: &all, selection: false };
+            let Some(out) = self.solve(&p, part) else {
                 break None;
             };
             let sol = p.read(&self.ctx, &self.bodies, comp, &active, &out.x);
@@ -64,7 +79,7 @@ impl World {
             selection.select_forces(&out.x, &open);
             // Without the selection the round's own forces stand (its velocities are the step's).
             let closed: Vec<bool> = open.iter().map(|o| !o).collect();
-            let part = Part { comp, local: &local, active: &active, taking_part: &closed };
+            let part = Part { comp, local: &local, active: &active, taking_part: &closed, selection: true };
             let Some(forces) = self.solve(&selection, part) else { break Some((sol, false)) };
             let sol = selection.read_selected(&self.ctx, &self.bodies, comp, &active, &out.x, &forces.x);
             let next = capacities(&sol.normal, mu, self.settings.solver_tolerance);
@@ -107,6 +122,7 @@ impl World {
     /// when it did not reach an answer.
     fn solve(&mut self, p: &StepProblem, part: Part) -> Option<ConicOutcome> {
         let (conic, max_iter) = (&p.conic, self.settings.max_iterations);
+        let (key, layout) = ((part.selection, part.comp[0]), layout_key(&part, &p.cols));
         let structured = (self.settings.backend == Backend::Structured)
             .then(|| {
                 let data = StepData {
@@ -119,9 +135,16 @@ impl World {
                     cols: &p.cols,
                     taking_part: part.taking_part,
                 };
-                contact_form::solve(&data, conic, self.acc, max_iter)
+                let warm = self.warm_starts.get(&key).filter(|w| w.0 == layout && self.settings.warm_start);
+                contact_form::solve(&data, conic, self.acc, max_iter, warm.map(|w| &w.1))
             })
-            .flatten();
+            .flatten()
+            .map(|(out, kept)| {
+                if let Some(kept) = kept {
+                    self.warm_starts.insert(key, (layout, kept));
+                }
+                out
+            });
         self.stats.structured_solves += u64::from(structured.is_some());
         let out = structured.unwrap_or_else(|| solve_conic(conic, self.acc, max_iter));
         self.stats.solves += 1;
