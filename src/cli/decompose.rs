@@ -168,12 +168,17 @@ fn describe(field: &Field) -> String {
         Field::Vertical => "vertical (horizontal beds)".into(),
         Field::Radial { center, axis } => format!(
             "round the axis through ({:.4}, {:.4}, {:.4}) along ({:.3}, {:.3}, {:.3}), fitted to the curved faces (radial beds)",
-            center[0] + 0.0,
-            center[1] + 0.0,
-            center[2] + 0.0,
-            axis[0] + 0.0,
-            axis[1] + 0.0,
-            axis[2] + 0.0
+            shown(center[0], 4),
+            shown(center[1], 4),
+            shown(center[2], 4),
+            shown(axis[0], 3),
+            shown(axis[1], 3),
+            shown(axis[2], 3)
         ),
     }
+}
+
+/// `v` as printed with `places` decimals, without a sign on a value that rounds to zero.
+fn shown(v: f64, places: i32) -> f64 {
+    if v.abs() < 0.5 * 10f64.powi(-places) { 0.0 } else { v }
 }

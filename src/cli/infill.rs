@@ -111,7 +111,7 @@ pub fn text(r: &InfillReport) -> String {
     };
     s += &format!("  verdict before: {}\n", r.verdict_before.words());
     if let Some(l) = r.load_factor {
-        s += &format!("  carries λ = {l:.4} g horizontally (every direction asked)\n");
+        s += &format!("  carries λ = {l:.4} g horizontally (in each direction asked)\n");
     }
     s += &format!("  mass of the free blocks: {:.4} kg → {:.4} kg\n", r.mass_before, r.mass_after);
     let changed: Vec<_> = r.blocks.iter().filter(|b| (b.after - b.before).abs() > 1e-9 * b.before).collect();
