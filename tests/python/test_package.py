@@ -354,6 +354,13 @@ def test_drop_on_the_exact_engine():
         exact = dropped["exact"]
         assert exact["friction_model"] == "cone" and exact["status"] in ("solved", "almost_solved")
         assert exact["energy"]["error"] < 1e-6
+    # Its steps run on the structured solver, or on clarabel with solver="clarabel": the same
+    # verdict.
+    scene = voussoir.Scene.builtin("arch?n=15&t=0.105")
+    runs = {s: voussoir.drop(scene, engine="exact", duration=0.5, solver=s) for s in ("structured", "clarabel")}
+    assert runs["structured"]["exact"]["structured_solves"] == runs["structured"]["exact"]["solves"] > 0
+    assert runs["clarabel"]["exact"]["structured_solves"] == 0
+    assert not runs["structured"]["stands"] and not runs["clarabel"]["stands"]
     with pytest.raises(voussoir.InputError, match="engine: 'soft' is not one of rapier, exact"):
         voussoir.drop(voussoir.Scene.builtin("stack?n=2"), engine="soft")
 

@@ -135,6 +135,7 @@ solve_function! {
             friction: options.mu,
             strength: options.strength,
             engines: !quasi_static,
+            backend: settings.statics.backend,
             ..defaults
         };
         analyzed_json(py, source, &design, &settings, |analysis| {
@@ -201,18 +202,22 @@ solve_function! {
     /// The drop test (`voussoir drop --json`'s `dynamic` part as a dict): the blocks released
     /// under gravity for `duration` s with step `dt` (the library's defaults when None), on
     /// `engine` "rapier" (the default) or "exact" (hard contacts with the statics' friction
-    /// model; its account under "exact": solves, status, overlap, energy balance).
+    /// model and solver; its account under "exact": solves, status, overlap, energy balance).
     pub fn drop<'py>(
         py, scene,
         duration: Option<f64> = None, dt: Option<f64> = None, engine: Option<String> = None,
-        ..options(mu, friction_model, supports, ground, density)
+        ..options(mu, friction_model, solver, supports, ground, density)
     ) -> PyResult<Bound<'py, PyAny>> {
         let (design, settings) = options.apply(scene)?;
         let defaults = DropSettings::default();
         let engine = engine.as_deref().map(|n| crate::settings::choice::<Engine>("engine", n)).transpose()?;
         let drop_settings = DropSettings {
             engine: engine.unwrap_or(defaults.engine),
-            exact: ExactSettings { friction_model: settings.statics.friction_model, ..defaults.exact.clone() },
+            exact: ExactSettings {
+                friction_model: settings.statics.friction_model,
+                backend: settings.statics.backend,
+                ..defaults.exact.clone()
+            },
             duration: duration.unwrap_or(defaults.duration),
             dt: dt.unwrap_or(defaults.dt),
             friction: options.mu,
