@@ -347,11 +347,10 @@ fn certificate(
     let mut sys = System::new(assembly, interfaces, comp, mu, settings.friction_model, true);
     let dead = Loading::new(assembly, comp, &sys, cells, rho_ref, None);
     let bounds: Vec<(f64, f64)> = cells.iter().map(|c| (c.lo / rho_ref, c.hi / rho_ref)).collect();
-    let zero = vec![0.0; bounds.len()];
+    let columns = density_columns(cells, &dead, &bounds, &vec![0.0; bounds.len()]);
     let mut iterations = 0;
     for stage in [Stage::Tension, Stage::FrictionExcess { tension: 0.0, penalty: 0.0 }] {
-        let columns = density_columns(cells, &dead, &bounds, &zero);
-        let (out, _) = solve_dead(&mut sys, stage, settings, assembly.scale, columns, &dead);
+        let (out, _) = solve_dead(&mut sys, stage, settings, assembly.scale, columns.clone(), &dead);
         iterations += out.iterations;
         let solved = matches!(out.status, SolverStatus::Solved | SolverStatus::AlmostSolved);
         if solved && out.objective > PINNED_TENSION {

@@ -123,8 +123,6 @@ pub struct Side {
 }
 
 impl Side {
-    /// `out += Ψ w`: a wrench about the interface origin (in its frame) added to the block's
-    /// six rows `out`.
     /// The side of `block` for an interface with axes `frame` (n, u, v; world components) whose
     /// origin is at `arm` from the block's centroid: `sign` −1 for side a, +1 for b.
     pub fn new(block: usize, frame: [[f64; 3]; 3], arm: [f64; 3], sign: f64) -> Self {
@@ -144,6 +142,8 @@ impl Side {
         Self { block, psi }
     }
 
+    /// `out += Ψ w`: a wrench about the interface origin (in its frame) added to the block's
+    /// six rows `out`.
     pub fn add_wrench(&self, w: &[f64; 6], out: &mut [f64]) {
         for (o, row) in out[..6].iter_mut().zip(&self.psi) {
             let mut s = 0.0;
@@ -485,7 +485,7 @@ impl ContactProblem<'_> {
 
     /// The same problem for a general conic solver (clarabel): rows in the order zero cone
     /// (block rows), non-negative cone (every point's rows, then the budgets, λ ≥ 0 and each
-    /// density's two bounds), then one second-order cone per point. Columns: the points', λ,
+    /// bounded block column's two bounds), then one second-order cone per point. Columns: the points', λ,
     /// the block columns, then the crushing cones' own.
     pub fn to_conic(&self) -> ConicProblem {
         let g = self.geometry;

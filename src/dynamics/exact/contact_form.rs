@@ -1,9 +1,9 @@
 //! A step's problem in the statics' contact form, for the structured interior-point solver:
 //! each active contact one force point (an interface's vertices, sharing a frame, one
 //! contact), the momentum residual r as block columns (each enters one body's six rows), the
-//! friction capacities as the points' own right-hand side. The same rows, columns, weights and costs as the general
-//! conic problem of [`super::problem::build`], read from it; the answer is written back in its
-//! column layout. Where some contacts have friction columns and some not (a capacity below
+//! friction capacities as the points' own right-hand side. The same rows, columns, weights and
+//! costs as the general conic problem of [`super::problem::build`], read from it; the answer is
+//! written back in its column layout. Where some contacts have friction columns and some not (a capacity below
 //! the floor), the latter get them here with the floor's capacity — friction of 1e-9 of the
 //! largest capacity, below every tolerance — so every point has the same variables; their
 //! friction is dropped in the answer. Crushing cones stay on clarabel, and so does a solve the
@@ -44,33 +44,34 @@ pub(super) fn solve(
     warm: Option<&WarmStart>,
 ) -> Option<(ConicOutcome, Option<WarmStart>)> {
     let t = std::time::Instant::now();
+    // Columns beyond the residual's are the crushing cones'.
+    if conic.n != data.cols.residual + 6 * data.comp.len() {
+        return None;
+    }
     let points: Vec<usize> = (0..data.active.len()).filter(|&i| data.taking_part[i]).collect();
-    if points.is_empty() && conic.n == data.cols.residual + 6 * data.comp.len() {
+    if points.is_empty() {
         return without_contacts(data, conic, t).map(|out| (out, None));
     }
-    let per_point = per_point(data, conic, &points)?;
+    let per_point = if points.iter().any(|&i| data.cols.friction[i].is_some()) { 3 } else { 1 };
     let geometry = geometry(data, conic, &points);
     let rows = point_rows(data.ctx, per_point);
-    let mut cp = ContactProblem {
+    let q = |c: Option<usize>| c.map_or(0.0, |c| conic.q[c]);
+    let cp = ContactProblem {
         geometry: &geometry,
         vars: [Var::CnPos, Var::Cu, Var::Cv][..per_point].to_vec(),
         model: data.ctx.model,
         mu: data.ctx.mu,
-        p: Vec::new(),
+        p: uniform_weights(data, conic, &points, per_point)?,
         q: vec![0.0; per_point],
         budgets: Vec::new(),
         factor: None,
         threads: 1,
         crushing: None,
         columns: residual_columns(data, conic),
-        rows: None,
-        point_q: Vec::new(),
+        point_q: points.iter().flat_map(|&i| point_columns(data, i, per_point).map(q)).collect(),
         point_b: point_b(data, &points, &rows),
+        rows: Some(rows),
     };
-    cp.p = uniform_weights(data, conic, &points, per_point)?;
-    let q = |c: Option<usize>| c.map_or(0.0, |c| conic.q[c]);
-    cp.point_q = points.iter().flat_map(|&i| point_columns(data, i, per_point).map(q)).collect();
-    cp.rows = Some(rows);
     let warm = warm.map_or(Warm::Keep, Warm::From);
     let (out, kept) = solve_contact_problem(&cp, Backend::Structured, acc, max_iter, warm);
     // A solve that ends short of an answer is run again on clarabel (the caller's).
@@ -122,17 +123,6 @@ fn without_contacts(data: &StepData, conic: &ConicProblem, t: std::time::Instant
         convert_seconds: 0.0,
         solver_seconds: t.elapsed().as_secs_f64(),
     })
-}
-
-/// The variables of every taking-part contact: 3 when any has friction columns, else 1;
-/// `None` when the conic problem has columns beyond the residual's (the crushing cones'), or
-/// no point takes part.
-fn per_point(data: &StepData, conic: &ConicProblem, points: &[usize]) -> Option<usize> {
-    if points.is_empty() || conic.n != data.cols.residual + 6 * data.comp.len() {
-        return None;
-    }
-    let with = points.iter().filter(|&&i| data.cols.friction[i].is_some()).count();
-    Some(if with > 0 { 3 } else { 1 })
 }
 
 /// Contact `i`'s columns in the conic problem: its normal force, then its friction pair (None

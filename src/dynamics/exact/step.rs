@@ -122,9 +122,10 @@ impl World {
     /// when it did not reach an answer.
     fn solve(&mut self, p: &StepProblem, part: Part) -> Option<ConicOutcome> {
         let (conic, max_iter) = (&p.conic, self.settings.max_iterations);
-        let (key, layout) = ((part.selection, part.comp[0]), layout_key(&part, &p.cols));
+        let key = (part.selection, part.comp[0]);
         let structured = (self.settings.backend == Backend::Structured)
             .then(|| {
+                let layout = layout_key(&part, &p.cols);
                 let data = StepData {
                     ctx: &self.ctx,
                     bodies: &self.bodies,
@@ -136,12 +137,13 @@ impl World {
                     taking_part: part.taking_part,
                 };
                 let warm = self.warm_starts.get(&key).filter(|w| w.0 == layout && self.settings.warm_start);
-                contact_form::solve(&data, conic, self.acc, max_iter, warm.map(|w| &w.1))
+                let solved = contact_form::solve(&data, conic, self.acc, max_iter, warm.map(|w| &w.1));
+                solved.map(|(out, kept)| (out, kept.map(|k| (layout, k))))
             })
             .flatten()
             .map(|(out, kept)| {
                 if let Some(kept) = kept {
-                    self.warm_starts.insert(key, (layout, kept));
+                    self.warm_starts.insert(key, kept);
                 }
                 out
             });

@@ -219,7 +219,7 @@ impl<'a, const C: usize> Shape<'a, C> {
             out_e.iter_mut().zip(column).for_each(|(e, c)| *e += c * xl);
             out_g[np * mp + self.budgets()] = -xl;
         }
-        for (d, (j, row)) in self.columns.iter().zip(self.column_rows.iter().enumerate()) {
+        for (j, (d, row)) in self.columns.iter().zip(&self.column_rows).enumerate() {
             let xr = x[self.column0() + j];
             for k in 0..6 {
                 out_e[6 * d.block + k] += d.column[k] * xr;
@@ -285,7 +285,7 @@ impl<'a, const C: usize> Shape<'a, C> {
             let lz: f64 = column.iter().zip(ze).map(|(c, z)| c * z).sum();
             out[self.lambda()] = lz - zg[np * mp + self.budgets()];
         }
-        for (d, (j, row)) in self.columns.iter().zip(self.column_rows.iter().enumerate()) {
+        for (j, (d, row)) in self.columns.iter().zip(&self.column_rows).enumerate() {
             let cz: f64 = (0..6).map(|k| d.column[k] * ze[6 * d.block + k]).sum();
             out[self.column0() + j] = cz + row.map_or(0.0, |r| zg[r + 1] - zg[r]);
         }
@@ -347,8 +347,7 @@ impl<'a, const C: usize> Shape<'a, C> {
                 s += self.p[k] * x[p * C + k] * y[p * C + k];
             }
         }
-        let (c0, n) = (self.column0(), self.columns.len());
-        s + self.columns.iter().zip(&x[c0..c0 + n]).zip(&y[c0..c0 + n]).map(|((c, x), y)| c.p * x * y).sum::<f64>()
+        s + self.columns.iter().zip(self.column_x(x)).zip(self.column_x(y)).map(|((c, x), y)| c.p * x * y).sum::<f64>()
     }
 
     /// The unregularised KKT matrix times [x; z_E; z_G] (module docs of the kkt): E x, G x −
