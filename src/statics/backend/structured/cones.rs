@@ -173,20 +173,6 @@ impl Scaling {
         self.winv_mul(p, &self.winv_mul(p, x))
     }
 
-    /// `og −= Hs z` over point p's rows (`zp`, `og`: its rows of z and of the output).
-    pub fn hs_mul_sub_point(&self, p: usize, zp: &[f64], og: &mut [f64]) {
-        let (at, nn) = (p * self.layout.per_point, self.layout.nonneg);
-        for r in 0..nn {
-            og[r] -= self.d[at + r] * zp[r];
-        }
-        if self.layout.soc {
-            let hz = self.hs_mul(p, &[zp[nn], zp[nn + 1], zp[nn + 2]]);
-            for r in 0..3 {
-                og[nn + r] -= hz[r];
-            }
-        }
-    }
-
     /// `Δs = −(Hs Δz + c)`.
     pub fn ds_from_dz(&self, dz: &[f64], c: &[f64], ds: &mut [f64]) {
         let d = &self.d;

@@ -37,6 +37,50 @@ pub fn all_finite(a: &[f64]) -> bool {
     lanes.iter().all(|l| *l == 0.0) && rest.iter().all(|v| v.is_finite())
 }
 
+/// A right-hand side of the KKT system by block (r_x, r_E, r_G), or a solution read back.
+#[derive(Clone, Copy)]
+pub struct Rhs<'a> {
+    pub x: &'a [f64],
+    pub eq: &'a [f64],
+    pub ineq: &'a [f64],
+}
+
+/// Where a solve of the KKT system writes its solution by block: x, z_E, z_G.
+pub struct Step<'a> {
+    pub x: &'a mut [f64],
+    pub eq: &'a mut [f64],
+    pub ineq: &'a mut [f64],
+}
+
+impl Step<'_> {
+    /// The solution written so far, read-only.
+    pub fn view(&self) -> Rhs<'_> {
+        Rhs { x: self.x, eq: self.eq, ineq: self.ineq }
+    }
+}
+
+/// Vectors with the KKT system's blocks (x, the equality rows, the inequality rows), owned.
+#[derive(Default)]
+pub struct Blocks {
+    pub x: Vec<f64>,
+    pub eq: Vec<f64>,
+    pub ineq: Vec<f64>,
+}
+
+impl Blocks {
+    pub fn zeros(n: usize, m_e: usize, m_g: usize) -> Self {
+        Self { x: vec![0.0; n], eq: vec![0.0; m_e], ineq: vec![0.0; m_g] }
+    }
+
+    pub fn rhs(&self) -> Rhs<'_> {
+        Rhs { x: &self.x, eq: &self.eq, ineq: &self.ineq }
+    }
+
+    pub fn step(&mut self) -> Step<'_> {
+        Step { x: &mut self.x, eq: &mut self.eq, ineq: &mut self.ineq }
+    }
+}
+
 /// The iterate: x, the equality duals z_E, the inequality slacks and duals (s, z), τ, κ.
 #[derive(Clone)]
 pub(crate) struct Vars {

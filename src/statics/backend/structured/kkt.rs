@@ -31,8 +31,9 @@
 
 use super::block_cholesky::{BlockFactor, BlockSymbolic};
 use super::cones::Scaling;
+pub use super::iterate::{Blocks, Rhs, Step};
 use super::iterate::{all_finite, norm_inf};
-use super::points::{back_points, factor_points, reduce_points};
+use super::points::{ApplyWork, PointProducts, apply, back_points, factor_points, reduce_points};
 use super::profile::{Kernel, Timer};
 use super::shape::Shape;
 use crate::statics::problem::{Side as ContactSide, wrench};
@@ -57,50 +58,6 @@ const PARALLEL_FROM: usize = 100_000_000;
 const EPS: f64 = 1e-13;
 
 type Mat6 = [[f64; 6]; 6];
-
-/// A right-hand side of the KKT system by block (r_x, r_E, r_G), or a solution read back.
-#[derive(Clone, Copy)]
-pub struct Rhs<'a> {
-    pub x: &'a [f64],
-    pub eq: &'a [f64],
-    pub ineq: &'a [f64],
-}
-
-/// Where a solve of the KKT system writes its solution by block: x, z_E, z_G.
-pub struct Step<'a> {
-    pub x: &'a mut [f64],
-    pub eq: &'a mut [f64],
-    pub ineq: &'a mut [f64],
-}
-
-impl Step<'_> {
-    /// The solution written so far, read-only.
-    fn view(&self) -> Rhs<'_> {
-        Rhs { x: self.x, eq: self.eq, ineq: self.ineq }
-    }
-}
-
-/// Vectors with the KKT system's blocks (x, the equality rows, the inequality rows), owned.
-#[derive(Default)]
-pub struct Blocks {
-    pub x: Vec<f64>,
-    pub eq: Vec<f64>,
-    pub ineq: Vec<f64>,
-}
-
-impl Blocks {
-    pub fn zeros(n: usize, m_e: usize, m_g: usize) -> Self {
-        Self { x: vec![0.0; n], eq: vec![0.0; m_e], ineq: vec![0.0; m_g] }
-    }
-
-    pub fn rhs(&self) -> Rhs<'_> {
-        Rhs { x: &self.x, eq: &self.eq, ineq: &self.ineq }
-    }
-
-    pub fn step(&mut self) -> Step<'_> {
-        Step { x: &mut self.x, eq: &mut self.eq, ineq: &mut self.ineq }
-    }
-}
 
 /// Iterative refinement's work: the residual of the current solution, and a correction to it.
 #[derive(Default)]
@@ -167,23 +124,16 @@ enum Numeric {
     Faer { l_values: Vec<f64>, buffer: MemBuffer, par: Par },
 }
 
-/// The per-point solves' work space: H_p⁻¹ r̃x and its wrench per point, each contact's block
-/// rows of z_E seen in its frame, and each point's contact.
+/// The per-point solves' work space: H_p⁻¹ r̃x per point, and the points' products
+/// ([`ApplyWork`]: the right-hand side's wrenches per point, z_E seen per contact).
 struct PointWork<const C: usize> {
     w: Vec<[f64; C]>,
-    wrench: Vec<[f64; 6]>,
-    seen: Vec<[f64; 6]>,
-    contact_of: Vec<u32>,
+    apply: ApplyWork,
 }
 
 impl<const C: usize> PointWork<C> {
     fn new(sh: &Shape<C>) -> Self {
-        let np = sh.points();
-        let mut contact_of = vec![0u32; np];
-        for (ci, contact) in sh.contacts.iter().enumerate() {
-            contact_of[contact.points.clone()].fill(ci as u32);
-        }
-        Self { w: vec![[0.0; C]; np], wrench: vec![[0.0; 6]; np], seen: vec![[0.0; 6]; sh.contacts.len()], contact_of }
+        Self { w: vec![[0.0; C]; sh.points()], apply: ApplyWork::new(sh) }
     }
 }
 
@@ -691,8 +641,10 @@ impl<const C: usize> Kkt<C> {
         ze.copy_from_slice(&self.rhs_s);
     }
 
-    /// One solve of the regularised system: `rhs` (r_x, r_E, r_G) → `out` (x, z_E, z_G).
-    fn solve_reg(&mut self, sh: &Shape<C>, sc: &Scaling, rhs: Rhs, out: &mut Step) {
+    /// One solve of the regularised system: `rhs` (r_x, r_E, r_G) → `out` (x, z_E, z_G); with
+    /// `products`, the points' rows of the unregularised K times the solution as well
+    /// ([`Self::finish_residual`] completes them).
+    fn solve_reg(&mut self, sh: &Shape<C>, sc: &Scaling, rhs: Rhs, out: &mut Step, products: Option<&mut Blocks>) {
         let reduce = Timer::start(Kernel::ReduceRhs);
         let rt_sigma = self.reduce_rhs(sh, sc, rhs);
         drop(reduce);
@@ -701,7 +653,7 @@ impl<const C: usize> Kkt<C> {
         self.solve_load_factor(sh, sc, rhs, out);
         drop(triangular);
         let _back = Timer::start(Kernel::BackSubstitute);
-        self.back_substitute(sh, sc, rhs, out);
+        self.back_substitute(sh, sc, rhs, out, products);
         self.budget_slacks(sh, sc, rhs, &rt_sigma, out);
         self.block_columns(sh, sc, rhs, out);
     }
@@ -714,12 +666,12 @@ impl<const C: usize> Kkt<C> {
             *o = -r;
         }
         let work = &mut self.points;
-        reduce_points(sh, sc, &self.chol, (rhs.x, rhs.ineq), &mut self.rt, &mut work.w, &mut work.wrench);
+        reduce_points(sh, sc, &self.chol, (rhs.x, rhs.ineq), &mut self.rt, &mut work.w, &mut work.apply.wrench);
         for contact in sh.contacts {
             let mut w6 = [0.0f64; 6];
             for p in contact.points.clone() {
                 for i in 0..6 {
-                    w6[i] += work.wrench[p][i];
+                    w6[i] += work.apply.wrench[p][i];
                 }
                 for (kb, &col) in sh.budget_vars.iter().enumerate() {
                     self.rhs_s[6 * nb + kb] += work.w[p][col];
@@ -763,18 +715,26 @@ impl<const C: usize> Kkt<C> {
         out.ineq[i] = (-xl - rhs.ineq[i]) * sc.dinv[i];
     }
 
-    /// The points' x = H⁻¹ (r̃x − Eᵀ z_E) and z_G = Hs⁻¹ (G x − r_G), from z_E.
-    fn back_substitute(&mut self, sh: &Shape<C>, sc: &Scaling, rhs: Rhs, out: &mut Step) {
+    /// The points' x = H⁻¹ (r̃x − Eᵀ z_E) and z_G = Hs⁻¹ (G x − r_G), from z_E; with
+    /// `products`, K's point rows at them ([`PointProducts`]).
+    fn back_substitute(
+        &mut self,
+        sh: &Shape<C>,
+        sc: &Scaling,
+        rhs: Rhs,
+        out: &mut Step,
+        products: Option<&mut Blocks>,
+    ) {
         let nb = sh.blocks;
-        let work = &mut self.points;
-        for (u, contact) in work.seen.iter_mut().zip(sh.contacts) {
-            *u = [0.0f64; 6];
-            for side in contact.sides.iter().flatten() {
-                side.add_seen(&out.eq[6 * side.block..6 * side.block + 6], u);
-            }
-        }
-        let (seen, budgets) = ((work.seen.as_slice(), work.contact_of.as_slice()), (&out.eq[6 * nb..], rhs.ineq));
-        back_points(sh, sc, &self.chol, &self.rt, seen, budgets, out.x, out.ineq);
+        let work = &mut self.points.apply;
+        work.see(sh, out.eq);
+        let ApplyWork { seen, contact_of, wrench } = work;
+        let products = products.map(|into| {
+            into.eq.iter_mut().for_each(|v| *v = 0.0);
+            PointProducts { ze: &*out.eq, out: into.step(), wrench: wrench.as_mut_slice() }
+        });
+        let (seen, budgets) = ((seen.as_slice(), contact_of.as_slice()), (&out.eq[6 * nb..], rhs.ineq));
+        back_points(sh, sc, &self.chol, &self.rt, seen, budgets, out.x, out.ineq, products);
     }
 
     /// The budget slacks' x = H_σ⁻¹ (r̃x_σ − z_E) and z_G, `rt_sigma` from [`Self::reduce_rhs`].
@@ -805,33 +765,45 @@ impl<const C: usize> Kkt<C> {
     /// Solves K [x; z_E; z_G] = `rhs` into `out`; with `refine`, iterative refinement against
     /// the unregularised matrix. False when the result is not finite.
     pub fn solve(&mut self, sh: &Shape<C>, sc: &Scaling, rhs: Rhs, mut out: Step, refine: bool) -> bool {
-        self.solve_reg(sh, sc, rhs, &mut out);
+        let mut work = std::mem::take(&mut self.refinement);
+        self.solve_reg(sh, sc, rhs, &mut out, refine.then_some(&mut work.residual));
         if refine {
-            let mut work = std::mem::take(&mut self.refinement);
-            self.refine(sh, sc, rhs, &mut out, &mut work);
-            self.refinement = work;
+            let norm_e = self.finish_residual(sh, sc, rhs, out.view(), &mut work.residual);
+            self.refine(sh, sc, rhs, &mut out, &mut work, norm_e);
         }
+        self.refinement = work;
         all_finite(out.x) && all_finite(out.eq) && all_finite(out.ineq)
     }
 
-    /// Iterative refinement of `out` (clarabel's defaults: relative 1e-13, absolute 1e-12,
-    /// ≤ 10 steps, stop when a step gains less than 5×); a correction is kept when it lowers
-    /// the residual. It is added in place and taken back off when it does not (rare, and
-    /// the last step): no copies of the solution.
-    fn refine(&mut self, sh: &Shape<C>, sc: &Scaling, rhs: Rhs, out: &mut Step, work: &mut Refinement) {
+    /// The residual `rhs` − K `sol` from the points' rows [`back_points`] left in `into`: the
+    /// contacts' wrenches summed and mapped to their blocks, the scalar variables' rows, the
+    /// difference — the sums [`residual_of`] takes, in its order: the same bits.
+    fn finish_residual(&self, sh: &Shape<C>, sc: &Scaling, rhs: Rhs, sol: Rhs, into: &mut Blocks) -> f64 {
+        let _t = Timer::start(Kernel::RefineResidual);
+        self.points.apply.add_wrenches(sh, &mut into.eq);
+        sh.apply_tail(Some(sc), sol, into.step());
+        difference(rhs, into)
+    }
+
+    /// Iterative refinement of `out`, whose residual `norm_e` is in `work.residual`
+    /// (clarabel's defaults: relative 1e-13, absolute 1e-12, ≤ 10 steps, stop when a step
+    /// gains less than 5×); a correction is kept when it lowers the residual. It is added in
+    /// place and taken back off when it does not (rare, and the last step): no copies of the
+    /// solution.
+    fn refine(&mut self, sh: &Shape<C>, sc: &Scaling, rhs: Rhs, out: &mut Step, work: &mut Refinement, norm_e: f64) {
         let norm_b = norm_inf(rhs.x).max(norm_inf(rhs.eq)).max(norm_inf(rhs.ineq));
         let Refinement { residual, correction } = work;
-        let mut norm_e = residual_of(sh, sc, rhs, out.view(), residual);
+        let mut norm_e = norm_e;
         let add = |out: &mut [f64], d: &[f64], sign: f64| out.iter_mut().zip(d).for_each(|(o, d)| *o += sign * d);
         for _ in 0..10 {
             if norm_e <= 1e-12 + 1e-13 * norm_b {
                 break;
             }
-            self.solve_reg(sh, sc, residual.rhs(), &mut correction.step());
+            self.solve_reg(sh, sc, residual.rhs(), &mut correction.step(), None);
             add(out.x, &correction.x, 1.0);
             add(out.eq, &correction.eq, 1.0);
             add(out.ineq, &correction.ineq, 1.0);
-            let new_e = residual_of(sh, sc, rhs, out.view(), residual);
+            let new_e = residual_of(sh, sc, rhs, out.view(), residual, &mut self.points.apply);
             // Not lower (or NaN): taken back off.
             let kept = new_e < norm_e;
             if !kept {
@@ -848,14 +820,26 @@ impl<const C: usize> Kkt<C> {
 }
 
 /// The residual `rhs` − K `sol` into `into`; returns its largest magnitude.
-fn residual_of<const C: usize>(sh: &Shape<C>, sc: &Scaling, rhs: Rhs, sol: Rhs, into: &mut Blocks) -> f64 {
+fn residual_of<const C: usize>(
+    sh: &Shape<C>,
+    sc: &Scaling,
+    rhs: Rhs,
+    sol: Rhs,
+    into: &mut Blocks,
+    work: &mut ApplyWork,
+) -> f64 {
     let _t = Timer::start(Kernel::RefineResidual);
-    sh.apply(Some(sc), sol.x, sol.eq, sol.ineq, &mut into.x, &mut into.eq, &mut into.ineq);
-    let mut e = 0.0f64;
-    let pairs = into.x.iter_mut().zip(rhs.x).chain(into.eq.iter_mut().zip(rhs.eq));
-    for (k, r) in pairs.chain(into.ineq.iter_mut().zip(rhs.ineq)) {
-        *k = r - *k;
-        e = e.max(k.abs());
-    }
-    e
+    apply(sh, Some(sc), sol, into.step(), work);
+    difference(rhs, into)
+}
+
+/// `into` = `rhs` − `into`; returns its largest magnitude (separate passes, each vectorised: a
+/// maximum does not depend on the order).
+fn difference(rhs: Rhs, into: &mut Blocks) -> f64 {
+    let subtract_from = |k: &mut [f64], r: &[f64]| {
+        k.iter_mut().zip(r).for_each(|(k, r)| *k = r - *k);
+        norm_inf(k)
+    };
+    let e = subtract_from(&mut into.x, rhs.x).max(subtract_from(&mut into.eq, rhs.eq));
+    e.max(subtract_from(&mut into.ineq, rhs.ineq))
 }

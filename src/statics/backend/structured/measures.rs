@@ -1,7 +1,8 @@
 //! What the solver measures of an iterate (clarabel's `DefaultInfo`: residuals, costs, gap,
 //! κ/τ) and its termination rules against the tolerances.
 
-use super::iterate::{Vars, dot, norm_inf};
+use super::iterate::{Rhs, Step, Vars, dot, norm_inf};
+use super::points::{ApplyWork, apply};
 use super::shape::Shape;
 use crate::statics::problem::{Accuracy, SolverStatus};
 
@@ -62,13 +63,20 @@ pub(super) struct Info {
     pub ktratio: f64,
 }
 
-pub(super) fn info<const C: usize>(sh: &Shape<C>, v: &Vars, info: &mut Info, work: &mut [Vec<f64>; 3]) {
+pub(super) fn info<const C: usize>(
+    sh: &Shape<C>,
+    v: &Vars,
+    info: &mut Info,
+    work: &mut [Vec<f64>; 3],
+    apply_work: &mut ApplyWork,
+) {
     let [px, ex, gx] = work;
     sh.p_mul(&v.x, px);
     let xpx = dot(&v.x, px);
     let (qx, bz, sz) = (sh.q_dot(&v.x), sh.b_dot(&v.ze, &v.z), dot(&v.s, &v.z));
     // rx_inf = −Aᵀz (kept in info.rx first), rz_inf = A x + s.
-    sh.apply(None, &v.x, &v.ze, &v.z, &mut info.rx, ex, gx);
+    let sol = Rhs { x: &v.x, eq: &v.ze, ineq: &v.z };
+    apply(sh, None, sol, Step { x: &mut info.rx, eq: ex, ineq: gx }, apply_work);
     info.rx.iter_mut().for_each(|r| *r = -*r);
     for (g, s) in gx.iter_mut().zip(&v.s) {
         *g += s;

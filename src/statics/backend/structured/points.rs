@@ -10,6 +10,7 @@
 //! lane computes exactly the scalar expressions of one point, in the same order: the same bits.
 
 use super::cones::Scaling;
+use super::iterate::{Rhs, Step};
 use super::shape::Shape;
 
 /// Points per batch.
@@ -276,10 +277,203 @@ fn point_rhs<const C: usize>(
     rt
 }
 
+/// The work of [`apply`]: each contact's block rows of z_E seen in its frame, each point's
+/// contact, and each point's wrench of E x (summed per contact afterwards, in the order one
+/// contact's points are taken one by one).
+pub(super) struct ApplyWork {
+    pub seen: Vec<[f64; 6]>,
+    pub contact_of: Vec<u32>,
+    pub wrench: Vec<[f64; 6]>,
+}
+
+impl ApplyWork {
+    pub fn new<const C: usize>(sh: &Shape<C>) -> Self {
+        let np = sh.points();
+        let mut contact_of = vec![0u32; np];
+        for (ci, contact) in sh.contacts.iter().enumerate() {
+            contact_of[contact.points.clone()].fill(ci as u32);
+        }
+        Self { seen: vec![[0.0; 6]; sh.contacts.len()], contact_of, wrench: vec![[0.0; 6]; np] }
+    }
+
+    /// Each contact's block rows of `ze` seen in its frame.
+    pub fn see<const C: usize>(&mut self, sh: &Shape<C>, ze: &[f64]) {
+        for (u, contact) in self.seen.iter_mut().zip(sh.contacts) {
+            *u = [0.0f64; 6];
+            for side in contact.sides.iter().flatten() {
+                side.add_seen(&ze[6 * side.block..6 * side.block + 6], u);
+            }
+        }
+    }
+
+    /// The points' wrenches summed per contact and mapped onto its blocks' rows of `out_e`.
+    pub fn add_wrenches<const C: usize>(&self, sh: &Shape<C>, out_e: &mut [f64]) {
+        for contact in sh.contacts {
+            let mut w6 = [0.0f64; 6];
+            for w in &self.wrench[contact.points.clone()] {
+                for i in 0..6 {
+                    w6[i] += w[i];
+                }
+            }
+            for side in contact.sides.iter().flatten() {
+                side.add_wrench(&w6, &mut out_e[6 * side.block..6 * side.block + 6]);
+            }
+        }
+    }
+}
+
+/// The unregularised KKT matrix times `sol` = [x; z_E; z_G] (module docs of the kkt) into
+/// `out`: E x, G x − Hs z_G and Eᵀz_E + Gᵀz_G + P x with the scaling `kkt` (refinement's
+/// residual), or the constraint products E x, G x and Eᵀz_E + Gᵀz_G without (the measures) —
+/// in one sweep over the points, four at a time. Each lane takes one point's expressions in the
+/// order separate passes would (G x, then − Hs z per row; Eᵀz_E + Gᵀz_G, then + P x) and
+/// the contacts' sums run in point order: the same bits as one point at a time.
+pub(super) fn apply<const C: usize>(
+    sh: &Shape<C>,
+    kkt: Option<&Scaling>,
+    sol: Rhs,
+    mut out: Step,
+    work: &mut ApplyWork,
+) {
+    out.eq.iter_mut().for_each(|v| *v = 0.0);
+    work.see(sh, sol.eq);
+    let ApplyWork { seen, contact_of, wrench } = work;
+    batches(sh.points(), |points, lanes| {
+        apply_batch(sh, kkt, (points, lanes), (seen, contact_of), sol, &mut out, wrench);
+        true
+    });
+    work.add_wrenches(sh, out.eq);
+    sh.apply_tail(kkt, sol, out);
+}
+
+/// The batch's part of [`apply`]: its rows of `out.x` and `out.ineq`, its wrenches, its budget
+/// columns added to `out.eq`.
+fn apply_batch<const C: usize>(
+    sh: &Shape<C>,
+    kkt: Option<&Scaling>,
+    (points, lanes): (&[usize; LANES], usize),
+    (seen, contact_of): (&[[f64; 6]], &[u32]),
+    sol: Rhs,
+    out: &mut Step,
+    wrench: &mut [[f64; 6]],
+) {
+    let nb = sh.blocks;
+    let xp: [Lanes; C] = std::array::from_fn(|k| std::array::from_fn(|q| sol.x[points[q] * C + k]));
+    let mut f = [[0.0f64; LANES]; 3];
+    for i in 0..3 {
+        for k in 0..C {
+            for q in 0..LANES {
+                f[i][q] += sh.fmap[i][k] * xp[k][q];
+            }
+        }
+    }
+    for q in 0..lanes {
+        let p = points[q];
+        wrench[p] = crate::statics::problem::wrench(&sh.rho[p], &[f[0][q], f[1][q], f[2][q]]);
+        for (kb, &col) in sh.budget_vars.iter().enumerate() {
+            out.eq[6 * nb + kb] += xp[col][q];
+        }
+    }
+    row_products(sh, kkt, (points, lanes), &xp, sol.ineq, out.ineq);
+    let mut t = point_motions(sh, seen, contact_of, &sol.eq[6 * nb..], points);
+    transposed_rows(sh, points, sol.ineq, &mut t);
+    if kkt.is_some() {
+        for k in 0..C {
+            for q in 0..LANES {
+                t[k][q] += sh.p[k] * xp[k][q];
+            }
+        }
+    }
+    for q in 0..lanes {
+        for k in 0..C {
+            out.x[points[q] * C + k] = t[k][q];
+        }
+    }
+}
+
+/// The batch's G_p x_p, less Hs_p z_G with `kkt`, into its rows of `og`.
+fn row_products<const C: usize>(
+    sh: &Shape<C>,
+    kkt: Option<&Scaling>,
+    (points, lanes): (&[usize; LANES], usize),
+    xp: &[Lanes; C],
+    zg: &[f64],
+    og: &mut [f64],
+) {
+    let (mp, nn) = (sh.m_p, sh.nonneg.len());
+    for (r, g) in sh.nonneg.iter().enumerate() {
+        let mut s = [0.0f64; LANES];
+        for k in 0..C {
+            for q in 0..LANES {
+                s[q] += g[k] * xp[k][q];
+            }
+        }
+        if let Some(sc) = kkt {
+            for q in 0..LANES {
+                let i = points[q] * mp + r;
+                s[q] -= sc.d[i] * zg[i];
+            }
+        }
+        for q in 0..lanes {
+            og[points[q] * mp + r] = s[q];
+        }
+    }
+    if let Some(soc) = &sh.soc {
+        for q in 0..lanes {
+            let at = points[q] * mp + nn;
+            for i in 0..3 {
+                let mut s = 0.0;
+                for k in 0..C {
+                    s += soc[i][k] * xp[k][q];
+                }
+                og[at + i] = s;
+            }
+            if let Some(sc) = kkt {
+                let hz = sc.hs_mul(points[q], &[zg[at], zg[at + 1], zg[at + 2]]);
+                for i in 0..3 {
+                    og[at + i] -= hz[i];
+                }
+            }
+        }
+    }
+}
+
+/// Gᵀ z_G of the batch's points added to `t`.
+fn transposed_rows<const C: usize>(sh: &Shape<C>, points: &[usize; LANES], zg: &[f64], t: &mut [Lanes; C]) {
+    let (mp, nn) = (sh.m_p, sh.nonneg.len());
+    for (r, g) in sh.nonneg.iter().enumerate() {
+        let zr: Lanes = std::array::from_fn(|q| zg[points[q] * mp + r]);
+        for k in 0..C {
+            for q in 0..LANES {
+                t[k][q] += g[k] * zr[q];
+            }
+        }
+    }
+    if let Some(soc) = &sh.soc {
+        for i in 0..3 {
+            let zr: Lanes = std::array::from_fn(|q| zg[points[q] * mp + nn + i]);
+            for k in 0..C {
+                for q in 0..LANES {
+                    t[k][q] += soc[i][k] * zr[q];
+                }
+            }
+        }
+    }
+}
+
+/// Where [`back_points`] also writes, at the solution it forms, K's rows of each point
+/// ([`apply`] with the scaling: iterative refinement's residual without a second sweep over
+/// the points): `ze` the solution's z_E, `out` K's rows, `wrench` each point's wrench of E x.
+pub(super) struct PointProducts<'a> {
+    pub ze: &'a [f64],
+    pub out: Step<'a>,
+    pub wrench: &'a mut [[f64; 6]],
+}
+
 /// The points' part of the back substitution, from z_E: for every point x_p = H_p⁻¹ (r̃x −
 /// Nᵀ(u + u×ρ) − budgets) into `x` and z_G = Hs_p⁻¹ (G_p x_p − r_G) into `zg`; `u` is each
 /// contact's block rows of z_E seen in its frame, `contact_of` each point's contact, `budgets`
-/// the budget rows of z_E.
+/// the budget rows of z_E. With `products`, K's point rows at (x, z_E, z_G) as well.
 #[allow(clippy::too_many_arguments)]
 pub(super) fn back_points<const C: usize>(
     sh: &Shape<C>,
@@ -290,6 +484,7 @@ pub(super) fn back_points<const C: usize>(
     (budgets, rg): (&[f64], &[f64]),
     x: &mut [f64],
     zg: &mut [f64],
+    mut products: Option<PointProducts>,
 ) {
     batches(sh.points(), |points, lanes| {
         let l = load_factors(chol, points);
@@ -307,6 +502,10 @@ pub(super) fn back_points<const C: usize>(
             }
         }
         point_duals(sh, sc, rg, points, lanes, &xp, zg);
+        if let Some(pr) = products.as_mut() {
+            let sol = Rhs { x: &*x, eq: pr.ze, ineq: &*zg };
+            apply_batch(sh, Some(sc), (points, lanes), (u, contact_of), sol, &mut pr.out, pr.wrench);
+        }
         true
     });
 }
@@ -393,6 +592,7 @@ mod tests {
     use crate::model::{Assembly, builtin};
     use crate::statics::assemble::{Stage, System, contact_problem};
     use crate::statics::backend::structured::cones::Layout;
+    use crate::statics::backend::structured::iterate::Blocks;
     use crate::statics::components::components;
     use crate::statics::problem::FrictionModel;
     use crate::statics::settings::StaticsSettings;
@@ -460,7 +660,7 @@ mod tests {
             contact_of[c.points.clone()].fill(ci as u32);
         }
         let (mut x, mut zg) = (vec![0.0; sh.n()], vec![0.0; sh.m_g()]);
-        back_points(&sh, &sc, &chol, &rt, (&u, &contact_of), (&[], &rg), &mut x, &mut zg);
+        back_points(&sh, &sc, &chol, &rt, (&u, &contact_of), (&[], &rg), &mut x, &mut zg, None);
 
         let g = rows(&sh);
         let n = DMatrix::from_fn(3, C, |i, k| sh.fmap[i][k]);
@@ -502,6 +702,129 @@ mod tests {
             close(&x[p * C..(p + 1) * C], x_ref.as_slice(), "x_p", p);
             let zg_ref = hs_inv(&sh, &sc, p, &(&g * &x_ref - rgp));
             close(&zg[p * mp..(p + 1) * mp], zg_ref.as_slice(), "z_G", p);
+        }
+    }
+
+    /// K's products ([`apply`], with and without the scaling) against each point's algebra
+    /// written out with nalgebra, to 1e-14 of each block's largest entry; and the products
+    /// [`back_points`] leaves at the solution it forms against [`apply`] there, bit for bit.
+    fn check_products<const C: usize>(model: FrictionModel) {
+        let asm = Assembly::new(&builtin("wall?courses=3&bricks=3").unwrap(), &Default::default()).unwrap();
+        let ifs = detect(&asm);
+        let sys = System::new(&asm, &ifs, &components(&asm, &ifs)[0], 0.6, model, false);
+        let cp = contact_problem(&sys, Stage::Strict, &StaticsSettings::default());
+        let mut sh = Shape::<C>::new(&cp).expect("the strict QP's shape");
+        let mut contacts = sh.contacts.to_vec();
+        contacts.last_mut().expect("contacts").points.end -= 1;
+        let rho = &sh.rho[..sh.rho.len() - 1];
+        (sh.contacts, sh.rho) = (&contacts, rho);
+        let (np, mp, nn) = (sh.points(), sh.m_p, sh.nonneg.len());
+        let layout = Layout { points: np, per_point: mp, nonneg: nn, soc: sh.soc.is_some(), tail: sh.tail_rows() };
+        let mut rng = Lcg(5);
+        let mut interior =
+            |i: usize| if i % mp >= nn && (i % mp - nn) == 0 { 2.0 + rng.next() } else { 0.5 + rng.next() };
+        let (s, z): (Vec<f64>, Vec<f64>) = (0..sh.m_g()).map(|i| (interior(i), interior(i))).unzip();
+        let mut sc = Scaling::identity(layout);
+        assert!(sc.update(&s, &z));
+        let mut random = |len: usize| (0..len).map(|_| rng.next() - 0.5).collect::<Vec<f64>>();
+        let (x, ze, zg) = (random(sh.n()), random(sh.m_e()), random(sh.m_g()));
+        let sol = Rhs { x: &x, eq: &ze, ineq: &zg };
+        let (g, n) = (rows(&sh), DMatrix::from_fn(3, C, |i, k| sh.fmap[i][k]));
+        let mut work = ApplyWork::new(&sh);
+        let mut out = Blocks::zeros(sh.n(), sh.m_e(), sh.m_g());
+        let close = |a: &[f64], b: &[f64], what: &str| {
+            let scale = b.iter().fold(1e-300f64, |m, v| m.max(v.abs()));
+            let off = a.iter().zip(b).fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+            assert!(off <= 1e-14 * scale, "{model:?}: {what} off by {off:e} of {scale:e}");
+        };
+        for kkt in [None, Some(&sc)] {
+            apply(&sh, kkt, sol, out.step(), &mut work);
+            let (mut rx, mut re, mut rg) = (vec![0.0; sh.n()], vec![0.0; sh.m_e()], vec![0.0; sh.m_g()]);
+            for contact in sh.contacts {
+                let psi = |side: &crate::statics::problem::Side| DMatrix::from_fn(6, 6, |r, c| side.psi[r][c]);
+                let mut u = DVector::zeros(6);
+                for side in contact.sides.iter().flatten() {
+                    u += psi(side).transpose() * DVector::from_fn(6, |r, _| ze[6 * side.block + r]);
+                }
+                let mut w6 = DVector::zeros(6);
+                for p in contact.points.clone() {
+                    let r = DMatrix::from_row_slice(3, 3, &{
+                        let [a, b, c] = sh.rho[p];
+                        [0.0, -c, b, c, 0.0, -a, -b, a, 0.0]
+                    });
+                    let xp = DVector::from_fn(C, |k, _| x[p * C + k]);
+                    let zp = DVector::from_fn(mp, |i, _| zg[p * mp + i]);
+                    let f = &n * &xp;
+                    w6 += DVector::from_iterator(6, f.iter().copied().chain((&r * &f).iter().copied()));
+                    let motion = u.rows(0, 3) - &r * u.rows(3, 3);
+                    let mut kx = n.transpose() * motion + g.transpose() * &zp;
+                    let mut kg = &g * &xp;
+                    if let Some(sc) = kkt {
+                        kx += DVector::from_fn(C, |k, _| sh.p[k] * xp[k]);
+                        let mut hz = DVector::from_fn(mp, |i, _| if i < nn { sc.d[p * mp + i] * zp[i] } else { 0.0 });
+                        if sh.soc.is_some() {
+                            hz.rows_mut(nn, 3).copy_from_slice(&sc.hs_mul(p, &[zp[nn], zp[nn + 1], zp[nn + 2]]));
+                        }
+                        kg -= hz;
+                    }
+                    rx[p * C..(p + 1) * C].copy_from_slice(kx.as_slice());
+                    rg[p * mp..(p + 1) * mp].copy_from_slice(kg.as_slice());
+                }
+                for side in contact.sides.iter().flatten() {
+                    let e = psi(side) * &w6;
+                    for r in 0..6 {
+                        re[6 * side.block + r] += e[r];
+                    }
+                }
+            }
+            close(&out.x, &rx, "Eᵀz_E + Gᵀz_G (+ P x)");
+            close(&out.eq, &re, "E x");
+            close(&out.ineq, &rg, "G x (− Hs z_G)");
+        }
+        // The back substitution's products at its own solution: apply's bits.
+        let (mut chol, mut y) = (vec![[[0.0; C]; C]; np], vec![[[0.0; 3]; 3]; np]);
+        assert!(factor_points(&sh, &sc, 1e-13, &mut chol, &mut y));
+        let rt: Vec<[f64; C]> = (0..np).map(|p| std::array::from_fn(|k| x[p * C + k])).collect();
+        work.see(&sh, &ze);
+        let (mut xb, mut zb) = (vec![0.0; sh.n()], vec![0.0; sh.m_g()]);
+        let mut fused = Blocks::zeros(sh.n(), sh.m_e(), sh.m_g());
+        let mut wrench = vec![[0.0; 6]; np];
+        let products = PointProducts { ze: &ze, out: fused.step(), wrench: &mut wrench };
+        let budgets = &ze[6 * sh.blocks..];
+        back_points(
+            &sh,
+            &sc,
+            &chol,
+            &rt,
+            (&work.seen, &work.contact_of),
+            (budgets, &zg),
+            &mut xb,
+            &mut zb,
+            Some(products),
+        );
+        work.wrench = wrench;
+        work.add_wrenches(&sh, &mut fused.eq);
+        apply(&sh, Some(&sc), Rhs { x: &xb, eq: &ze, ineq: &zb }, out.step(), &mut work);
+        for (a, b) in [(&fused.x, &out.x), (&fused.eq, &out.eq), (&fused.ineq, &out.ineq)] {
+            assert!(
+                a.iter().zip(b.iter()).all(|(a, b)| a.to_bits() == b.to_bits()),
+                "{model:?}: fused products differ"
+            );
+        }
+    }
+
+    #[test]
+    fn products_four_at_a_time_are_each_points_and_fused_ones_the_same() {
+        for model in [FrictionModel::Pyramid8, FrictionModel::Box4, FrictionModel::Cone] {
+            let asm = Assembly::new(&builtin("wall?courses=3&bricks=3").unwrap(), &Default::default()).unwrap();
+            let ifs = detect(&asm);
+            let sys = System::new(&asm, &ifs, &components(&asm, &ifs)[0], 0.6, model, false);
+            match contact_problem(&sys, Stage::Strict, &StaticsSettings::default()).per_point() {
+                3 => check_products::<3>(model),
+                4 => check_products::<4>(model),
+                5 => check_products::<5>(model),
+                c => panic!("{c} variables per point"),
+            }
         }
     }
 

@@ -10,8 +10,8 @@
 //! own (`point_b`: the exact-contact engine's friction capacities).
 
 use super::cones::Scaling;
-use super::iterate::{dot, norm_inf};
-use crate::statics::problem::{BlockColumn, Contact, ContactProblem, motion_at, wrench};
+use super::iterate::{Rhs, Step, dot, norm_inf};
+use crate::statics::problem::{BlockColumn, Contact, ContactProblem, wrench};
 
 pub struct Shape<'a, const C: usize> {
     pub blocks: usize,
@@ -266,15 +266,6 @@ impl<'a, const C: usize> Shape<'a, C> {
         }
     }
 
-    /// A contact's block rows of `ze` seen in its interface frame.
-    fn seen(&self, contact: &Contact, ze: &[f64]) -> [f64; 6] {
-        let mut u = [0.0f64; 6];
-        for side in contact.sides.iter().flatten() {
-            side.add_seen(&ze[6 * side.block..6 * side.block + 6], &mut u);
-        }
-        u
-    }
-
     /// The scalar variables' rows of Eᵀ z_E + Gᵀ z_G.
     fn tail_transposed(&self, ze: &[f64], zg: &[f64], out: &mut [f64]) {
         let (nb, np, mp) = (self.blocks, self.points(), self.m_p);
@@ -350,88 +341,22 @@ impl<'a, const C: usize> Shape<'a, C> {
         s + self.columns.iter().zip(self.column_x(x)).zip(self.column_x(y)).map(|((c, x), y)| c.p * x * y).sum::<f64>()
     }
 
-    /// The unregularised KKT matrix times [x; z_E; z_G] (module docs of the kkt): E x, G x −
-    /// Hs z_G and Eᵀz_E + Gᵀz_G + P x (with the scaling `kkt`), or the constraint products
-    /// E x, G x and Eᵀz_E + Gᵀz_G (without) — in one sweep over the points, each point's data
-    /// read once. Each entry takes the same expressions in the same order as separate passes
-    /// would ([`Self::a_mul`], then `− Hs z` per row; Eᵀz_E + Gᵀz_G, then `+ P x`): the same
-    /// bits.
-    #[allow(clippy::too_many_arguments)]
-    pub fn apply(
-        &self,
-        kkt: Option<&Scaling>,
-        x: &[f64],
-        ze: &[f64],
-        zg: &[f64],
-        out_x: &mut [f64],
-        out_e: &mut [f64],
-        out_g: &mut [f64],
-    ) {
-        let mp = self.m_p;
-        out_e.iter_mut().for_each(|v| *v = 0.0);
-        for contact in self.contacts {
-            let u = self.seen(contact, ze);
-            let mut w6 = [0.0f64; 6];
-            for p in contact.points.clone() {
-                let xp: [f64; C] = fixed(&x[p * C..(p + 1) * C]);
-                let (og, zp) = (&mut out_g[p * mp..(p + 1) * mp], &zg[p * mp..(p + 1) * mp]);
-                self.point_products(p, &xp, &mut w6, out_e, og);
-                let tp = &mut out_x[p * C..(p + 1) * C];
-                self.transpose_point(p, &u, ze, zp, tp);
-                if let Some(sc) = kkt {
-                    sc.hs_mul_sub_point(p, zp, og);
-                    for k in 0..C {
-                        tp[k] += self.p[k] * xp[k];
-                    }
-                }
-            }
-            for side in contact.sides.iter().flatten() {
-                side.add_wrench(&w6, &mut out_e[6 * side.block..6 * side.block + 6]);
-            }
-        }
-        self.tail_products(x, out_e, out_g);
+    /// The scalar variables' part of [`super::points::apply`] (budget slacks, λ, block
+    /// columns), after the points'.
+    pub fn apply_tail(&self, kkt: Option<&Scaling>, sol: Rhs, out: Step) {
+        self.tail_products(sol.x, out.eq, out.ineq);
         if let Some(sc) = kkt {
             let tail = self.tail_row0();
             for i in tail..tail + self.tail_rows() {
-                out_g[i] -= sc.d[i] * zg[i];
+                out.ineq[i] -= sc.d[i] * sol.ineq[i];
             }
         }
-        self.tail_transposed(ze, zg, out_x);
+        self.tail_transposed(sol.eq, sol.ineq, out.x);
         if kkt.is_some() {
             let c0 = self.column0();
-            for (j, (c, x)) in self.columns.iter().zip(self.column_x(x)).enumerate() {
-                out_x[c0 + j] += c.p * x;
+            for (j, (c, x)) in self.columns.iter().zip(self.column_x(sol.x)).enumerate() {
+                out.x[c0 + j] += c.p * x;
             }
         }
-    }
-
-    /// One point's Eᵀz_E + Gᵀz_G into `out` (`u`: its contact's block rows seen in the
-    /// interface frame; `zp`: its rows of z_G).
-    fn transpose_point(&self, p: usize, u: &[f64; 6], ze: &[f64], zp: &[f64], out: &mut [f64]) {
-        let nb = self.blocks;
-        let nn = self.nonneg.len();
-        let g3 = motion_at(u, &self.rho[p]);
-        let mut t = [0.0f64; C];
-        for k in 0..C {
-            t[k] = self.fmap[0][k] * g3[0] + self.fmap[1][k] * g3[1] + self.fmap[2][k] * g3[2];
-        }
-        for (kb, &col) in self.budget_vars.iter().enumerate() {
-            t[col] += ze[6 * nb + kb];
-        }
-        for (r, g) in self.nonneg.iter().enumerate() {
-            let zr = zp[r];
-            for k in 0..C {
-                t[k] += g[k] * zr;
-            }
-        }
-        if let Some(soc) = &self.soc {
-            for i in 0..3 {
-                let zr = zp[nn + i];
-                for k in 0..C {
-                    t[k] += soc[i][k] * zr;
-                }
-            }
-        }
-        out.copy_from_slice(&t);
     }
 }

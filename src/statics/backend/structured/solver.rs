@@ -8,6 +8,7 @@ use super::cones::{Layout, Scaling, shift_to_interior};
 use super::iterate::Vars;
 use super::kkt::{Blocks, FactorPlan, Kkt, Pattern, Rhs, Step};
 use super::measures::{Info, Tolerances, convergence, info};
+use super::points::ApplyWork;
 use super::profile::{self, Dims, Kernel, Timer};
 use super::shape::Shape;
 use crate::statics::problem::{Accuracy, ContactProblem, SolverStatus};
@@ -212,6 +213,7 @@ struct Solver<'a, const C: usize> {
     /// −q over all points.
     minus_q: Vec<f64>,
     info_work: [Vec<f64>; 3],
+    apply_work: ApplyWork,
 }
 
 impl<'a, const C: usize> Solver<'a, C> {
@@ -251,6 +253,7 @@ impl<'a, const C: usize> Solver<'a, C> {
             dir: Vars::zeros(n, me, mg),
             minus_q,
             info_work: [vec![0.0; n], vec![0.0; me], vec![0.0; mg]],
+            apply_work: ApplyWork::new(sh),
         }
     }
 
@@ -300,7 +303,7 @@ impl<'a, const C: usize> Solver<'a, C> {
     /// [`START_RESIDUAL_MAX`]; else leaves the solver as it was (false).
     fn start_from(&mut self, v: &Vars) -> bool {
         self.v.clone_from(v);
-        info(self.sh, &self.v, &mut self.inf, &mut self.info_work);
+        info(self.sh, &self.v, &mut self.inf, &mut self.info_work, &mut self.apply_work);
         if self.inf.res_primal.max(self.inf.res_dual) <= START_RESIDUAL_MAX {
             return true;
         }
@@ -383,7 +386,7 @@ impl<'a, const C: usize> Solver<'a, C> {
     /// infeasible, insufficient progress (clarabel's tests), or the iteration limit.
     fn check_termination(&mut self, iter: u32, max_iter: u32) -> Option<SolverStatus> {
         let measures = Timer::start(Kernel::Measures);
-        info(self.sh, &self.v, &mut self.inf, &mut self.info_work);
+        info(self.sh, &self.v, &mut self.inf, &mut self.info_work, &mut self.apply_work);
         drop(measures);
         let inf = &self.inf;
         self.mu = (inf.dot_sz + self.v.tau * self.v.kappa) / (self.layout.degree() as f64 + 1.0);
