@@ -89,13 +89,13 @@ impl Scaling {
         let mut ok = true;
         let (d, dinv) = (&mut self.d, &mut self.dinv);
         self.layout.for_nonneg(|r| {
-            for i in r {
-                if !(s[i] > 0.0 && z[i] > 0.0) {
-                    ok = false;
-                }
-                d[i] = s[i] / z[i];
-                dinv[i] = z[i] / s[i];
+            // The divisions in one loop without branches (vectorised), the check in another.
+            let pairs = s[r.clone()].iter().zip(&z[r.clone()]);
+            for ((di, vi), (si, zi)) in d[r.clone()].iter_mut().zip(&mut dinv[r.clone()]).zip(pairs) {
+                *di = si / zi;
+                *vi = zi / si;
             }
+            ok &= r.into_iter().all(|i| s[i] > 0.0 && z[i] > 0.0);
         });
         if !ok {
             return false;
@@ -264,8 +264,11 @@ fn nonneg_step(v: &[f64], dv: &[f64], cap: f64) -> f64 {
     let (vc, dc) = (v.chunks_exact(4), dv.chunks_exact(4));
     let (v_rest, d_rest) = (vc.remainder(), dc.remainder());
     for (v4, d4) in vc.zip(dc) {
+        // Every lane divided, then selected: a branch per row keeps the compiler from
+        // vectorising the divisions.
+        let q: [f64; 4] = std::array::from_fn(|k| -v4[k] / d4[k]);
         for k in 0..4 {
-            let r = if d4[k] < 0.0 { -v4[k] / d4[k] } else { f64::INFINITY };
+            let r = if d4[k] < 0.0 { q[k] } else { f64::INFINITY };
             lanes[k] = if r < lanes[k] { r } else { lanes[k] };
         }
     }
