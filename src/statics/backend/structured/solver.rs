@@ -181,6 +181,32 @@ struct Newton {
     xi: Vec<f64>,
     rhs_eq: Vec<f64>,
     rhs_ineq: Vec<f64>,
+    /// Δτ's denominator terms of the constant part: qᵀx2, bᵀz2 and the quadratic term
+    /// (x/τ − x2)ᵀP(x/τ − x2) − x2ᵀP x2, the same for both solves of an iteration.
+    qx2: f64,
+    bz2: f64,
+    quad: f64,
+}
+
+impl Newton {
+    /// [`Newton::qx2`], [`Newton::bz2`] and [`Newton::quad`] from c2 and x/τ.
+    fn constant_terms<const C: usize>(&mut self, sh: &Shape<C>) {
+        let (c2, xi) = (&self.c2, &self.xi);
+        let mut quad = 0.0;
+        for p in 0..sh.points() {
+            for k in 0..C {
+                let j = p * C + k;
+                let d = xi[j] - c2.x[j];
+                quad += sh.p[k] * (d * d - c2.x[j] * c2.x[j]);
+            }
+        }
+        for (i, c) in sh.columns.iter().enumerate() {
+            let j = sh.column0() + i;
+            let d = xi[j] - c2.x[j];
+            quad += c.p * (d * d - c2.x[j] * c2.x[j]);
+        }
+        (self.qx2, self.bz2, self.quad) = (sh.q_dot(&c2.x), sh.b_dot(&c2.eq, &c2.ineq), quad);
+    }
 }
 
 /// The corrector's right-hand side (the residuals scaled by 1 − σ, the Δs constant term).
@@ -233,6 +259,9 @@ impl<'a, const C: usize> Solver<'a, C> {
             xi: vec![0.0; n],
             rhs_eq: vec![0.0; me],
             rhs_ineq: vec![0.0; mg],
+            qx2: 0.0,
+            bz2: 0.0,
+            quad: 0.0,
         };
         let corrector = Corrector { r: Blocks::zeros(n, me, mg), c: vec![0.0; mg] };
         let mut v = Vars::zeros(n, me, mg);
@@ -427,6 +456,7 @@ impl<'a, const C: usize> Solver<'a, C> {
         for j in 0..n {
             self.newton.xi[j] = self.v.x[j] / self.v.tau;
         }
+        self.newton.constant_terms(sh);
         // Affine (predictor) step: Δs constant term s.
         let (inf, v) = (&self.inf, &self.v);
         let r = Rhs { x: &inf.rx, eq: &inf.re, ineq: &inf.rg };
@@ -553,20 +583,7 @@ fn newton<const C: usize>(
     let (c1, c2, xi) = (&w.c1, &w.c2, &w.xi);
     let num =
         rhs.r_tau - rhs.r_kappa / v.tau + sh.q_dot(&c1.x) + sh.b_dot(&c1.eq, &c1.ineq) + 2.0 * sh.p_quad(xi, &c1.x);
-    let mut quad = 0.0;
-    for p in 0..sh.points() {
-        for k in 0..C {
-            let j = p * C + k;
-            let d = xi[j] - c2.x[j];
-            quad += sh.p[k] * (d * d - c2.x[j] * c2.x[j]);
-        }
-    }
-    for (i, c) in sh.columns.iter().enumerate() {
-        let j = sh.column0() + i;
-        let d = xi[j] - c2.x[j];
-        quad += c.p * (d * d - c2.x[j] * c2.x[j]);
-    }
-    let den = v.kappa / v.tau - sh.q_dot(&c2.x) - sh.b_dot(&c2.eq, &c2.ineq) + quad;
+    let den = v.kappa / v.tau - w.qx2 - w.bz2 + w.quad;
     let dtau = num / den;
     for j in 0..n {
         out.x[j] = c1.x[j] + dtau * c2.x[j];
