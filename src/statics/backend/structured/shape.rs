@@ -310,11 +310,14 @@ impl<'a, const C: usize> Shape<'a, C> {
         match self.q_points {
             Some(q) => s += dot(q, &x[..q.len()]),
             None => {
-                for p in 0..self.points() {
+                // One sum per variable of a point: C independent chains.
+                let mut sums = [0.0f64; C];
+                for xp in x[..self.points() * C].chunks_exact(C) {
                     for k in 0..C {
-                        s += self.q[k] * x[p * C + k];
+                        sums[k] += self.q[k] * xp[k];
                     }
                 }
+                s += sums.iter().sum::<f64>();
             }
         }
         if let Some((_, cost)) = self.factor {
@@ -332,13 +335,22 @@ impl<'a, const C: usize> Shape<'a, C> {
 
     /// `xᵀ P y`.
     pub fn p_quad(&self, x: &[f64], y: &[f64]) -> f64 {
-        let mut s = 0.0;
-        for p in 0..self.points() {
+        // One sum per variable of a point: C independent chains.
+        let mut sums = [0.0f64; C];
+        let np = self.points() * C;
+        for (xp, yp) in x[..np].chunks_exact(C).zip(y[..np].chunks_exact(C)) {
             for k in 0..C {
-                s += self.p[k] * x[p * C + k] * y[p * C + k];
+                sums[k] += self.p[k] * xp[k] * yp[k];
             }
         }
-        s + self.columns.iter().zip(self.column_x(x)).zip(self.column_x(y)).map(|((c, x), y)| c.p * x * y).sum::<f64>()
+        sums.iter().sum::<f64>()
+            + self
+                .columns
+                .iter()
+                .zip(self.column_x(x))
+                .zip(self.column_x(y))
+                .map(|((c, x), y)| c.p * x * y)
+                .sum::<f64>()
     }
 
     /// The scalar variables' part of [`super::points::apply`] (budget slacks, λ, block

@@ -192,14 +192,16 @@ impl Newton {
     /// [`Newton::qx2`], [`Newton::bz2`] and [`Newton::quad`] from c2 and x/τ.
     fn constant_terms<const C: usize>(&mut self, sh: &Shape<C>) {
         let (c2, xi) = (&self.c2, &self.xi);
-        let mut quad = 0.0;
-        for p in 0..sh.points() {
+        // One sum per variable of a point: C independent chains.
+        let mut sums = [0.0f64; C];
+        let np = sh.points() * C;
+        for (xp, cp) in xi[..np].chunks_exact(C).zip(c2.x[..np].chunks_exact(C)) {
             for k in 0..C {
-                let j = p * C + k;
-                let d = xi[j] - c2.x[j];
-                quad += sh.p[k] * (d * d - c2.x[j] * c2.x[j]);
+                let d = xp[k] - cp[k];
+                sums[k] += sh.p[k] * (d * d - cp[k] * cp[k]);
             }
         }
+        let mut quad: f64 = sums.iter().sum();
         for (i, c) in sh.columns.iter().enumerate() {
             let j = sh.column0() + i;
             let d = xi[j] - c2.x[j];
