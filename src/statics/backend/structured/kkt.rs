@@ -195,25 +195,6 @@ fn chol_solve<const C: usize>(l: &[[f64; C]; C], r: &[f64; C]) -> [f64; C] {
     backward(l, &forward(l, r))
 }
 
-/// A B for 6×6 matrices, B's rows scaled and added (vectorised across a row): each entry the
-/// sum over k in order from zero, as a dot product per entry would take it — the same bits.
-fn mul6(a: &Mat6, b: &Mat6) -> Mat6 {
-    let mut o = [[0.0f64; 6]; 6];
-    for r in 0..6 {
-        for k in 0..6 {
-            let s = a[r][k];
-            for c in 0..6 {
-                o[r][c] += s * b[k][c];
-            }
-        }
-    }
-    o
-}
-
-fn transpose6(a: &Mat6) -> Mat6 {
-    std::array::from_fn(|r| std::array::from_fn(|c| a[c][r]))
-}
-
 /// K += T Y Tᵀ for one point at ρ (lower triangle of K), T = [I; [ρ]×]: Y, R Y and R Y Rᵀ
 /// with R = [ρ]×.
 fn add_point_wrench(k6: &mut Mat6, y: &[[f64; 3]; 3], rho: &[f64; 3]) {
@@ -540,9 +521,26 @@ impl<const C: usize> Kkt<C> {
         let mut m = [[[0.0f64; 6]; 6]; 2];
         for (s, side) in sides.iter().enumerate() {
             let Some(side) = side else { continue };
-            // M = Ψ K, then S_jj += M Ψᵀ (its lower triangle).
-            m[s] = mul6(&side.psi, k6);
-            let d = mul6(&m[s], &transpose6(&side.psi));
+            // M = Ψ K, then S_jj += M Ψᵀ.
+            for r in 0..6 {
+                for c in 0..6 {
+                    let mut acc = 0.0;
+                    for k in 0..6 {
+                        acc += side.psi[r][k] * k6[k][c];
+                    }
+                    m[s][r][c] = acc;
+                }
+            }
+            let mut d = [[0.0f64; 6]; 6];
+            for r in 0..6 {
+                for c in 0..=r {
+                    let mut acc = 0.0;
+                    for k in 0..6 {
+                        acc += m[s][r][k] * side.psi[c][k];
+                    }
+                    d[r][c] = acc;
+                }
+            }
             self.scatter(side.block, side.block, &d, None);
             for kb in 0..nk {
                 let mut w = [0.0; 6];
@@ -557,7 +555,16 @@ impl<const C: usize> Kkt<C> {
             && a.block != b.block
         {
             // S_ab = Ψ_a K Ψ_bᵀ.
-            let o = mul6(&m[0], &transpose6(&b.psi));
+            let mut o = [[0.0f64; 6]; 6];
+            for r in 0..6 {
+                for c in 0..6 {
+                    let mut acc = 0.0;
+                    for k in 0..6 {
+                        acc += m[0][r][k] * b.psi[c][k];
+                    }
+                    o[r][c] = acc;
+                }
+            }
             let slots = self.slots[ci];
             self.scatter(a.block, b.block, &o, slots);
         }
