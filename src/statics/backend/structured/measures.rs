@@ -63,14 +63,32 @@ pub(super) struct Info {
     pub ktratio: f64,
 }
 
-pub(super) fn info<const C: usize>(
-    sh: &Shape<C>,
-    v: &Vars,
-    info: &mut Info,
-    work: &mut [Vec<f64>; 3],
-    apply_work: &mut ApplyWork,
-) {
-    let [px, ex, gx] = work;
+/// What [`info`] works with: scratch for P x, A x's two blocks and K's products, and the
+/// problem's constants −q, ‖b‖_∞ and ‖q‖_∞ (computed once).
+pub(super) struct MeasureWork {
+    pub products: [Vec<f64>; 3],
+    pub apply: ApplyWork,
+    pub minus_q: Vec<f64>,
+    pub norm_b: f64,
+    pub norm_q: f64,
+}
+
+impl MeasureWork {
+    pub fn new<const C: usize>(sh: &Shape<C>) -> Self {
+        let (n, me, mg) = (sh.n(), sh.m_e(), sh.m_g());
+        Self {
+            products: [vec![0.0; n], vec![0.0; me], vec![0.0; mg]],
+            apply: ApplyWork::new(sh),
+            minus_q: (0..n).map(|j| -sh.q_at(j)).collect(),
+            norm_b: sh.norm_b(),
+            norm_q: sh.norm_q(),
+        }
+    }
+}
+
+pub(super) fn info<const C: usize>(sh: &Shape<C>, v: &Vars, info: &mut Info, work: &mut MeasureWork) {
+    let MeasureWork { products: [px, ex, gx], apply: apply_work, minus_q, norm_b, norm_q } = work;
+    let (norm_b, norm_q) = (*norm_b, *norm_q);
     sh.p_mul(&v.x, px);
     let xpx = dot(&v.x, px);
     let (qx, bz, sz) = (sh.q_dot(&v.x), sh.b_dot(&v.ze, &v.z), dot(&v.s, &v.z));
@@ -87,8 +105,9 @@ pub(super) fn info<const C: usize>(
     let res_primal_inf = norm_inf(&info.rx) / normz.max(1.0);
     let rz_inf = norm_inf(ex).max(norm_inf(gx));
     let res_dual_inf = (norm_inf(px) / normx.max(1.0)).max(rz_inf / (normx + norms).max(1.0));
-    for (j, r) in info.rx.iter_mut().enumerate() {
-        *r -= px[j] + v.tau * sh.q_at(j);
+    // px + τ q, as px − τ (−q): the same bits.
+    for ((r, p), mq) in info.rx.iter_mut().zip(px.iter()).zip(minus_q.iter()) {
+        *r -= p - v.tau * mq;
     }
     for (i, r) in info.re.iter_mut().enumerate() {
         *r = ex[i] - v.tau * sh.b_e[i];
@@ -110,8 +129,6 @@ pub(super) fn info<const C: usize>(
     let cost_primal = qx * tinv + half_xpx;
     let cost_dual = -bz * tinv - half_xpx;
     let (normx, normz, norms) = (normx * tinv, normz * tinv, norms * tinv);
-    let norm_b = sh.norm_b();
-    let norm_q = sh.norm_q();
     let rz = norm_inf(&info.re).max(norm_inf(&info.rg));
     info.rtau = qx + bz + v.kappa + xpx / v.tau;
     info.dot_qx = qx;

@@ -7,8 +7,7 @@
 use super::cones::{Layout, Scaling, shift_to_interior};
 use super::iterate::Vars;
 use super::kkt::{Blocks, FactorPlan, Kkt, Pattern, Rhs, Step};
-use super::measures::{Info, Tolerances, convergence, info};
-use super::points::ApplyWork;
+use super::measures::{Info, MeasureWork, Tolerances, convergence, info};
 use super::profile::{self, Dims, Kernel, Timer};
 use super::shape::Shape;
 use crate::statics::problem::{Accuracy, ContactProblem, SolverStatus};
@@ -238,10 +237,8 @@ struct Solver<'a, const C: usize> {
     /// buffers (one set of iterate-sized vectors fewer): the corrector's right-hand side takes
     /// what it needs of the first before the second is solved.
     dir: Vars,
-    /// −q over all points.
-    minus_q: Vec<f64>,
-    info_work: [Vec<f64>; 3],
-    apply_work: ApplyWork,
+    /// The measures' work and the problem's constants (−q over all variables, ‖b‖, ‖q‖).
+    measure_work: MeasureWork,
 }
 
 impl<'a, const C: usize> Solver<'a, C> {
@@ -254,7 +251,6 @@ impl<'a, const C: usize> Solver<'a, C> {
             soc: sh.soc.is_some(),
             tail: sh.tail_rows(),
         };
-        let minus_q: Vec<f64> = (0..n).map(|j| -sh.q_at(j)).collect();
         let newton = Newton {
             c1: Blocks::zeros(n, me, mg),
             c2: Blocks::zeros(n, me, mg),
@@ -282,9 +278,7 @@ impl<'a, const C: usize> Solver<'a, C> {
             newton,
             corrector,
             dir: Vars::zeros(n, me, mg),
-            minus_q,
-            info_work: [vec![0.0; n], vec![0.0; me], vec![0.0; mg]],
-            apply_work: ApplyWork::new(sh),
+            measure_work: MeasureWork::new(sh),
         }
     }
 
@@ -334,7 +328,7 @@ impl<'a, const C: usize> Solver<'a, C> {
     /// [`START_RESIDUAL_MAX`]; else leaves the solver as it was (false).
     fn start_from(&mut self, v: &Vars) -> bool {
         self.v.clone_from(v);
-        info(self.sh, &self.v, &mut self.inf, &mut self.info_work, &mut self.apply_work);
+        info(self.sh, &self.v, &mut self.inf, &mut self.measure_work);
         if self.inf.res_primal.max(self.inf.res_dual) <= START_RESIDUAL_MAX {
             return true;
         }
@@ -392,7 +386,7 @@ impl<'a, const C: usize> Solver<'a, C> {
         let (zeros_n, zeros_e, zeros_g) = (vec![0.0; n], vec![0.0; me], vec![0.0; mg]);
         let mut b_g = vec![0.0; mg];
         sh.b_g_into(&mut b_g);
-        let (v, sc, minus_q) = (&mut self.v, &self.sc, &self.minus_q);
+        let (v, sc, minus_q) = (&mut self.v, &self.sc, &self.measure_work.minus_q);
         if sh.quadratic() {
             let rhs = Rhs { x: minus_q, eq: &sh.b_e, ineq: &b_g };
             self.kkt.solve(sh, sc, rhs, Step { x: &mut v.x, eq: &mut v.ze, ineq: &mut v.z }, true);
@@ -417,7 +411,7 @@ impl<'a, const C: usize> Solver<'a, C> {
     /// infeasible, insufficient progress (clarabel's tests), or the iteration limit.
     fn check_termination(&mut self, iter: u32, max_iter: u32) -> Option<SolverStatus> {
         let measures = Timer::start(Kernel::Measures);
-        info(self.sh, &self.v, &mut self.inf, &mut self.info_work, &mut self.apply_work);
+        info(self.sh, &self.v, &mut self.inf, &mut self.measure_work);
         drop(measures);
         let inf = &self.inf;
         self.mu = (inf.dot_sz + self.v.tau * self.v.kappa) / (self.layout.degree() as f64 + 1.0);
@@ -451,7 +445,7 @@ impl<'a, const C: usize> Solver<'a, C> {
         // the Newton solves below fill it).
         let Newton { c2, rhs_ineq: b_g, .. } = &mut self.newton;
         sh.b_g_into(b_g);
-        let rhs = Rhs { x: &self.minus_q, eq: &sh.b_e, ineq: b_g };
+        let rhs = Rhs { x: &self.measure_work.minus_q, eq: &sh.b_e, ineq: b_g };
         if !self.kkt.solve(sh, &self.sc, rhs, c2.step(), true) {
             return Err(SolverStatus::NumericalError);
         }
