@@ -24,6 +24,10 @@ pub use repair_cache::RepairCache;
 pub use tolerances::{ToleranceError, Tolerances};
 pub use validate::{MeshError, MeshWarning, Repaired, repair};
 
+/// A hash map for lookups only (never iterated: its order is the hasher's): FxHash, fast and
+/// deterministic.
+pub(crate) type LookupMap<K, V> = rustc_hash::FxHashMap<K, V>;
+
 /// 3D point and vector type of the core (f64, z up).
 pub type Point3 = nalgebra::Point3<f64>;
 /// 3D vector type of the core.

@@ -4,10 +4,11 @@
 //! Errors name the face or vertex (indices into the mesh as given); the caller adds the file and
 //! block. Repairs that change the mesh are returned as warnings, never done silently.
 
+use super::LookupMap;
 use super::polygon::{Frame, area_vector, planarity_deviation};
 use super::tolerances::AbsTolerances;
 use super::{MassProperties, Mesh, Point3};
-use std::collections::{HashMap, VecDeque};
+use std::collections::VecDeque;
 use thiserror::Error;
 
 /// Why a mesh cannot be used as a block.
@@ -146,7 +147,8 @@ pub fn repair(mesh: &Mesh, tol: &AbsTolerances) -> Result<Repaired, MeshError> {
 /// Merges vertices closer than `tol` (grid hashing with cell size `tol`, neighbours checked).
 /// Returns the kept vertices, the map old index → new index and the number merged.
 fn weld(points: &[Point3], tol: f64) -> (Vec<Point3>, Vec<usize>, usize) {
-    let mut grid: HashMap<[i64; 3], Vec<usize>> = HashMap::with_capacity(points.len());
+    let mut grid: LookupMap<[i64; 3], Vec<usize>> = LookupMap::default();
+    grid.reserve(points.len());
     let mut kept: Vec<Point3> = Vec::with_capacity(points.len());
     let mut remap = Vec::with_capacity(points.len());
     let origin = points.first().map_or_else(Point3::origin, |&first| points.iter().fold(first, |m, p| m.inf(p)));
@@ -194,7 +196,7 @@ fn orient_consistently(
     warnings: &mut Vec<MeshWarning>,
 ) -> Result<(), MeshError> {
     // undirected edge -> [(face, forward?)]
-    let mut edges: HashMap<(usize, usize), Vec<(usize, bool)>> = HashMap::new();
+    let mut edges: LookupMap<(usize, usize), Vec<(usize, bool)>> = LookupMap::default();
     for (f, face) in faces.iter().enumerate() {
         for k in 0..face.len() {
             let (a, b) = (face[k], face[(k + 1) % face.len()]);

@@ -8,10 +8,9 @@
 //! the node keys. compas files carry no density or units: the scene gets the default material.
 
 use super::IoError;
-use crate::geometry::{Mesh, Point3, Vector3};
+use crate::geometry::{LookupMap, Mesh, Point3, Vector3};
 use crate::model::{Block, Scene};
 use serde_json::Value;
-use std::collections::HashMap;
 use std::path::Path;
 
 /// True when the JSON value looks like a compas Assembly.
@@ -118,7 +117,8 @@ pub(crate) fn mesh_from_value(path: &Path, key: &str, m: &Value) -> Result<Mesh,
     let bad = |what: String| IoError::format(path, format!("block '{key}': {what}"));
     let verts = m.get("vertex").and_then(Value::as_object).ok_or_else(|| bad("no vertex table".into()))?;
     let faces = m.get("face").and_then(Value::as_object).ok_or_else(|| bad("no face table".into()))?;
-    let mut index = HashMap::with_capacity(verts.len());
+    let mut index = LookupMap::default();
+    index.reserve(verts.len());
     let mut vertices = Vec::with_capacity(verts.len());
     for vk in sorted_keys(verts) {
         let v = &verts[vk];
@@ -145,7 +145,7 @@ pub(crate) fn mesh_from_value(path: &Path, key: &str, m: &Value) -> Result<Mesh,
     Ok(Mesh::new(vertices, out_faces))
 }
 
-fn vertex_index(index: &HashMap<&str, usize>, face: &str, key: &str) -> Result<usize, String> {
+fn vertex_index(index: &LookupMap<&str, usize>, face: &str, key: &str) -> Result<usize, String> {
     index.get(key).copied().ok_or_else(|| format!("face '{face}' refers to missing vertex '{key}'"))
 }
 
@@ -155,8 +155,8 @@ fn vertex_index(index: &HashMap<&str, usize>, face: &str, key: &str) -> Result<u
 /// layout fails this parse, and the caller falls back to [`scene_from_value`], which names
 /// the problem.
 mod typed {
+    use crate::geometry::LookupMap;
     use serde::Deserialize;
-    use std::collections::HashMap;
 
     #[derive(Deserialize)]
     pub struct File {
@@ -172,7 +172,7 @@ mod typed {
     }
     #[derive(Deserialize)]
     pub struct GraphData {
-        pub node: HashMap<String, Node>,
+        pub node: LookupMap<String, Node>,
     }
     #[derive(Deserialize)]
     pub struct Node {
@@ -185,8 +185,8 @@ mod typed {
     }
     #[derive(Deserialize)]
     pub struct MeshData {
-        pub vertex: HashMap<String, Vertex>,
-        pub face: HashMap<String, Vec<Key>>,
+        pub vertex: LookupMap<String, Vertex>,
+        pub face: LookupMap<String, Vec<Key>>,
     }
     #[derive(Deserialize)]
     pub struct Vertex {
@@ -233,7 +233,8 @@ pub(crate) fn scene_from_bytes(path: &Path, bytes: &[u8]) -> Option<Result<Scene
             let node = &nodes[key];
             let bad = |what: String| IoError::format(path, format!("block '{key}': {what}"));
             let m = &node.block.data;
-            let mut index = HashMap::with_capacity(m.vertex.len());
+            let mut index = LookupMap::default();
+            index.reserve(m.vertex.len());
             let mut vertices = Vec::with_capacity(m.vertex.len());
             for vk in sorted(m.vertex.keys()) {
                 let v = &m.vertex[vk];
