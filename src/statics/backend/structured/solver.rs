@@ -437,7 +437,6 @@ impl<'a, const C: usize> Solver<'a, C> {
     /// of the Newton solves, the affine direction, the combined direction, the step.
     fn step(&mut self, iter: u32) -> Result<(), SolverStatus> {
         let sh = self.sh;
-        let (n, me, mg) = (sh.n(), sh.m_e(), sh.m_g());
         if !self.kkt.factor(sh, &self.sc) {
             return Err(SolverStatus::NumericalError);
         }
@@ -449,9 +448,8 @@ impl<'a, const C: usize> Solver<'a, C> {
         if !self.kkt.solve(sh, &self.sc, rhs, c2.step(), true) {
             return Err(SolverStatus::NumericalError);
         }
-        for j in 0..n {
-            self.newton.xi[j] = self.v.x[j] / self.v.tau;
-        }
+        let tau = self.v.tau;
+        self.newton.xi.iter_mut().zip(&self.v.x).for_each(|(xi, x)| *xi = x / tau);
         self.newton.constant_terms(sh);
         // Affine (predictor) step: Δs constant term s.
         let (inf, v) = (&self.inf, &self.v);
@@ -466,15 +464,10 @@ impl<'a, const C: usize> Solver<'a, C> {
         // Combined (corrector) step.
         let (v, inf, aff, cr) = (&self.v, &self.inf, &self.dir, &mut self.corrector);
         self.sc.combined_const(&v.s, &v.z, &aff.s, &aff.z, mfac, sigma * self.mu, &mut cr.c);
-        for j in 0..n {
-            cr.r.x[j] = (1.0 - sigma) * inf.rx[j];
-        }
-        for i in 0..me {
-            cr.r.eq[i] = (1.0 - sigma) * inf.re[i];
-        }
-        for i in 0..mg {
-            cr.r.ineq[i] = (1.0 - sigma) * inf.rg[i];
-        }
+        let scaled = |out: &mut [f64], r: &[f64]| out.iter_mut().zip(r).for_each(|(o, r)| *o = (1.0 - sigma) * r);
+        scaled(&mut cr.r.x, &inf.rx);
+        scaled(&mut cr.r.eq, &inf.re);
+        scaled(&mut cr.r.ineq, &inf.rg);
         let r_kappa = -sigma * self.mu + mfac * aff.tau * aff.kappa + v.tau * v.kappa;
         let rhs = NewtonRhs { r: cr.r.rhs(), c: &cr.c, r_tau: (1.0 - sigma) * inf.rtau, r_kappa };
         if !newton(sh, &mut self.kkt, &self.sc, v, &mut self.newton, &rhs, true, &mut self.dir) {
@@ -564,14 +557,9 @@ fn newton<const C: usize>(
     refine: bool,
     out: &mut Vars,
 ) -> bool {
-    let (n, me, mg) = (sh.n(), sh.m_e(), sh.m_g());
     // The z right-hand side is c − r_z (c = 0 on the equality rows).
-    for i in 0..me {
-        w.rhs_eq[i] = -rhs.r.eq[i];
-    }
-    for i in 0..mg {
-        w.rhs_ineq[i] = rhs.c[i] - rhs.r.ineq[i];
-    }
+    w.rhs_eq.iter_mut().zip(rhs.r.eq).for_each(|(o, r)| *o = -r);
+    w.rhs_ineq.iter_mut().zip(rhs.c.iter().zip(rhs.r.ineq)).for_each(|(o, (c, r))| *o = c - r);
     let r = Rhs { x: rhs.r.x, eq: &w.rhs_eq, ineq: &w.rhs_ineq };
     if !kkt.solve(sh, sc, r, w.c1.step(), refine) {
         return false;
@@ -581,15 +569,12 @@ fn newton<const C: usize>(
         rhs.r_tau - rhs.r_kappa / v.tau + sh.q_dot(&c1.x) + sh.b_dot(&c1.eq, &c1.ineq) + 2.0 * sh.p_quad(xi, &c1.x);
     let den = v.kappa / v.tau - w.qx2 - w.bz2 + w.quad;
     let dtau = num / den;
-    for j in 0..n {
-        out.x[j] = c1.x[j] + dtau * c2.x[j];
-    }
-    for i in 0..me {
-        out.ze[i] = c1.eq[i] + dtau * c2.eq[i];
-    }
-    for i in 0..mg {
-        out.z[i] = c1.ineq[i] + dtau * c2.ineq[i];
-    }
+    let combine = |out: &mut [f64], a: &[f64], b: &[f64]| {
+        out.iter_mut().zip(a.iter().zip(b)).for_each(|(o, (a, b))| *o = a + dtau * b);
+    };
+    combine(&mut out.x, &c1.x, &c2.x);
+    combine(&mut out.ze, &c1.eq, &c2.eq);
+    combine(&mut out.z, &c1.ineq, &c2.ineq);
     sc.ds_from_dz(&out.z, rhs.c, &mut out.s);
     out.tau = dtau;
     out.kappa = -(rhs.r_kappa + v.kappa * dtau) / v.tau;
