@@ -118,8 +118,11 @@ impl Accuracy {
 pub struct Side {
     /// Local block index (rows 6·block … 6·block + 5).
     pub block: usize,
-    /// Maps the local wrench about the interface origin to the block's rows.
+    /// Maps the local wrench about the interface origin to the block's rows:
+    /// `[[P, 0], [[arm]× P, P]]`, P = sign · F (F the frame's axes as columns).
     pub psi: [[f64; 6]; 6],
+    /// The interface origin from the block's centroid.
+    pub arm: [f64; 3],
 }
 
 impl Side {
@@ -139,31 +142,49 @@ impl Side {
                 psi[3 + r][3 + c] = sign * col[r];
             }
         }
-        Self { block, psi }
+        Self { block, psi, arm }
     }
 
     /// `out += Ψ w`: a wrench about the interface origin (in its frame) added to the block's
-    /// six rows `out`.
+    /// six rows `out` — by Ψ's blocks: u = P w_f, then [u; arm × u + P w_m].
     pub fn add_wrench(&self, w: &[f64; 6], out: &mut [f64]) {
-        for (o, row) in out[..6].iter_mut().zip(&self.psi) {
-            let mut s = 0.0;
-            for (p, wc) in row.iter().zip(w) {
-                s += p * wc;
-            }
-            *o += s;
+        let u = self.p_mul(&[w[0], w[1], w[2]]);
+        let t = self.p_mul(&[w[3], w[4], w[5]]);
+        let m = cross(&self.arm, &u);
+        for r in 0..3 {
+            out[r] += u[r];
+            out[3 + r] += m[r] + t[r];
         }
     }
 
-    /// `out += Ψᵀ y`: the block's six rows `y` seen in the interface frame.
+    /// `out += Ψᵀ y`: the block's six rows `y` seen in the interface frame — by Ψ's blocks:
+    /// [Pᵀ (y_f + y_m × arm); Pᵀ y_m].
     pub fn add_seen(&self, y: &[f64], out: &mut [f64; 6]) {
-        for (c, o) in out.iter_mut().enumerate() {
-            let mut s = 0.0;
-            for (row, yr) in self.psi.iter().zip(y) {
-                s += row[c] * yr;
-            }
-            *o += s;
+        let ym = [y[3], y[4], y[5]];
+        let shift = cross(&ym, &self.arm);
+        let f = self.pt_mul(&[y[0] + shift[0], y[1] + shift[1], y[2] + shift[2]]);
+        let m = self.pt_mul(&ym);
+        for c in 0..3 {
+            out[c] += f[c];
+            out[3 + c] += m[c];
         }
     }
+
+    /// P v (P: Ψ's upper left 3×3).
+    fn p_mul(&self, v: &[f64; 3]) -> [f64; 3] {
+        let p = &self.psi;
+        std::array::from_fn(|r| p[r][0] * v[0] + p[r][1] * v[1] + p[r][2] * v[2])
+    }
+
+    /// Pᵀ v.
+    fn pt_mul(&self, v: &[f64; 3]) -> [f64; 3] {
+        let p = &self.psi;
+        std::array::from_fn(|c| p[0][c] * v[0] + p[1][c] * v[1] + p[2][c] * v[2])
+    }
+}
+
+fn cross(a: &[f64; 3], b: &[f64; 3]) -> [f64; 3] {
+    [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
 }
 
 /// An interface of the component: its force points and the free blocks it touches.
