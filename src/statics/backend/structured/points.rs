@@ -626,6 +626,19 @@ mod tests {
         out
     }
 
+    /// The scaling at a random interior (s, z): non-negative rows in [0.5, 1.5], cones with
+    /// s₀ > |s₁|.
+    fn interior_scaling<const C: usize>(sh: &Shape<C>, rng: &mut Lcg) -> Scaling {
+        let (np, mp, nn) = (sh.points(), sh.m_p, sh.nonneg.len());
+        let layout = Layout { points: np, per_point: mp, nonneg: nn, soc: sh.soc.is_some(), tail: sh.tail_rows() };
+        let mut interior =
+            |i: usize| if i % mp >= nn && (i % mp - nn) == 0 { 2.0 + rng.next() } else { 0.5 + rng.next() };
+        let (s, z): (Vec<f64>, Vec<f64>) = (0..sh.m_g()).map(|i| (interior(i), interior(i))).unzip();
+        let mut sc = Scaling::identity(layout);
+        assert!(sc.update(&s, &z));
+        sc
+    }
+
     fn check<const C: usize>(model: FrictionModel) {
         let asm = Assembly::new(&builtin("wall?courses=3&bricks=3").unwrap(), &Default::default()).unwrap();
         let ifs = detect(&asm);
@@ -637,16 +650,10 @@ mod tests {
         contacts.last_mut().expect("contacts").points.end -= 1;
         let rho = &sh.rho[..sh.rho.len() - 1];
         (sh.contacts, sh.rho) = (&contacts, rho);
-        let (np, mp, nn) = (sh.points(), sh.m_p, sh.nonneg.len());
+        let (np, mp) = (sh.points(), sh.m_p);
         assert_ne!(np % LANES, 0, "a short last batch is exercised");
-        let layout = Layout { points: np, per_point: mp, nonneg: nn, soc: sh.soc.is_some(), tail: sh.tail_rows() };
         let mut rng = Lcg(11);
-        // Interior s and z: non-negative rows in [0.5, 1.5], cones with s₀ > |s₁|.
-        let mut interior =
-            |i: usize| if i % mp >= nn && (i % mp - nn) == 0 { 2.0 + rng.next() } else { 0.5 + rng.next() };
-        let (s, z): (Vec<f64>, Vec<f64>) = (0..sh.m_g()).map(|i| (interior(i), interior(i))).unzip();
-        let mut sc = Scaling::identity(layout);
-        assert!(sc.update(&s, &z));
+        let sc = interior_scaling(&sh, &mut rng);
         let eps = 1e-13;
         let (mut chol, mut y) = (vec![[[0.0; C]; C]; np], vec![[[0.0; 3]; 3]; np]);
         assert!(factor_points(&sh, &sc, eps, &mut chol, &mut y));
@@ -706,8 +713,9 @@ mod tests {
     }
 
     /// K's products ([`apply`], with and without the scaling) against each point's algebra
-    /// written out with nalgebra, to 1e-14 of each block's largest entry; and the products
-    /// [`back_points`] leaves at the solution it forms against [`apply`] there, bit for bit.
+    /// written out with nalgebra ([`reference_products`]), to 1e-14 of each block's largest
+    /// entry; and the products [`back_points`] leaves at the solution it forms against
+    /// [`apply`] there, bit for bit ([`check_fused`]).
     fn check_products<const C: usize>(model: FrictionModel) {
         let asm = Assembly::new(&builtin("wall?courses=3&bricks=3").unwrap(), &Default::default()).unwrap();
         let ifs = detect(&asm);
@@ -718,18 +726,11 @@ mod tests {
         contacts.last_mut().expect("contacts").points.end -= 1;
         let rho = &sh.rho[..sh.rho.len() - 1];
         (sh.contacts, sh.rho) = (&contacts, rho);
-        let (np, mp, nn) = (sh.points(), sh.m_p, sh.nonneg.len());
-        let layout = Layout { points: np, per_point: mp, nonneg: nn, soc: sh.soc.is_some(), tail: sh.tail_rows() };
         let mut rng = Lcg(5);
-        let mut interior =
-            |i: usize| if i % mp >= nn && (i % mp - nn) == 0 { 2.0 + rng.next() } else { 0.5 + rng.next() };
-        let (s, z): (Vec<f64>, Vec<f64>) = (0..sh.m_g()).map(|i| (interior(i), interior(i))).unzip();
-        let mut sc = Scaling::identity(layout);
-        assert!(sc.update(&s, &z));
+        let sc = interior_scaling(&sh, &mut rng);
         let mut random = |len: usize| (0..len).map(|_| rng.next() - 0.5).collect::<Vec<f64>>();
         let (x, ze, zg) = (random(sh.n()), random(sh.m_e()), random(sh.m_g()));
         let sol = Rhs { x: &x, eq: &ze, ineq: &zg };
-        let (g, n) = (rows(&sh), DMatrix::from_fn(3, C, |i, k| sh.fmap[i][k]));
         let mut work = ApplyWork::new(&sh);
         let mut out = Blocks::zeros(sh.n(), sh.m_e(), sh.m_g());
         let close = |a: &[f64], b: &[f64], what: &str| {
@@ -739,77 +740,78 @@ mod tests {
         };
         for kkt in [None, Some(&sc)] {
             apply(&sh, kkt, sol, out.step(), &mut work);
-            let (mut rx, mut re, mut rg) = (vec![0.0; sh.n()], vec![0.0; sh.m_e()], vec![0.0; sh.m_g()]);
-            for contact in sh.contacts {
-                let psi = |side: &crate::statics::problem::Side| DMatrix::from_fn(6, 6, |r, c| side.psi[r][c]);
-                let mut u = DVector::zeros(6);
-                for side in contact.sides.iter().flatten() {
-                    u += psi(side).transpose() * DVector::from_fn(6, |r, _| ze[6 * side.block + r]);
-                }
-                let mut w6 = DVector::zeros(6);
-                for p in contact.points.clone() {
-                    let r = DMatrix::from_row_slice(3, 3, &{
-                        let [a, b, c] = sh.rho[p];
-                        [0.0, -c, b, c, 0.0, -a, -b, a, 0.0]
-                    });
-                    let xp = DVector::from_fn(C, |k, _| x[p * C + k]);
-                    let zp = DVector::from_fn(mp, |i, _| zg[p * mp + i]);
-                    let f = &n * &xp;
-                    w6 += DVector::from_iterator(6, f.iter().copied().chain((&r * &f).iter().copied()));
-                    let motion = u.rows(0, 3) - &r * u.rows(3, 3);
-                    let mut kx = n.transpose() * motion + g.transpose() * &zp;
-                    let mut kg = &g * &xp;
-                    if let Some(sc) = kkt {
-                        kx += DVector::from_fn(C, |k, _| sh.p[k] * xp[k]);
-                        let mut hz = DVector::from_fn(mp, |i, _| if i < nn { sc.d[p * mp + i] * zp[i] } else { 0.0 });
-                        if sh.soc.is_some() {
-                            hz.rows_mut(nn, 3).copy_from_slice(&sc.hs_mul(p, &[zp[nn], zp[nn + 1], zp[nn + 2]]));
-                        }
-                        kg -= hz;
+            let reference = reference_products(&sh, kkt, sol);
+            close(&out.x, &reference.x, "Eᵀz_E + Gᵀz_G (+ P x)");
+            close(&out.eq, &reference.eq, "E x");
+            close(&out.ineq, &reference.ineq, "G x (− Hs z_G)");
+        }
+        check_fused(&sh, &sc, sol, &mut work, model);
+    }
+
+    /// K's products at `sol` one point at a time with nalgebra: Ψ and the rows as dense
+    /// matrices, the wrench [f; ρ × f], the motion u_f + u_m × ρ.
+    fn reference_products<const C: usize>(sh: &Shape<C>, kkt: Option<&Scaling>, sol: Rhs) -> Blocks {
+        let (mp, nn) = (sh.m_p, sh.nonneg.len());
+        let (g, n) = (rows(sh), DMatrix::from_fn(3, C, |i, k| sh.fmap[i][k]));
+        let mut out = Blocks::zeros(sh.n(), sh.m_e(), sh.m_g());
+        let psi = |side: &crate::statics::problem::Side| DMatrix::from_fn(6, 6, |r, c| side.psi[r][c]);
+        for contact in sh.contacts {
+            let mut u = DVector::zeros(6);
+            for side in contact.sides.iter().flatten() {
+                u += psi(side).transpose() * DVector::from_fn(6, |r, _| sol.eq[6 * side.block + r]);
+            }
+            let mut w6 = DVector::zeros(6);
+            for p in contact.points.clone() {
+                let [a, b, c] = sh.rho[p];
+                let r = DMatrix::from_row_slice(3, 3, &[0.0, -c, b, c, 0.0, -a, -b, a, 0.0]);
+                let xp = DVector::from_fn(C, |k, _| sol.x[p * C + k]);
+                let zp = DVector::from_fn(mp, |i, _| sol.ineq[p * mp + i]);
+                let f = &n * &xp;
+                w6 += DVector::from_iterator(6, f.iter().copied().chain((&r * &f).iter().copied()));
+                let motion = u.rows(0, 3) - &r * u.rows(3, 3);
+                let mut kx = n.transpose() * motion + g.transpose() * &zp;
+                let mut kg = &g * &xp;
+                if let Some(sc) = kkt {
+                    kx += DVector::from_fn(C, |k, _| sh.p[k] * xp[k]);
+                    let mut hz = DVector::from_fn(mp, |i, _| if i < nn { sc.d[p * mp + i] * zp[i] } else { 0.0 });
+                    if sh.soc.is_some() {
+                        hz.rows_mut(nn, 3).copy_from_slice(&sc.hs_mul(p, &[zp[nn], zp[nn + 1], zp[nn + 2]]));
                     }
-                    rx[p * C..(p + 1) * C].copy_from_slice(kx.as_slice());
-                    rg[p * mp..(p + 1) * mp].copy_from_slice(kg.as_slice());
+                    kg -= hz;
                 }
-                for side in contact.sides.iter().flatten() {
-                    let e = psi(side) * &w6;
-                    for r in 0..6 {
-                        re[6 * side.block + r] += e[r];
-                    }
+                out.x[p * C..(p + 1) * C].copy_from_slice(kx.as_slice());
+                out.ineq[p * mp..(p + 1) * mp].copy_from_slice(kg.as_slice());
+            }
+            for side in contact.sides.iter().flatten() {
+                let e = psi(side) * &w6;
+                for r in 0..6 {
+                    out.eq[6 * side.block + r] += e[r];
                 }
             }
-            close(&out.x, &rx, "Eᵀz_E + Gᵀz_G (+ P x)");
-            close(&out.eq, &re, "E x");
-            close(&out.ineq, &rg, "G x (− Hs z_G)");
         }
-        // The back substitution's products at its own solution: apply's bits.
+        out
+    }
+
+    /// The back substitution's products at its own solution (r̃x = `sol.x`, z_E = `sol.eq`,
+    /// r_G = `sol.ineq`) against [`apply`] there, bit for bit.
+    fn check_fused<const C: usize>(sh: &Shape<C>, sc: &Scaling, sol: Rhs, work: &mut ApplyWork, model: FrictionModel) {
+        let np = sh.points();
         let (mut chol, mut y) = (vec![[[0.0; C]; C]; np], vec![[[0.0; 3]; 3]; np]);
-        assert!(factor_points(&sh, &sc, 1e-13, &mut chol, &mut y));
-        let rt: Vec<[f64; C]> = (0..np).map(|p| std::array::from_fn(|k| x[p * C + k])).collect();
-        work.see(&sh, &ze);
+        assert!(factor_points(sh, sc, 1e-13, &mut chol, &mut y));
+        let rt: Vec<[f64; C]> = (0..np).map(|p| std::array::from_fn(|k| sol.x[p * C + k])).collect();
+        work.see(sh, sol.eq);
         let (mut xb, mut zb) = (vec![0.0; sh.n()], vec![0.0; sh.m_g()]);
         let mut fused = Blocks::zeros(sh.n(), sh.m_e(), sh.m_g());
         let mut wrench = vec![[0.0; 6]; np];
-        let products = PointProducts { ze: &ze, out: fused.step(), wrench: &mut wrench };
-        let budgets = &ze[6 * sh.blocks..];
-        back_points(
-            &sh,
-            &sc,
-            &chol,
-            &rt,
-            (&work.seen, &work.contact_of),
-            (budgets, &zg),
-            &mut xb,
-            &mut zb,
-            Some(products),
-        );
+        let products = PointProducts { ze: sol.eq, out: fused.step(), wrench: &mut wrench };
+        let (seen, budgets) = ((work.seen.as_slice(), work.contact_of.as_slice()), &sol.eq[6 * sh.blocks..]);
+        back_points(sh, sc, &chol, &rt, seen, (budgets, sol.ineq), &mut xb, &mut zb, Some(products));
         work.wrench = wrench;
-        work.add_wrenches(&sh, &mut fused.eq);
-        apply(&sh, Some(&sc), Rhs { x: &xb, eq: &ze, ineq: &zb }, out.step(), &mut work);
+        work.add_wrenches(sh, &mut fused.eq);
+        let mut out = Blocks::zeros(sh.n(), sh.m_e(), sh.m_g());
+        apply(sh, Some(sc), Rhs { x: &xb, eq: sol.eq, ineq: &zb }, out.step(), work);
         for (a, b) in [(&fused.x, &out.x), (&fused.eq, &out.eq), (&fused.ineq, &out.ineq)] {
-            assert!(
-                a.iter().zip(b.iter()).all(|(a, b)| a.to_bits() == b.to_bits()),
-                "{model:?}: fused products differ"
-            );
+            assert!(a.iter().zip(b).all(|(a, b)| a.to_bits() == b.to_bits()), "{model:?}: fused products differ");
         }
     }
 
