@@ -2,8 +2,8 @@
 //! 10 × 10 running-bond wall on both engines; the goal of issue #7: the Armadillo (399 bodies),
 //! 10 s simulated (2400 steps) on rapier, and 2 s on both engines; and the exact engine on a
 //! collapsing arch (t/R 0.08, 2 s: every step solved), its steps on the structured solver warm-
-//! started and cold, and on clarabel. The cost per body-step is the median /
-//! (steps × bodies).
+//! started and cold, with plain Tresca rounds, and on clarabel. The cost per body-step is the
+//! median / (steps × bodies).
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use std::hint::black_box;
@@ -32,6 +32,13 @@ fn drops(c: &mut Criterion) {
     cold.exact.warm_start = false;
     g.bench_function("exact_cold/collapsing arch?n=15&t=0.08", |b| {
         b.iter(|| black_box(drop_test(&asm, &cold).unwrap()))
+    });
+    // The Tresca rounds plain (c ← μ f_n until the capacities stop changing): the accelerated
+    // rounds' share.
+    let mut plain = exact.clone();
+    plain.exact.accelerate_rounds = false;
+    g.bench_function("exact_plain_rounds/collapsing arch?n=15&t=0.08", |b| {
+        b.iter(|| black_box(drop_test(&asm, &plain).unwrap()))
     });
     // The same steps on clarabel (every step problem as a general conic problem): the ratio.
     let mut on_clarabel = exact.clone();

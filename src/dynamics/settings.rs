@@ -103,6 +103,11 @@ pub struct ExactSettings {
     /// layout kept (the last step's, or the last round's): the same answers to the solver's
     /// tolerance in fewer iterations.
     pub warm_start: bool,
+    /// Settle a step's Tresca rounds faster: a round is the fixed point when the capacities
+    /// that changed bind nowhere (the contacts stick inside both), and the next capacities come
+    /// from Anderson acceleration of the rounds (safeguarded), not the last round alone. `false`
+    /// takes c ← μ f_n until the capacities stop changing (to cross-check).
+    pub accelerate_rounds: bool,
     /// The interior-point solver of the step problems: the structured one (each contact a
     /// force point, the bodies' rows reduced as in the statics) wherever a step has its shape,
     /// else clarabel; `Clarabel` runs every step on clarabel (to cross-check).
@@ -126,6 +131,7 @@ impl Default for ExactSettings {
             recovery_speed: 0.1,
             envelope: 0.02,
             warm_start: true,
+            accelerate_rounds: true,
             backend: Backend::default(),
         }
     }

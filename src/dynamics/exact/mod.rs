@@ -12,7 +12,9 @@
 //!   clamped at −recovery (a contact closes within the step; an overlap is pushed out, slowly).
 //! - Friction: γ_t,p within the friction model's set (cone, pyramid8, box4) of capacity c_p,
 //!   opposing the slip; [`Coulomb::Exact`] takes c_p = μ γ_n,p by a fixed point within the step
-//!   (warm-started from the last step's normal forces); [`Coulomb::Relaxed`] couples them in the
+//!   (warm-started from the last step's normal forces; a round whose changed capacities bind
+//!   nowhere is the fixed point, else Anderson acceleration picks the next capacities:
+//!   [`anderson`]); [`Coulomb::Relaxed`] couples them in the
 //!   one solve (Anitescu's relaxation: sliding contacts separate at μ |v_t|).
 //! - Gauss's principle in impulses makes it one QP/SOCP: minimise ½ |M v⁺|²_{M⁻¹} + Σ_p (gap_p/h) γ_n,p
 //!   over the friction sets; v⁺ is unique (M positive definite) however redundant the contacts.
@@ -44,6 +46,7 @@
 //! Units SI (m, kg, s, N), z up; solved non-dimensionally ([`bodies::Units`]). Same input,
 //! same trajectory (the same solves in the same order).
 
+mod anderson;
 mod bodies;
 mod contact_form;
 mod contacts;

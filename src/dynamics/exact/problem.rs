@@ -205,6 +205,23 @@ fn friction_rows(ctx: &StepContext, active: &[Active], cols: &Columns, p: &mut C
     }
 }
 
+/// Per active contact, its friction force in solve `x` measured by the friction model's own
+/// gauge (the least capacity whose set holds it: max over the facets of (du f_u + dv f_v)/s,
+/// or |f_t| on the cone), non-dimensional; 0 without friction columns.
+pub(super) fn friction_gauge(model: FrictionModel, cols: &Columns, x: &[f64]) -> Vec<f64> {
+    cols.friction
+        .iter()
+        .map(|f| {
+            let Some((u, v)) = *f else { return 0.0 };
+            let (fu, fv) = (x[u], x[v]);
+            match model {
+                FrictionModel::Cone => fu.hypot(fv),
+                _ => model.facets().iter().map(|&(du, dv, s)| (du * fu + dv * fv) / s).fold(0.0, f64::max),
+            }
+        })
+        .collect()
+}
+
 /// A solve read back in SI units.
 pub(super) struct Solution {
     /// Per body of the component: the new velocity (m/s) and angular velocity (rad/s).

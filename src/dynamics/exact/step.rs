@@ -1,6 +1,7 @@
 //! One component's step: the rounds of solves, then its new velocities, forces and account.
 
 use super::World;
+use super::anderson::Anderson;
 use super::contact_form::{self, StepData};
 use super::crushing::{self, Crush};
 use super::problem::{self, Active, Solution, StepProblem};
@@ -57,6 +58,7 @@ impl World {
         let exact = self.ctx.coulomb == Coulomb::Exact;
         let mut rounds = 0;
         let mut bound = BTreeSet::new();
+        let mut anderson = Anderson::default();
         let accepted = loop {
             rounds += 1;
             let crush = self.ctx.strength.map(|sigma| Crush { bearings: &self.bearings, sigma, bound: &bound });
@@ -90,15 +92,29 @@ impl World {
                 .iter()
                 .chain(active.iter().map(|a| &a.capacity))
                 .fold(mean.max(f64::MIN_POSITIVE), |m, c| m.max(*c));
+            let slack = self.settings.settle * largest;
             let change = next.iter().zip(&active).fold(0.0f64, |m, (c, a)| m.max((c - a.capacity).abs()));
+            let accelerate = self.settings.accelerate_rounds;
+            let unbinding = accelerate && {
+                let gauge = problem::friction_gauge(self.ctx.model, &selection.cols, &forces.x);
+                binds_nowhere(&active, &next, &gauge, slack)
+            };
             let grew = self.bind(&active, &sol, &mut bound);
-            if change <= self.settings.settle * largest && !grew {
+            if (change <= slack || unbinding) && !grew {
                 break Some((sol, false));
             }
             if rounds >= self.settings.max_rounds {
                 self.stats.unsettled_steps += 1;
                 break Some((sol, false));
             }
+            let next = if !accelerate {
+                next
+            } else if grew {
+                anderson.restart();
+                next
+            } else {
+                anderson.next(&active.iter().map(|a| a.capacity).collect::<Vec<_>>(), &next)
+            };
             active.iter_mut().zip(next).for_each(|(a, c)| a.capacity = c);
         };
         self.stats.max_rounds = self.stats.max_rounds.max(rounds);
@@ -259,6 +275,21 @@ impl World {
             }
         }
     }
+}
+
+/// Whether capacities `next` would give the round's answer again: each contact's capacity
+/// either stayed within `slack`, or its friction (`gauge`, the model's own measure) lies
+/// `slack` inside both its old and its new capacity. Such a contact's friction bound binds in
+/// neither problem (its multiplier is 0), so the round's forces and velocities meet the next
+/// round's optimality conditions, and its force selection's, as they are: the fixed point
+/// is reached without that round. (A contact sticking while its normal force changes: the
+/// common case of a moving assembly.)
+fn binds_nowhere(active: &[Active], next: &[f64], gauge: &[f64], slack: f64) -> bool {
+    active
+        .iter()
+        .zip(next)
+        .zip(gauge)
+        .all(|((a, &c), &t)| (c - a.capacity).abs() <= slack || t <= a.capacity.min(c) - slack)
 }
 
 /// The next round's capacities μ f_n, a normal force within the solver's noise counted as none
