@@ -102,7 +102,16 @@ impl Pipeline {
 
     /// One run; the results are those of [`analyze`] whatever the pipeline ran before.
     pub fn run(&mut self, scene: &Scene, settings: &AnalysisSettings) -> Result<Analysis, AnalysisError> {
-        let tc = Instant::now();
+        let prepared = self.prepare(scene, settings)?;
+        let solved = self.solve(&prepared, settings)?;
+        Ok(prepared.into_analysis(solved))
+    }
+
+    /// The run up to the statics: the cut history replayed, the blocks validated, their
+    /// interfaces detected. What needs the geometry but not the equilibrium (the infill's
+    /// density problem) can run beside [`Self::solve`].
+    pub(crate) fn prepare(&mut self, scene: &Scene, settings: &AnalysisSettings) -> Result<Prepared, AnalysisError> {
+        let start = Instant::now();
         let (resolved, cut_stats) = history::resolve(scene, &settings.tolerances, &mut self.cuts)?;
         let t0 = Instant::now();
         let mut assembly = Assembly::new_cached(&resolved, &settings.tolerances, &mut self.repairs)?;
@@ -118,25 +127,58 @@ impl Pipeline {
         let t1 = Instant::now();
         let (interfaces, detect_stats) = interfaces::detect_cached(&assembly, &keys, &mut self.pairs);
         let t2 = Instant::now();
-        let (statics, solve_stats) =
-            statics::solve_cached(&assembly, &interfaces, &settings.statics, &keys, &mut self.components)?;
-        let t3 = Instant::now();
         let timings = Timings {
-            cut: (t0 - tc).as_secs_f64(),
+            cut: (t0 - start).as_secs_f64(),
             validate: (t1 - t0).as_secs_f64(),
             detect: (t2 - t1).as_secs_f64(),
-            assemble: statics.assemble_seconds,
-            solve: statics.solver_seconds,
-            total: (t3 - tc).as_secs_f64(),
+            ..Timings::default()
         };
         let work = Work {
             pieces_cut: cut_stats.splits,
             pieces_reused: cut_stats.cached,
             pairs_detected: detect_stats.detected,
             pairs_reused: detect_stats.reused,
-            components_solved: solve_stats.solved,
-            components_reused: solve_stats.reused,
+            ..Work::default()
         };
-        Ok(Analysis { assembly, interfaces, statics, timings, work })
+        Ok(Prepared { assembly, interfaces, keys, start, timings, work })
+    }
+
+    /// The statics of a prepared run.
+    pub(crate) fn solve(&mut self, prepared: &Prepared, settings: &AnalysisSettings) -> Result<Solved, AnalysisError> {
+        let p = prepared;
+        let (statics, stats) =
+            statics::solve_cached(&p.assembly, &p.interfaces, &settings.statics, &p.keys, &mut self.components)?;
+        Ok(Solved { statics, stats })
+    }
+}
+
+/// A run up to the statics ([`Pipeline::prepare`]).
+pub(crate) struct Prepared {
+    pub assembly: Assembly,
+    pub interfaces: Vec<Interface>,
+    keys: Vec<u64>,
+    start: Instant,
+    timings: Timings,
+    work: Work,
+}
+
+/// The statics of a prepared run ([`Pipeline::solve`]).
+pub(crate) struct Solved {
+    statics: StaticsResult,
+    stats: statics::SolveStats,
+}
+
+impl Prepared {
+    /// The run's analysis, timed to now.
+    pub(crate) fn into_analysis(self, solved: Solved) -> Analysis {
+        let Solved { statics, stats } = solved;
+        let timings = Timings {
+            assemble: statics.assemble_seconds,
+            solve: statics.solver_seconds,
+            total: self.start.elapsed().as_secs_f64(),
+            ..self.timings
+        };
+        let work = Work { components_solved: stats.solved, components_reused: stats.reused, ..self.work };
+        Analysis { assembly: self.assembly, interfaces: self.interfaces, statics, timings, work }
     }
 }

@@ -17,12 +17,16 @@
 //! When no density within the bounds stands, the answer says so with the mechanism every
 //! admissible mass drives (its least dead-load work over the bounds is positive).
 //!
+//! The design's own statics and the density problems share the geometry (one cut, validation
+//! and detection) and nothing else, so they run side by side on two threads; the infilled
+//! design's analysis follows, its solves started from the design's.
+//!
 //! Densities in kg/m³; the written design carries them by piece name (the scene's `densities`),
 //! so `analyze` and the drop tests read the design as infilled.
 
 use super::DesignError;
 use crate::geometry::MassProperties;
-use crate::model::{BlockId, Density, Scene};
+use crate::model::{Assembly, BlockId, Density, Scene};
 use crate::pipeline::{Analysis, AnalysisSettings, Pipeline};
 use crate::statics::{
     self, Component, DensityCell, DensityGoal, DensityOutcome, LiveCase, Mechanism, SolverStatus, Verdict,
@@ -175,26 +179,37 @@ pub fn infill(
     let mut warm = analysis.clone();
     warm.statics.warm_start = true;
     let analysis = &warm;
-    let before = pipeline.run(scene, analysis)?;
-    let statics_settings = analysis.statics.resolved(&before.assembly);
-    let (assembly, interfaces) = (&before.assembly, before.interfaces.as_slice());
+    let prepared = pipeline.prepare(scene, analysis)?;
+    let (assembly, interfaces) = (&prepared.assembly, prepared.interfaces.as_slice());
+    let statics_settings = analysis.statics.resolved(assembly);
     let mu = statics_settings.friction.unwrap_or(assembly.material.friction);
-    let ranges = ranges(scene, &before, settings)?;
-    let cases = cases(&before, settings);
+    let ranges = ranges(scene, assembly, settings)?;
+    let cases = cases(assembly, settings);
     let comps = statics::components(assembly, interfaces);
-    let grids = grids(&before, settings.cells);
-    let mut solves = 0;
-    let found: Vec<Found> = comps
-        .iter()
-        .map(|c| {
-            let cells = cells(c, &grids, &ranges);
-            let mut solve = |goal: DensityGoal<'_>| {
-                solves += 1;
-                statics::component_densities(assembly, interfaces, c, mu, &statics_settings, &cells, goal)
-            };
-            component(&mut solve, settings, &cases)
-        })
-        .collect();
+    let grids = grids(assembly, settings.cells);
+    // The design's own statics and the density problems need the same geometry and nothing of
+    // each other: one on each core.
+    let densities = || {
+        let mut solves = 0;
+        let found: Vec<Found> = comps
+            .iter()
+            .map(|c| {
+                let cells = cells(c, &grids, &ranges);
+                let mut solve = |goal: DensityGoal<'_>| {
+                    solves += 1;
+                    statics::component_densities(assembly, interfaces, c, mu, &statics_settings, &cells, goal)
+                };
+                component(&mut solve, settings, &cases)
+            })
+            .collect();
+        (found, solves)
+    };
+    let (solved, (found, solves)) = std::thread::scope(|s| {
+        let beside = s.spawn(densities);
+        let solved = pipeline.solve(&prepared, analysis);
+        (solved, beside.join().unwrap_or_else(|panic| std::panic::resume_unwind(panic)))
+    });
+    let before = prepared.into_analysis(solved?);
     let mut report = summary(&before, &comps, &found, &grids, &ranges, settings.objective);
     report.solves = solves;
     if report.outcome == InfillOutcome::Stands {
@@ -210,8 +225,8 @@ pub fn infill(
 
 /// Each block's bounds, kg/m³ (supports too: never used): the scene's own for the pieces it
 /// names, else the settings' range, else from a quarter of the block's density to it.
-fn ranges(scene: &Scene, analysis: &Analysis, settings: &InfillSettings) -> Result<Vec<(f64, f64)>, DesignError> {
-    let blocks = &analysis.assembly.blocks;
+fn ranges(scene: &Scene, assembly: &Assembly, settings: &InfillSettings) -> Result<Vec<(f64, f64)>, DesignError> {
+    let blocks = &assembly.blocks;
     if let Some(name) = scene.density_ranges.keys().find(|n| !blocks.iter().any(|b| &b.name == *n)) {
         return Err(DesignError::Settings(format!("density range of '{name}': no piece of the design has that name")));
     }
@@ -235,8 +250,7 @@ fn ranges(scene: &Scene, analysis: &Analysis, settings: &InfillSettings) -> Resu
 }
 
 /// Each block's cells (k per axis; one, the block itself, for k = 1), supports left empty.
-fn grids(analysis: &Analysis, k: usize) -> Vec<Vec<MassProperties>> {
-    let assembly = &analysis.assembly;
+fn grids(assembly: &Assembly, k: usize) -> Vec<Vec<MassProperties>> {
     let eps = assembly.tolerances.weld;
     let cells = |b: &crate::model::AssemblyBlock| match k {
         1 => vec![MassProperties::of_mesh(&b.mesh)],
@@ -264,8 +278,7 @@ fn cells(comp: &Component, grids: &[Vec<MassProperties>], ranges: &[(f64, f64)])
 }
 
 /// The live cases a robust design must carry.
-fn cases(analysis: &Analysis, settings: &InfillSettings) -> Vec<LiveCase> {
-    let assembly = &analysis.assembly;
+fn cases(assembly: &Assembly, settings: &InfillSettings) -> Vec<LiveCase> {
     if settings.objective == InfillObjective::Stand {
         return Vec::new();
     }

@@ -54,6 +54,7 @@ fn the_lightest_densities_meet_the_lever_rule() {
     assert_eq!(run(&scene, &AnalysisSettings::default()).statics.verdict, Verdict::NeedsTension, "uniform tips");
     let r = run_infill(&scene, &range(150.0, 600.0));
     assert_eq!(r.outcome, InfillOutcome::Stands);
+    assert_eq!(r.verdict_before, Verdict::NeedsTension, "the design's statics, solved beside the densities");
     assert_close(density(&r, "plank"), 150.0, 150.0 * 1e-9, "plank at its lower bound");
     assert_close(density(&r, "tail"), 300.0, 300.0 * 1e-9, "tail at twice the plank");
     assert_close(r.mass_after, 0.4 * 150.0 + 0.1 * 300.0, 90.0 * 1e-9, "mass of the infilled design");
