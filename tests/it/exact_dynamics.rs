@@ -198,6 +198,18 @@ fn both_solvers_step_alike() {
     }
 }
 
+/// The collapsing arch (n 15, t 0.08) dropped for 0.5 s in the exact engine with one of its
+/// settings switched on by `switch`, then off.
+fn collapsing_arch_half_second(switch: impl Fn(&mut ExactSettings, bool)) -> (DropResult, DropResult) {
+    let asm = assembly(&builtin("arch?n=15&t=0.08").unwrap());
+    let run = |on: bool| {
+        let mut settings = DropSettings { duration: 0.5, ..exact() };
+        switch(&mut settings.exact, on);
+        drop_test(&asm, &settings).unwrap()
+    };
+    (run(true), run(false))
+}
+
 /// Invariant: a structured solve started from the iterate the component's previous solve of
 /// the same layout kept answers as a cold one does — the collapsing arch (n 15, t 0.08, 0.5 s)
 /// with and without warm starts: each block's largest drift and rotation the same to 1e-4
@@ -206,13 +218,7 @@ fn both_solvers_step_alike() {
 /// 2 s; here at least 10 %).
 #[test]
 fn warm_starts_keep_the_answer_in_fewer_iterations() {
-    let asm = assembly(&builtin("arch?n=15&t=0.08").unwrap());
-    let run = |warm_start: bool| {
-        let mut settings = DropSettings { duration: 0.5, ..exact() };
-        settings.exact.warm_start = warm_start;
-        drop_test(&asm, &settings).unwrap()
-    };
-    let (w, c) = (run(true), run(false));
+    let (w, c) = collapsing_arch_half_second(|s, warm| s.warm_start = warm);
     let close = |a: f64, b: f64| (a - b).abs() <= 1e-4 * a.abs().max(b.abs()) + 1e-6;
     for (a, b) in w.blocks.iter().zip(&c.blocks) {
         assert!(close(a.max_drift, b.max_drift), "{}: {} vs {}", a.name, a.max_drift, b.max_drift);
@@ -233,13 +239,7 @@ fn warm_starts_keep_the_answer_in_fewer_iterations() {
 /// rounds leave some.
 #[test]
 fn accelerated_rounds_settle_on_the_same_capacities_in_fewer_solves() {
-    let asm = assembly(&builtin("arch?n=15&t=0.08").unwrap());
-    let run = |accelerate: bool| {
-        let mut settings = DropSettings { duration: 0.5, ..exact() };
-        settings.exact.accelerate_rounds = accelerate;
-        drop_test(&asm, &settings).unwrap()
-    };
-    let (fast, plain) = (run(true), run(false));
+    let (fast, plain) = collapsing_arch_half_second(|s, accelerate| s.accelerate_rounds = accelerate);
     let largest = |f: fn(&voussoir::dynamics::BlockMotion) -> f64| plain.blocks.iter().map(f).fold(0.0, f64::max);
     let (drift, rotation) = (largest(|b| b.max_drift), largest(|b| b.max_rotation));
     for (a, b) in fast.blocks.iter().zip(&plain.blocks) {
