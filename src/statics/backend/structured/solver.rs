@@ -110,7 +110,7 @@ pub(super) fn solve_c<const C: usize>(
         && ws.fits(&ip.v)
         && ip.start_from(&ws.v)
     {
-        let run = ip.iterate(max_iter.min(ws.cold_iterations), Some(ws.mu_keep));
+        let run = ip.iterate(max_iter.min(ws.cold_iterations), true, Some(ws.mu_keep));
         if run.status == SolverStatus::Solved {
             ip.settle();
             let (mu_keep, cold_iterations) = (ws.mu_keep, ws.cold_iterations);
@@ -121,7 +121,7 @@ pub(super) fn solve_c<const C: usize>(
         ip.reset();
     }
     let run = if ip.initial_point() {
-        ip.iterate(max_iter, None)
+        ip.iterate(max_iter, keep, None)
     } else {
         Run { status: SolverStatus::NumericalError, iterations: 0, kept: None, mu_keep: 0.0 }
     };
@@ -293,9 +293,10 @@ impl<'a, const C: usize> Solver<'a, C> {
     }
 
     /// The solver loop from the current iterate: termination check, scaling update and step
-    /// until a status. Keeps a copy of the first iterate after the start whose μ is at most
-    /// `mu_keep` (from a cold start: μ₀ × [`KEEP_AT`]).
-    fn iterate(&mut self, max_iter: u32, mu_keep: Option<f64>) -> Run {
+    /// until a status. With `keep`, keeps a copy of the first iterate after the start whose μ
+    /// is at most `mu_keep` (from a cold start: μ₀ × [`KEEP_AT`]); without, copies nothing (an
+    /// iterate is a few hundred MB on a 100 000-brick wall).
+    fn iterate(&mut self, max_iter: u32, keep: bool, mu_keep: Option<f64>) -> Run {
         let mut iter = 0u32;
         let mut mu_keep = mu_keep.unwrap_or(f64::NAN);
         let mut kept = None;
@@ -304,7 +305,7 @@ impl<'a, const C: usize> Solver<'a, C> {
             if iter == 0 && mu_keep.is_nan() {
                 mu_keep = self.mu * KEEP_AT;
             }
-            if kept.is_none() && iter > 0 && self.mu <= mu_keep {
+            if keep && kept.is_none() && iter > 0 && self.mu <= mu_keep {
                 kept = Some(self.v.clone());
             }
             if let Some(status) = status {
