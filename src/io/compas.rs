@@ -222,36 +222,67 @@ mod typed {
     }
 }
 
+/// One node of a compas Assembly's graph as read: its key, whether it is a support, and its
+/// block's vertex table (key, x, y, z) and face table (key, vertex keys), keys as text (what
+/// the JSON has). The typed parse reads these from the file; the Python package from the
+/// compas object itself.
+pub struct NodeTables {
+    pub key: String,
+    pub support: bool,
+    pub vertices: Vec<(String, [f64; 3])>,
+    pub faces: Vec<(String, Vec<String>)>,
+}
+
+/// The scene of a compas Assembly from its nodes' tables: blocks in node-key order, each
+/// block's vertices and faces in key order ([`key_order`]); `path` names the source in errors.
+pub fn scene_from_nodes(path: &Path, mut nodes: Vec<NodeTables>) -> Result<Scene, IoError> {
+    nodes.sort_by(|a, b| key_order(&a.key, &b.key));
+    let mut blocks = Vec::with_capacity(nodes.len());
+    for mut node in nodes {
+        let bad = |what: String| IoError::format(path, format!("block '{}': {what}", node.key));
+        node.vertices.sort_by(|a, b| key_order(&a.0, &b.0));
+        node.faces.sort_by(|a, b| key_order(&a.0, &b.0));
+        let mut index = LookupMap::default();
+        index.reserve(node.vertices.len());
+        for (i, (vk, p)) in node.vertices.iter().enumerate() {
+            if !p.iter().all(|c| c.is_finite()) {
+                return Err(bad(format!("vertex '{vk}' has a coordinate that is not a finite number: {p:?}")));
+            }
+            index.insert(vk.as_str(), i);
+        }
+        let mut faces = Vec::with_capacity(node.faces.len());
+        for (fk, keys) in &node.faces {
+            let face = keys.iter().map(|k| vertex_index(&index, fk, k)).collect::<Result<_, _>>();
+            faces.push(face.map_err(bad)?);
+        }
+        let vertices = node.vertices.iter().map(|(_, p)| Point3::new(p[0], p[1], p[2])).collect();
+        let mesh = Mesh::new(vertices, faces);
+        blocks.push(Block { name: node.key, mesh, support: node.support, density: None });
+    }
+    Ok(Scene::new(super::stem(path), blocks))
+}
+
 /// The scene of a compas Assembly file through the typed parse; `None` when the bytes are not
 /// laid out as usual (another format, or something [`scene_from_value`] should name).
 pub(crate) fn scene_from_bytes(path: &Path, bytes: &[u8]) -> Option<Result<Scene, IoError>> {
     let file: typed::File = serde_json::from_slice(bytes).ok()?;
-    let nodes = file.data.graph.data.node;
-    let build = || -> Result<Scene, IoError> {
-        let mut blocks = Vec::with_capacity(nodes.len());
-        for key in sorted(nodes.keys()) {
-            let node = &nodes[key];
-            let bad = |what: String| IoError::format(path, format!("block '{key}': {what}"));
-            let m = &node.block.data;
-            let mut index = LookupMap::default();
-            index.reserve(m.vertex.len());
-            let mut vertices = Vec::with_capacity(m.vertex.len());
-            for vk in sorted(m.vertex.keys()) {
-                let v = &m.vertex[vk];
-                index.insert(vk.as_str(), vertices.len());
-                vertices.push(Point3::new(v.x, v.y, v.z));
+    let nodes = file
+        .data
+        .graph
+        .data
+        .node
+        .into_iter()
+        .map(|(key, node)| {
+            let m = node.block.data;
+            NodeTables {
+                key,
+                support: node.is_support.unwrap_or(false),
+                vertices: m.vertex.into_iter().map(|(k, v)| (k, [v.x, v.y, v.z])).collect(),
+                faces: m.face.into_iter().map(|(k, f)| (k, f.into_iter().map(|key| key.0).collect())).collect(),
             }
-            let mut faces = Vec::with_capacity(m.face.len());
-            for fk in sorted(m.face.keys()) {
-                let face = m.face[fk].iter().map(|k| vertex_index(&index, fk, &k.0)).collect::<Result<_, _>>();
-                faces.push(face.map_err(bad)?);
-            }
-            let mesh = Mesh::new(vertices, faces);
-            blocks.push(Block { name: key.clone(), mesh, support: node.is_support.unwrap_or(false), density: None });
-        }
-        Ok(Scene::new(super::stem(path), blocks))
-    };
-    Some(build())
+        })
+        .collect();
+    Some(scene_from_nodes(path, nodes))
 }
 
 fn point(v: &Value) -> Option<Point3> {

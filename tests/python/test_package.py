@@ -79,6 +79,30 @@ def test_from_compas_object_equals_the_file_and_supports_carry_the_weight(rel):
         assert abs(fx) < 1e-6 * w and abs(fy) < 1e-6 * w
 
 
+@pytest.mark.parametrize("rel", ["compas_cra/armadillo_cra.json", "compas_assembly/crossvault_assembly.json", "compas_cra/H.json"])
+def test_from_compas_reads_the_blocks_as_their_json_does(rel):
+    """Invariant: the compas object's own tables (no JSON round trip) give the scene its JSON
+    data gives, bit for bit: the same blocks, force points and forces."""
+    from voussoir import _compas
+
+    obj = json_load(str(DATA / rel))
+    assert _compas.block_tables(obj) is not None, "a graph of blocks takes the direct route"
+    direct = voussoir.analyze(voussoir.Scene.from_compas(obj), mu=0.84)
+    via_json = voussoir.analyze(voussoir.Scene.from_json(_compas.data_json(obj)), mu=0.84)
+    assert direct.block_names == via_json.block_names
+    assert np.array_equal(direct.points, via_json.points)
+    assert np.array_equal(direct.point_forces, via_json.point_forces)
+
+
+def test_from_compas_names_a_vertex_that_is_not_a_number():
+    obj = json_load(str(DATA / "compas_cra/H.json"))
+    key, attr = next(iter(obj.graph.nodes(data=True)))
+    vertex = next(iter(attr["block"].vertex))
+    attr["block"].vertex[vertex]["x"] = float("nan")
+    with pytest.raises(voussoir.InputError, match=f"block '{key}': vertex '{vertex}' has a coordinate that is not a finite number"):
+        voussoir.Scene.from_compas(obj)
+
+
 def rbe_stands(assembly, mu):
     """compas_cra's RBE verdict with its tension criterion: no tension beyond 1e-4 of the
     compression (w_t = 1e6 leaves ~1e-7 where none is needed)."""

@@ -1,12 +1,13 @@
 //! `voussoir.Scene`: a design (blocks, supports, material, cut history) read from a file, from
-//! a compas object (through its JSON data: no compas code is copied), or built from arrays.
+//! a compas object (a graph of blocks through its blocks' own vertex and face tables, anything
+//! else through its JSON data: no compas code is copied), or built from arrays.
 //! Immutable: the edits (`with_cut`, `with_supports`) return a new scene.
 
 use crate::errors;
 use crate::settings::Supports;
 use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
-use pyo3::types::PyList;
+use pyo3::types::{PyBool, PyDict, PyList, PyString};
 use std::path::{Path, PathBuf};
 use voussoir::geometry::{Mesh, Point3};
 use voussoir::io;
@@ -51,9 +52,11 @@ impl Scene {
     }
 
     /// A compas object — compas_assembly `Assembly`, compas_cra `CRA_Assembly`, compas_dem
-    /// `BlockModel`, or a list of compas `Mesh`es — through its data
-    /// (`voussoir._compas.data_json`: an Assembly's blocks and supports, else `compas.json_dumps`).
-    /// Blocks are named by the compas node keys (as strings).
+    /// `BlockModel`, or a list of compas `Mesh`es. An Assembly's blocks and supports are read
+    /// from its blocks' own tables (`voussoir._compas.block_tables`), the same scene as its JSON
+    /// data gives without writing and parsing the JSON; anything else through its data
+    /// (`voussoir._compas.data_json`: `compas.json_dumps`). Blocks are named by the compas node
+    /// keys (as strings).
     #[staticmethod]
     fn from_compas(obj: &Bound<'_, PyAny>) -> PyResult<Self> {
         let py = obj.py();
@@ -64,8 +67,14 @@ impl Scene {
                  Meshes, not a {kind}"
             )));
         }
-        let text: String = py.import("voussoir._compas")?.call_method1("data_json", (obj,))?.extract()?;
-        Self::from_json(&text, &format!("<compas {kind}>"))
+        let compas = py.import("voussoir._compas")?;
+        let source = format!("<compas {kind}>");
+        if let Some(nodes) = node_tables(&compas.call_method1("block_tables", (obj,))?) {
+            let scene = io::compas::scene_from_nodes(Path::new(&source), nodes).map_err(errors::io)?;
+            return Ok(Self::new(scene, source));
+        }
+        let text: String = compas.call_method1("data_json", (obj,))?.extract()?;
+        Self::from_json(&text, &source)
     }
 
     /// A built-in scene by the command line's spec, e.g. `"arch?n=15&t=0.1"` (or
@@ -220,4 +229,46 @@ impl Scene {
             if self.scene.ground { ", ground" } else { "" }
         )
     }
+}
+
+/// The blocks' tables as `voussoir._compas.block_tables` hands them over (the compas object's
+/// own dicts), read as the JSON route would read them; `None` — the JSON route then, which
+/// names what is wrong — for anything laid out otherwise: a key that is not an integer or a
+/// string, a vertex without numeric x, y, z, a face that is not a list. (A coordinate that is
+/// not finite is read, and the scene's reader names it.)
+fn node_tables(tables: &Bound<'_, PyAny>) -> Option<Vec<io::compas::NodeTables>> {
+    let list = tables.cast::<PyList>().ok()?;
+    list.iter()
+        .map(|item| {
+            let (key, support, vertex, face): (String, bool, Bound<PyDict>, Bound<PyDict>) = item.extract().ok()?;
+            let vertices =
+                vertex.iter().map(|(k, attr)| Some((key_text(&k)?, point(&attr)?))).collect::<Option<_>>()?;
+            let faces = face
+                .iter()
+                .map(|(k, keys)| {
+                    let keys = keys.cast::<PyList>().ok()?.iter().map(|v| key_text(&v)).collect::<Option<_>>()?;
+                    Some((key_text(&k)?, keys))
+                })
+                .collect::<Option<_>>()?;
+            Some(io::compas::NodeTables { key, support, vertices, faces })
+        })
+        .collect()
+}
+
+/// A compas key as the JSON route writes it: an integer's digits, or the string itself.
+fn key_text(key: &Bound<'_, PyAny>) -> Option<String> {
+    if key.is_instance_of::<PyString>() {
+        return key.extract::<String>().ok();
+    }
+    if key.is_instance_of::<PyBool>() {
+        return None;
+    }
+    key.extract::<i64>().ok().map(|i| i.to_string())
+}
+
+/// A vertex's x, y, z from its attribute dict.
+fn point(attr: &Bound<'_, PyAny>) -> Option<[f64; 3]> {
+    let attr = attr.cast::<PyDict>().ok()?;
+    let axis = |name: &str| attr.get_item(name).ok().flatten()?.extract::<f64>().ok();
+    Some([axis("x")?, axis("y")?, axis("z")?])
 }

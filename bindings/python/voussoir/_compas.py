@@ -40,6 +40,22 @@ def data_json(obj) -> str:
     return json.dumps(data, cls=DataEncoder)
 
 
+def block_tables(obj):
+    """For a graph of blocks (compas_assembly ``Assembly``, compas_cra ``CRA_Assembly``): per
+    node its key (as text), whether it is a support, and its block's vertex and face tables as
+    compas keeps them (``Mesh.vertex``, ``Mesh.face``) — what ``Scene.from_compas`` reads
+    without a JSON round trip (the Armadillo: ~5 ms against ~25 ms); ``None`` for anything
+    else, which goes through ``data_json``."""
+    graph = getattr(obj, "graph", None)
+    nodes = list(graph.nodes(data=True)) if graph is not None and hasattr(graph, "nodes") else []
+    if not nodes or any(attr.get("block") is None for _, attr in nodes):
+        return None
+    blocks = [attr["block"] for _, attr in nodes]
+    if not all(isinstance(getattr(b, "vertex", None), dict) and isinstance(getattr(b, "face", None), dict) for b in blocks):
+        return None
+    return [(str(key), bool(attr.get("is_support")), b.vertex, b.face) for (key, attr), b in zip(nodes, blocks)]
+
+
 def _node_keys(graph) -> dict:
     """Node key by the name voussoir gives the block (compas node keys as text)."""
     return {str(key): key for key in graph.nodes()}
