@@ -10,6 +10,8 @@
 //! repeated and collinear vertices (dropped): i_overlay snaps to a grid of ~2⁻⁵⁰ of the
 //! extent; this keeps within a few hundred times that.
 
+use crate::geometry::polygon::signed_area_2d;
+
 /// Distances below this fraction of the extent are zero.
 const EPS: f64 = 1e-13;
 
@@ -36,7 +38,7 @@ pub(super) fn intersect(a: &[[f64; 2]], b: &[[f64; 2]]) -> Option<Vec<[f64; 2]>>
         }
     }
     let ring = simplify(ring, eps);
-    if ring.len() < 3 || signed_area(&ring) <= 0.0 {
+    if ring.len() < 3 || signed_area_2d(&ring) <= 0.0 {
         return Some(Vec::new());
     }
     Some(start_as_overlay(ring))
@@ -62,11 +64,6 @@ fn distance(a: [f64; 2], b: [f64; 2]) -> f64 {
     (a[0] - b[0]).hypot(a[1] - b[1])
 }
 
-fn signed_area(ring: &[[f64; 2]]) -> f64 {
-    let n = ring.len();
-    0.5 * (0..n).map(|i| cross([0.0, 0.0], ring[i], ring[(i + 1) % n])).sum::<f64>()
-}
-
 /// The ring without repeated and collinear vertices, CCW, when it is convex (every turn left
 /// or straight within `eps`); `None` otherwise, or when it has no area.
 fn convex_ccw(ring: &[[f64; 2]], eps: f64) -> Option<Vec<[f64; 2]>> {
@@ -74,7 +71,7 @@ fn convex_ccw(ring: &[[f64; 2]], eps: f64) -> Option<Vec<[f64; 2]>> {
     if ring.len() < 3 {
         return None;
     }
-    let area = signed_area(&ring);
+    let area = signed_area_2d(&ring);
     if area == 0.0 {
         return None;
     }
