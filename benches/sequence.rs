@@ -7,7 +7,7 @@ use criterion::{Criterion, criterion_group, criterion_main};
 use std::time::Duration;
 use voussoir::model::builtin;
 use voussoir::pipeline::AnalysisSettings;
-use voussoir::studies::sequence::{OrderSpec, SearchSettings, check, search};
+use voussoir::studies::sequence::{OrderSpec, SearchSettings, check, check_with_props, search};
 
 fn sequences(c: &mut Criterion) {
     let s = AnalysisSettings::default();
@@ -22,6 +22,16 @@ fn sequences(c: &mut Criterion) {
     c.bench_function("search: arch 15 (no order; temporary supports)", |b| {
         b.iter(|| search(&arch, &s, &SearchSettings::default(), &Default::default(), &|| {}).unwrap())
     });
+    // The props' neighbourhood checks against none, in one run (the same props either way).
+    let dome = builtin("dome?courses=6&blocks=12").unwrap();
+    for local_checks in [true, false] {
+        let search = SearchSettings { local_checks, ..Default::default() };
+        let name =
+            format!("props: dome 6×12 bottom-up (neighbourhood checks {})", if local_checks { "on" } else { "off" });
+        c.bench_function(&name, |b| {
+            b.iter(|| check_with_props(&dome, &OrderSpec::BottomUp, &s, &search, &Default::default(), &|| {}).unwrap())
+        });
+    }
     let dmsc = voussoir::io::load_scene(
         &std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/cases/fig6_dmsc_sequence.json"),
     )

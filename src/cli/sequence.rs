@@ -109,7 +109,10 @@ fn print_report(r: &crate::studies::sequence::SequenceReport, dynamic: bool, kin
             (false, true) => "no order stands at every step (the search was exhaustive)".to_string(),
             (false, false) => format!("no standing order found within {} checks", info.checks),
         };
-        println!("search: {what}; {} static checks, longest standing prefix {}", info.checks, info.deepest);
+        println!(
+            "search: {what}; {} static checks and {} of neighbourhoods, longest standing prefix {}",
+            info.checks, info.local_checks, info.deepest
+        );
     }
     println!(
         "step  placed                 statics  tension      friction excess{}{}  props",

@@ -87,7 +87,7 @@ pub(crate) use problem::{StrengthColumn, stress_block, stress_block_cones};
 pub use rate::{KinematicSettings, RateOutcome, RateState, rate_problem};
 pub use result::{CrushingReport, InterfaceResult, SolverReport, StaticsResult, VertexForce};
 pub use settings::{FirstStage, StaticsSettings};
-pub use stages::Verdict;
+pub use stages::{Verdict, stand_threshold};
 
 use crate::interfaces::Interface;
 use crate::model::Assembly;

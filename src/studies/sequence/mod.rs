@@ -169,7 +169,7 @@ pub fn check_with_props(
     let (resolved, order) = resolved_order(scene, spec, settings)?;
     let adj = order::adjacency(&resolved, settings)?;
     let mut stepper = Stepper::new(&resolved, settings);
-    let (steps, props) = search::with_props(&mut stepper, &resolved, &adj, &order, search, per_step, tick)?;
+    let (steps, props, _) = search::with_props(&mut stepper, &resolved, &adj, &order, search, per_step, tick)?;
     Ok(SequenceReport::new(order, steps, props, None))
 }
 
@@ -193,7 +193,7 @@ pub fn search(
         let placed: std::collections::HashSet<String> = order.iter().cloned().collect();
         order.extend(ranked.into_iter().filter(|n| !placed.contains(n)));
     }
-    let (steps, props) = search::with_props(&mut stepper, &resolved, &adj, &order, search, per_step, tick)?;
-    info.checks = stepper.checks;
+    let (steps, props, local) = search::with_props(&mut stepper, &resolved, &adj, &order, search, per_step, tick)?;
+    (info.checks, info.local_checks) = (stepper.checks, local);
     Ok(SequenceReport::new(order, steps, props, Some(info)))
 }

@@ -11,13 +11,23 @@
 //! blocks are fixed so that it does — one prop is tried first (the new block, then the blocks
 //! of the offending interfaces, then its neighbours), more are added greedily by the graded
 //! answer; after each later step, props whose release still leaves the step standing are
-//! released (all at once when possible, as when a keystone closes an arch).
+//! released, latest first (all of them when a keystone closes an arch).
+//!
+//! Fixing a block only adds supports, so whatever stands with some props stands with more.
+//! Two checks follow, each on a block's neighbourhood — it and the placed free blocks within
+//! 1, then 2, then 4 interfaces free, every other placed block fixed ([`LocalCheck`]), a small
+//! problem: when the new block's neighbourhood fails, the step fails with its props and with
+//! fewer, so no release is tried and the new block is propped straight away; when a prop's
+//! neighbourhood fails without it, its release cannot stand and is not analysed. The props
+//! and steps are those of the whole-step analyses alone (tests below); on the Armadillo 4 of
+//! 5 releases end there (docs/benchmarks.md).
 
 use super::order::Adjacency;
 use super::steps::Stepper;
 use super::{SequenceError, Step, TemporarySupport};
 use crate::model::Scene;
 use crate::pipeline::Analysis;
+use crate::statics::{FirstStage, stand_threshold};
 use std::collections::HashSet;
 
 /// Settings of the order search.
@@ -28,11 +38,14 @@ pub struct SearchSettings {
     pub max_checks: Option<usize>,
     /// Prop candidates tried one by one at a failing step before adding props greedily.
     pub prop_candidates: usize,
+    /// Check a prop's release, and a new block, on the block's neighbourhood before the whole
+    /// step (module docs): the same props, a fraction of the solves. Off only to measure that.
+    pub local_checks: bool,
 }
 
 impl Default for SearchSettings {
     fn default() -> Self {
-        Self { max_checks: None, prop_candidates: 24 }
+        Self { max_checks: None, prop_candidates: 24, local_checks: true }
     }
 }
 
@@ -55,8 +68,10 @@ pub struct SearchInfo {
     pub found: bool,
     /// The search covered every order (so `found == false` proves there is none).
     pub exhaustive: bool,
-    /// Static checks run (search and props).
+    /// Static checks of whole steps run (search and props).
     pub checks: usize,
+    /// Static checks of one block's neighbourhood run by the props (module docs).
+    pub local_checks: usize,
     /// The longest standing prefix reached.
     pub deepest: usize,
 }
@@ -169,6 +184,7 @@ pub(crate) fn search_order<'a>(
         found,
         exhaustive: found || !dfs.out_of_budget,
         checks: dfs.stepper.checks,
+        local_checks: 0,
         deepest: if found { free.len() } else { dfs.best.len() },
     };
     let chosen = if found { order } else { dfs.best };
@@ -186,103 +202,311 @@ fn graded(a: &Analysis) -> f64 {
 
 /// The steps of `order` with temporary supports where a step would not stand (module docs).
 /// Every analysis of a step's final set (placed blocks, props) is the one the step reports:
-/// no set is analysed twice.
-pub(crate) fn with_props(
-    stepper: &mut Stepper<'_>,
-    resolved: &Scene,
-    adj: &Adjacency,
-    order: &[String],
+/// no set is analysed twice. Also returns the neighbourhood checks run.
+pub(crate) fn with_props<'a>(
+    stepper: &mut Stepper<'a>,
+    resolved: &'a Scene,
+    adj: &'a Adjacency,
+    order: &'a [String],
     search: &SearchSettings,
     per_step: &super::StepChecks,
     tick: &(dyn Fn() + Sync),
-) -> Result<(Vec<Step>, Vec<TemporarySupport>), SequenceError> {
-    let index = super::order::index(resolved);
+) -> Result<(Vec<Step>, Vec<TemporarySupport>, usize), SequenceError> {
+    let mut local = LocalCheck::new(stepper, resolved, adj, search.local_checks);
+    let mut props = Props { stepper, resolved, adj, search, active: Vec::new(), released: Vec::new() };
     let mut placed: HashSet<&str> = HashSet::new();
-    // Active props: name → step from which it is propped.
-    let mut active: Vec<(&str, usize)> = Vec::new();
-    let mut props_out = Vec::new();
     let mut steps = Vec::with_capacity(order.len());
     for (k, name) in order.iter().enumerate() {
         placed.insert(name);
         tick();
-        // Release what is no longer needed: everything at once, else one by one (latest first).
-        // `current` is the analysis of (placed, active) once one has been run.
-        let mut current: Option<Analysis> = None;
-        if !active.is_empty() {
-            let bare = stepper.analyse(&placed, &HashSet::new())?;
-            if bare.statics.stands {
-                props_out.extend(active.drain(..).map(|(b, from)| TemporarySupport::new(b, from, k)));
-                current = Some(bare);
-            } else {
-                let mut i = active.len();
-                while i > 0 && active.len() > 1 {
-                    i -= 1;
-                    let mut without = active.clone();
-                    without.remove(i);
-                    let a = stepper.analyse(&placed, &set_of(&without))?;
-                    if a.statics.stands {
-                        let (b, from) = active.remove(i);
-                        props_out.push(TemporarySupport::new(b, from, k));
-                        current = Some(a);
-                    }
-                }
+        // A step whose new block's neighbourhood fails cannot stand with its props, nor with fewer.
+        let doomed = local.fails(&placed, &set_of(&props.active), name)?;
+        let released = if doomed { None } else { props.release(&mut local, &placed, k)? };
+        let current = match released {
+            Some(a) => a,
+            None => props.prop_if_needed(&placed, order, k, doomed)?,
+        };
+        steps.push(props.stepper.step_from(name, &current, &set_of(&props.active), per_step)?);
+    }
+    let mut released = props.released;
+    released.extend(props.active.drain(..).map(|(b, from)| TemporarySupport::new(b, from, order.len())));
+    released.sort_by(|a, b| (a.from, &a.block).cmp(&(b.from, &b.block)));
+    Ok((steps, released, local.stepper.checks))
+}
+
+/// The props along an order: those standing now and those released.
+struct Props<'s, 'a> {
+    stepper: &'s mut Stepper<'a>,
+    resolved: &'a Scene,
+    adj: &'s Adjacency,
+    search: &'s SearchSettings,
+    /// Active props: name → step from which it is propped.
+    active: Vec<(&'a str, usize)>,
+    released: Vec<TemporarySupport>,
+}
+
+impl<'a> Props<'_, 'a> {
+    /// Releases, latest first, every prop the step `k` stands without; the analysis of the last
+    /// release, if any was released. A release the prop's neighbourhood already fails is not
+    /// analysed; the others mostly fail too, so they start with the LPs.
+    fn release(
+        &mut self,
+        local: &mut LocalCheck<'_>,
+        placed: &HashSet<&'a str>,
+        k: usize,
+    ) -> Result<Option<Analysis>, SequenceError> {
+        let mut last = None;
+        let mut i = self.active.len();
+        while i > 0 {
+            i -= 1;
+            let mut without = self.active.clone();
+            let (prop, _) = without.remove(i);
+            let without = set_of(&without);
+            if local.fails(placed, &without, prop)? {
+                continue;
+            }
+            let a = self.stepper.analyse_from(placed, &without, FirstStage::Relaxed)?;
+            if a.statics.stands {
+                let (b, from) = self.active.remove(i);
+                self.released.push(TemporarySupport::new(b, from, k));
+                last = Some(a);
             }
         }
-        let mut current = match current {
-            Some(a) => a,
-            None => stepper.analyse(&placed, &set_of(&active))?,
-        };
-        if !current.statics.stands {
-            // Candidates: the new block, the blocks of the offending interfaces, its neighbours,
-            // then the other placed blocks from the top down.
-            let s = &current.statics;
-            let mut cands: Vec<&str> = vec![name.as_str()];
-            for r in s
-                .interfaces
-                .iter()
-                .filter(|r| r.tension > 1e-6 * s.free_weight || r.friction_excess > 1e-6 * s.free_weight)
-            {
-                cands.extend([r.a.as_str(), r.b.as_str()]);
+        Ok(last)
+    }
+
+    /// The analysis of step `k` with the active props, and more props when it does not stand.
+    /// When it cannot (`doomed`: the new block's neighbourhood fails), the new block, the
+    /// first candidate, is tried as a prop straight away.
+    fn prop_if_needed(
+        &mut self,
+        placed: &HashSet<&'a str>,
+        order: &'a [String],
+        k: usize,
+        doomed: bool,
+    ) -> Result<Analysis, SequenceError> {
+        let name = order[k].as_str();
+        let props = set_of(&self.active);
+        let mut tried = None;
+        if doomed {
+            let mut with = props.clone();
+            with.insert(name);
+            let a = self.stepper.analyse_from(placed, &with, FirstStage::Strict)?;
+            if a.statics.stands {
+                self.active.push((name, k));
+                return Ok(a);
             }
-            let me = index[name.as_str()].0;
-            cands.extend(adj.neighbours[me].iter().map(|&m| resolved.blocks[m].name.as_str()));
-            cands.extend(order[..k].iter().rev().map(String::as_str));
-            let mut seen = HashSet::new();
-            let cands: Vec<&str> = cands
-                .into_iter()
-                .filter(|c| placed.contains(c) && !active.iter().any(|p| p.0 == *c) && seen.insert(*c))
-                .map(|c| *placed.get(c).expect("placed"))
-                .collect();
-            // Greedy rounds: each tries the candidates one at a time (so the first round finds a
-            // single prop when one suffices among them), takes the first with which the step
-            // stands, else the one that lowers the graded answer most, and goes again.
-            loop {
-                let mut best: Option<(f64, &str, Analysis)> = None;
-                for &c in cands.iter().filter(|c| !active.iter().any(|p| p.0 == **c)).take(search.prop_candidates) {
-                    let mut with = set_of(&active);
-                    with.insert(c);
-                    let a = stepper.analyse(&placed, &with)?;
-                    if a.statics.stands {
-                        best = Some((-1.0, c, a));
-                        break;
+            tried = Some(a);
+        }
+        let current = self.stepper.analyse_from(placed, &props, FirstStage::Strict)?;
+        if current.statics.stands {
+            return Ok(current);
+        }
+        let cands = self.candidates(&current, placed, order, k);
+        self.add_props(placed, &cands, k, current, tried)
+    }
+
+    /// Prop candidates at a failing step `k`: the new block, the blocks of the offending
+    /// interfaces, its neighbours, then the other placed blocks from the top down.
+    fn candidates(&self, current: &Analysis, placed: &HashSet<&'a str>, order: &'a [String], k: usize) -> Vec<&'a str> {
+        let s = &current.statics;
+        let name = order[k].as_str();
+        let mut cands: Vec<&str> = vec![name];
+        for r in
+            s.interfaces.iter().filter(|r| r.tension > 1e-6 * s.free_weight || r.friction_excess > 1e-6 * s.free_weight)
+        {
+            cands.extend([r.a.as_str(), r.b.as_str()]);
+        }
+        let me = super::order::index(self.resolved)[name].0;
+        cands.extend(self.adj.neighbours[me].iter().map(|&m| self.resolved.blocks[m].name.as_str()));
+        cands.extend(order[..k].iter().rev().map(String::as_str));
+        let mut seen = HashSet::new();
+        cands
+            .into_iter()
+            .filter(|c| placed.contains(c) && !self.active.iter().any(|p| p.0 == *c) && seen.insert(*c))
+            .map(|c| *placed.get(c).expect("placed"))
+            .collect()
+    }
+
+    /// Greedy rounds: each tries the candidates one at a time (so the first round finds a
+    /// single prop when one suffices among them), takes the first with which the step stands,
+    /// else the one that lowers the graded answer most, and goes again. `tried`: the first
+    /// candidate's analysis, when already run. Returns the step's analysis.
+    fn add_props(
+        &mut self,
+        placed: &HashSet<&'a str>,
+        cands: &[&'a str],
+        k: usize,
+        mut current: Analysis,
+        mut tried: Option<Analysis>,
+    ) -> Result<Analysis, SequenceError> {
+        loop {
+            let mut best: Option<(f64, &str, Analysis)> = None;
+            let free = cands.iter().filter(|c| !self.active.iter().any(|p| p.0 == **c));
+            for &c in free.take(self.search.prop_candidates) {
+                let a = match tried.take() {
+                    Some(a) => a,
+                    None => {
+                        let mut with = set_of(&self.active);
+                        with.insert(c);
+                        self.stepper.analyse(placed, &with)?
                     }
-                    let g = graded(&a);
-                    if best.as_ref().is_none_or(|b| g < b.0) {
-                        best = Some((g, c, a));
-                    }
-                }
-                // Every candidate is propped already: the step fails with the props it has.
-                let Some((_, c, a)) = best else { break };
-                active.push((c, k));
-                current = a;
-                if current.statics.stands {
+                };
+                if a.statics.stands {
+                    best = Some((-1.0, c, a));
                     break;
                 }
+                let g = graded(&a);
+                if best.as_ref().is_none_or(|b| g < b.0) {
+                    best = Some((g, c, a));
+                }
+            }
+            // Every candidate is propped already: the step fails with the props it has.
+            let Some((_, c, a)) = best else { return Ok(current) };
+            self.active.push((c, k));
+            current = a;
+            if current.statics.stands {
+                return Ok(current);
             }
         }
-        steps.push(stepper.step_from(name, &current, &set_of(&active), per_step)?);
     }
-    props_out.extend(active.drain(..).map(|(b, from)| TemporarySupport::new(b, from, order.len())));
-    props_out.sort_by(|a, b| (a.from, &a.block).cmp(&(b.from, &b.block)));
-    Ok((steps, props_out))
+}
+
+/// A step checked on one block's neighbourhood alone (module docs), with its own pipeline so
+/// the step's caches keep the step's blocks.
+struct LocalCheck<'a> {
+    stepper: Stepper<'a>,
+    resolved: &'a Scene,
+    adj: &'a Adjacency,
+    index: std::collections::HashMap<String, crate::model::BlockId>,
+    enabled: bool,
+}
+
+impl<'a> LocalCheck<'a> {
+    /// A minimum beyond this many times the stand threshold fails for certain: the friction
+    /// excess is minimised with the tension held at its minimum, which the neighbourhood may
+    /// reach lower than the whole step, so only a clear excess counts.
+    const EXCESS_MARGIN: f64 = 1e3;
+    /// The neighbourhoods tried, in interfaces from the block: a small one first (most
+    /// failures show there), a wider one for what it lets through.
+    const RINGS: &'static [usize] = &[1, 2, 4];
+
+    fn new(step: &Stepper<'a>, resolved: &'a Scene, adj: &'a Adjacency, enabled: bool) -> Self {
+        Self { stepper: step.twin(), resolved, adj, index: super::order::index(resolved), enabled }
+    }
+
+    /// Whether `placed` with the props `props` cannot stand because `block`'s neighbourhood
+    /// (it and its placed free neighbours) fails with every other placed block fixed. Fixing
+    /// blocks only adds supports; the step's component holding the neighbourhood has at least
+    /// its minimum tension, and a stand threshold at most the larger of the neighbourhood's
+    /// weight's and the design's weight's.
+    fn fails(&mut self, placed: &HashSet<&str>, props: &HashSet<&str>, block: &str) -> Result<bool, SequenceError> {
+        if !self.enabled {
+            return Ok(false);
+        }
+        for &rings in Self::RINGS {
+            if self.fails_within(placed, props, block, rings)? {
+                return Ok(true);
+            }
+        }
+        Ok(false)
+    }
+
+    /// [`Self::fails`] on the blocks within `rings` interfaces of `block` through placed free
+    /// blocks.
+    fn fails_within(
+        &mut self,
+        placed: &HashSet<&str>,
+        props: &HashSet<&str>,
+        block: &str,
+        rings: usize,
+    ) -> Result<bool, SequenceError> {
+        let blocks = &self.resolved.blocks;
+        let mut region: HashSet<&str> = HashSet::from([block]);
+        let mut front = vec![self.index[block].0];
+        for _ in 0..rings {
+            let mut next = Vec::new();
+            for &at in &front {
+                for &m in &self.adj.neighbours[at] {
+                    let name = blocks[m].name.as_str();
+                    if placed.contains(name) && !props.contains(name) && region.insert(name) {
+                        next.push(m);
+                    }
+                }
+            }
+            front = next;
+        }
+        let fixed: HashSet<&str> = placed.iter().copied().filter(|b| !region.contains(b)).collect();
+        let a = self.stepper.analyse(placed, &fixed)?;
+        let s = &a.statics;
+        let threshold = stand_threshold(&self.stepper.settings().statics, s.free_weight, self.adj.free_weight);
+        let (tension, excess) = (s.tension_ratio * s.free_weight, s.friction_excess_ratio * s.free_weight);
+        Ok(tension > threshold || excess > Self::EXCESS_MARGIN * threshold)
+    }
+}
+
+/// Invariant: the neighbourhood checks are a shortcut, not an approximation — the same props
+/// and the same steps with them as without, from fewer solves of whole steps.
+#[cfg(test)]
+mod local_checks_change_no_answer {
+    use super::*;
+    use crate::model::builtin;
+    use crate::pipeline::AnalysisSettings;
+    use crate::studies::sequence::{OrderSpec, order};
+
+    struct Run {
+        steps: Vec<Step>,
+        props: Vec<TemporarySupport>,
+        checks: usize,
+        local: usize,
+    }
+
+    fn run(scene: &Scene, spec: &OrderSpec, local_checks: bool) -> Run {
+        let settings = AnalysisSettings::default();
+        let resolved = super::super::resolved(scene, &settings).unwrap();
+        let order = order::order(&resolved, spec, &settings).unwrap();
+        let adj = order::adjacency(&resolved, &settings).unwrap();
+        let search = SearchSettings { local_checks, ..Default::default() };
+        let mut stepper = Stepper::new(&resolved, &settings);
+        let (steps, props, local) =
+            with_props(&mut stepper, &resolved, &adj, &order, &search, &Default::default(), &|| {}).unwrap();
+        Run { steps, props, checks: stepper.checks, local }
+    }
+
+    fn same_answer_fewer_solves(scene: &Scene, spec: &OrderSpec) {
+        let (with, without) = (run(scene, spec, true), run(scene, spec, false));
+        assert!(!without.props.is_empty(), "the order needs props");
+        assert_eq!(with.props, without.props);
+        assert_eq!(with.steps.len(), without.steps.len());
+        for (k, (a, b)) in with.steps.iter().zip(&without.steps).enumerate() {
+            assert_eq!((a.stands, a.verdict, &a.props), (b.stands, b.verdict, &b.props), "step {k}");
+            assert!((a.tension_ratio - b.tension_ratio).abs() <= 1e-9, "step {k}");
+            assert!((a.friction_excess_ratio - b.friction_excess_ratio).abs() <= 1e-9, "step {k}");
+        }
+        assert_eq!(without.local, 0);
+        assert!(
+            with.local > 0 && with.checks < without.checks,
+            "{} + {} against {}",
+            with.checks,
+            with.local,
+            without.checks
+        );
+    }
+
+    #[test]
+    fn arch_bottom_up() {
+        same_answer_fewer_solves(&builtin("arch?n=15").unwrap(), &OrderSpec::BottomUp);
+    }
+
+    #[test]
+    fn dome_bottom_up() {
+        same_answer_fewer_solves(&builtin("dome?courses=5&blocks=10").unwrap(), &OrderSpec::BottomUp);
+    }
+
+    #[test]
+    fn dmsc_in_its_order() {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/cases/fig6_dmsc_sequence.json");
+        let scene = crate::io::load_scene(&path).unwrap();
+        same_answer_fewer_solves(&scene, &OrderSpec::Given(scene.order.clone()));
+    }
 }

@@ -45,6 +45,24 @@ impl<'a> Stepper<'a> {
         Self { resolved, empty, settings, pipeline: Pipeline::new(), checks: 0, last_failed: false }
     }
 
+    /// A stepper of the same design and settings with its own pipeline.
+    pub fn twin(&self) -> Stepper<'a> {
+        let settings = self.settings.clone();
+        Stepper {
+            resolved: self.resolved,
+            empty: self.empty.clone(),
+            settings,
+            pipeline: Pipeline::new(),
+            checks: 0,
+            last_failed: false,
+        }
+    }
+
+    /// The settings every prefix is analysed with.
+    pub fn settings(&self) -> &AnalysisSettings {
+        &self.settings
+    }
+
     /// The design with only the `placed` free blocks, the `props` among them fixed.
     pub(crate) fn prefix(&self, placed: &HashSet<&str>, props: &HashSet<&str>) -> Scene {
         let mut scene = self.empty.clone();
@@ -76,10 +94,22 @@ impl<'a> Stepper<'a> {
         scene
     }
 
+    /// The prefix's analysis, starting with the strict QP unless the last check failed.
     pub fn analyse(&mut self, placed: &HashSet<&str>, props: &HashSet<&str>) -> Result<Analysis, SequenceError> {
+        let first = if self.last_failed { FirstStage::Relaxed } else { FirstStage::Strict };
+        self.analyse_from(placed, props, first)
+    }
+
+    /// The prefix's analysis starting with `first`: the caller knows which answer to expect.
+    pub fn analyse_from(
+        &mut self,
+        placed: &HashSet<&str>,
+        props: &HashSet<&str>,
+        first: FirstStage,
+    ) -> Result<Analysis, SequenceError> {
         self.checks += 1;
         let prefix = self.prefix(placed, props);
-        self.settings.statics.first_stage = if self.last_failed { FirstStage::Relaxed } else { FirstStage::Strict };
+        self.settings.statics.first_stage = first;
         let a = self.pipeline.run(&prefix, &self.settings)?;
         self.last_failed = !a.statics.stands;
         Ok(a)
