@@ -147,6 +147,12 @@ fn dmsc_fails_with_d_and_m_alone_and_search_or_props_fix_it() {
     assert_eq!((p.block.as_str(), p.from), (r.order[k].as_str(), k));
     assert!(propped.order[p.until].starts_with("S."), "released when the S arrives");
     recheck(&scene, &propped);
+    // The neighbourhood checks only spare solves: the same report without them.
+    let plain = SearchSettings { local_checks: false, ..Default::default() };
+    let unchecked =
+        check_with_props(&scene, &OrderSpec::Given(scene.order.clone()), &s, &plain, &Default::default(), &|| {})
+            .unwrap();
+    assert_eq!(unchecked, propped);
 }
 
 #[test]

@@ -502,11 +502,4 @@ mod local_checks_change_no_answer {
     fn dome_bottom_up() {
         same_answer_fewer_solves(&builtin("dome?courses=5&blocks=10").unwrap(), &OrderSpec::BottomUp);
     }
-
-    #[test]
-    fn dmsc_in_its_order() {
-        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/cases/fig6_dmsc_sequence.json");
-        let scene = crate::io::load_scene(&path).unwrap();
-        same_answer_fewer_solves(&scene, &OrderSpec::Given(scene.order.clone()));
-    }
 }
