@@ -100,6 +100,12 @@ impl Pipeline {
         Self::default()
     }
 
+    /// A pipeline whose statics also keeps the `keep` most recently used component outcomes of
+    /// earlier runs ([`statics::StaticsCache::keeping`]).
+    pub fn keeping_components(keep: usize) -> Self {
+        Self { components: statics::StaticsCache::keeping(keep), ..Self::default() }
+    }
+
     /// One run; the results are those of [`analyze`] whatever the pipeline ran before.
     pub fn run(&mut self, scene: &Scene, settings: &AnalysisSettings) -> Result<Analysis, AnalysisError> {
         let prepared = self.prepare(scene, settings)?;

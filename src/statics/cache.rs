@@ -17,12 +17,39 @@ use crate::model::Assembly;
 use std::collections::HashMap;
 use std::hash::{Hash, Hasher};
 
-/// Outcomes by component key, with force points' interface indices local to the component.
+/// Outcomes by component key, with force points' interface indices local to the component,
+/// and the run that last used each.
 #[derive(Debug, Default)]
 pub struct StaticsCache {
-    map: HashMap<u64, ComponentOutcome>,
+    map: HashMap<u64, (ComponentOutcome, u64)>,
     /// The last run's kept iterates by component layout ([`layout_key`]).
     warm: HashMap<u64, WarmStart>,
+    /// Outcomes of earlier runs kept beside the last run's, the most recently used first.
+    keep: usize,
+    runs: u64,
+}
+
+impl StaticsCache {
+    /// A cache that also keeps the `keep` most recently used outcomes of earlier runs: for a
+    /// caller that comes back to the same components (a sequence's neighbourhood checks).
+    pub fn keeping(keep: usize) -> Self {
+        Self { keep, ..Self::default() }
+    }
+
+    /// Stores this run's outcomes and drops what neither it nor the `keep` most recent earlier
+    /// ones used.
+    fn store(&mut self, used: HashMap<u64, ComponentOutcome>) {
+        let run = self.runs;
+        self.map.extend(used.into_iter().map(|(k, out)| (k, (out, run))));
+        let earlier = self.map.len().saturating_sub(self.map.values().filter(|e| e.1 == run).count());
+        if earlier > self.keep {
+            let mut ages: Vec<u64> = self.map.values().map(|e| e.1).filter(|&r| r != run).collect();
+            ages.sort_unstable_by(|a, b| b.cmp(a));
+            let oldest_kept = if self.keep == 0 { run } else { ages[self.keep - 1] };
+            // Ties at the boundary are kept: a run's outcomes stay or go together.
+            self.map.retain(|_, e| e.1 >= oldest_kept);
+        }
+    }
 }
 
 /// Components solved and reused by a cached analysis.
@@ -78,7 +105,7 @@ fn layout_key(interfaces: &[Interface], comp: &Component, common: u64) -> u64 {
 
 /// [`super::solve`] with a cache of component outcomes (`block_keys` from
 /// [`crate::interfaces::block_keys`]). The cache keeps only this assembly's components
-/// afterwards.
+/// afterwards (and those [`StaticsCache::keeping`] asks for).
 pub fn solve_cached(
     assembly: &Assembly,
     interfaces: &[Interface],
@@ -106,7 +133,9 @@ pub fn solve_cached(
         h.finish()
     };
     let keys: Vec<u64> = comps.iter().map(|c| component_key(assembly, interfaces, c, block_keys, common)).collect();
-    let mut outcomes: Vec<Option<ComponentOutcome>> = keys.iter().map(|k| cache.map.get(k).cloned()).collect();
+    cache.runs += 1;
+    let mut outcomes: Vec<Option<ComponentOutcome>> =
+        keys.iter().map(|k| cache.map.get(k).map(|e| e.0.clone())).collect();
     let missing: Vec<usize> = (0..comps.len()).filter(|&i| outcomes[i].is_none()).collect();
     let to_solve: Vec<Component> = missing.iter().map(|&i| comps[i].clone()).collect();
     let stats = SolveStats { solved: missing.len(), reused: comps.len() - missing.len() };
@@ -159,7 +188,7 @@ pub fn solve_cached(
         };
         *slot = Some(out);
     }
-    cache.map = next;
+    cache.store(next);
     let outcomes = outcomes.into_iter().map(|o| o.expect("every component has an outcome")).collect();
     Ok((result::collect(assembly, interfaces, &comps, outcomes, mu, settings), stats))
 }

@@ -46,3 +46,34 @@ fn moving_one_stack_redetects_its_pairs_and_resolves_its_component_only() {
     assert_eq!(moved.statics.interfaces, fresh.statics.interfaces);
     assert_eq!(moved.statics.tension_ratio, fresh.statics.tension_ratio);
 }
+
+/// A pipeline keeping `keep` outcomes of earlier runs comes back to a design it analysed
+/// before without solving again — the fresh analysis's results — while one that keeps none (or
+/// whose outcome was pushed out by `keep` more recent ones) solves that component again.
+#[test]
+fn a_pipeline_keeping_components_comes_back_without_solving() {
+    let scene = builtin("stacks?k=4&n=3").unwrap();
+    let settings = AnalysisSettings::default();
+    let last = scene.blocks.len() - 1;
+    let shifted = |dx: f64| {
+        let mut s = scene.clone();
+        s.blocks[last].mesh = s.blocks[last].mesh.scaled_translated(1.0, nalgebra::Vector3::new(dx, 0.0, 0.0));
+        s
+    };
+    // The last stack changes in each run; the other three stacks stay.
+    let runs = [shifted(0.0), shifted(0.1), shifted(0.05), shifted(0.0)];
+    let solved_last = |keep: usize| {
+        let mut p = Pipeline::keeping_components(keep);
+        let mut out = Vec::new();
+        for s in &runs {
+            out.push(p.run(s, &settings).unwrap());
+        }
+        out.pop().unwrap()
+    };
+    for (keep, solved) in [(0, 1), (1, 1), (2, 0)] {
+        let a = solved_last(keep);
+        assert_eq!((a.work.components_solved, a.work.components_reused), (solved, 4 - solved), "keep {keep}");
+        let fresh = analyze(&runs[3], &settings).unwrap();
+        assert_eq!(a.statics.interfaces, fresh.statics.interfaces, "keep {keep}");
+    }
+}

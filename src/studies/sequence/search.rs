@@ -15,12 +15,12 @@
 //!
 //! Fixing a block only adds supports, so whatever stands with some props stands with more.
 //! Two checks follow, each on a block's neighbourhood — it and the placed free blocks within
-//! 1, then 2, then 4 interfaces free, every other placed block fixed ([`LocalCheck`]), a small
-//! problem: when the new block's neighbourhood fails, the step fails with its props and with
-//! fewer, so no release is tried and the new block is propped straight away; when a prop's
-//! neighbourhood fails without it, its release cannot stand and is not analysed. The props
-//! and steps are those of the whole-step analyses alone (tests below); on the Armadillo 4 of
-//! 5 releases end there (docs/benchmarks.md).
+//! 1, then 2, 4 and 8 interfaces free, the placed blocks touching them fixed ([`LocalCheck`]),
+//! a small problem: when the new block's neighbourhood fails, the step fails with its props
+//! and with fewer, so no release is tried and the new block is propped straight away; when a
+//! prop's neighbourhood fails without it, its release cannot stand and is not analysed. The
+//! props and steps are those of the whole-step analyses alone (tests below). On the
+//! Armadillo 4 of 5 releases end at the neighbourhoods (docs/benchmarks.md).
 
 use super::order::Adjacency;
 use super::steps::Stepper;
@@ -275,9 +275,8 @@ impl<'a> Props<'_, 'a> {
         Ok(last)
     }
 
-    /// The analysis of step `k` with the active props, and more props when it does not stand.
-    /// When it cannot (`doomed`: the new block's neighbourhood fails), the new block, the
-    /// first candidate, is tried as a prop straight away.
+    /// The analysis of step `k` with the active props, and more props when it does not stand. When it cannot (`doomed`: the new block's neighbourhood
+    /// fails), the new block, the first candidate, is tried as a prop straight away.
     fn prop_if_needed(
         &mut self,
         placed: &HashSet<&'a str>,
@@ -331,7 +330,8 @@ impl<'a> Props<'_, 'a> {
     /// Greedy rounds: each tries the candidates one at a time (so the first round finds a
     /// single prop when one suffices among them), takes the first with which the step stands,
     /// else the one that lowers the graded answer most, and goes again. `tried`: the first
-    /// candidate's analysis, when already run. Returns the step's analysis.
+    /// candidate's analysis, when already run. Returns the step's analysis. The candidates
+    /// start with the strict QP: the first one mostly stands.
     fn add_props(
         &mut self,
         placed: &HashSet<&'a str>,
@@ -349,7 +349,7 @@ impl<'a> Props<'_, 'a> {
                     None => {
                         let mut with = set_of(&self.active);
                         with.insert(c);
-                        self.stepper.analyse(placed, &with)?
+                        self.stepper.analyse_from(placed, &with, FirstStage::Strict)?
                     }
                 };
                 if a.statics.stands {
@@ -373,7 +373,7 @@ impl<'a> Props<'_, 'a> {
 }
 
 /// A step checked on one block's neighbourhood alone (module docs), with its own pipeline so
-/// the step's caches keep the step's blocks.
+/// the step's caches keep the step's blocks, and this one keeps the neighbourhoods' outcomes.
 struct LocalCheck<'a> {
     stepper: Stepper<'a>,
     resolved: &'a Scene,
@@ -383,23 +383,28 @@ struct LocalCheck<'a> {
 }
 
 impl<'a> LocalCheck<'a> {
-    /// A minimum beyond this many times the stand threshold fails for certain: the friction
-    /// excess is minimised with the tension held at its minimum, which the neighbourhood may
-    /// reach lower than the whole step, so only a clear excess counts.
-    const EXCESS_MARGIN: f64 = 1e3;
+    /// A friction excess beyond this many times the stand threshold, where the neighbourhood
+    /// needs no tension, fails the step: the step's excess is minimised with its own minimum
+    /// tension held, which may be above zero yet below the threshold and buy back a little
+    /// excess — not this much.
+    const EXCESS_MARGIN: f64 = 10.0;
     /// The neighbourhoods tried, in interfaces from the block: a small one first (most
     /// failures show there), a wider one for what it lets through.
-    const RINGS: &'static [usize] = &[1, 2, 4];
+    const RINGS: &'static [usize] = &[1, 2, 4, 8];
+    /// Neighbourhood outcomes kept from earlier checks: a prop's neighbourhood comes back
+    /// unchanged at every step that places a block outside it.
+    const KEEP: usize = 1024;
 
     fn new(step: &Stepper<'a>, resolved: &'a Scene, adj: &'a Adjacency, enabled: bool) -> Self {
-        Self { stepper: step.twin(), resolved, adj, index: super::order::index(resolved), enabled }
+        let stepper = step.twin(Self::KEEP);
+        Self { stepper, resolved, adj, index: super::order::index(resolved), enabled }
     }
 
-    /// Whether `placed` with the props `props` cannot stand because `block`'s neighbourhood
-    /// (it and its placed free neighbours) fails with every other placed block fixed. Fixing
+    /// Whether `placed` with the props `props` cannot stand because one of `block`'s
+    /// neighbourhoods ([`Self::RINGS`]) fails with every other placed block fixed. Fixing
     /// blocks only adds supports; the step's component holding the neighbourhood has at least
-    /// its minimum tension, and a stand threshold at most the larger of the neighbourhood's
-    /// weight's and the design's weight's.
+    /// its minimum tension (and, when that is zero, its minimum friction excess), and a stand
+    /// threshold at most the larger of the neighbourhood's weight's and the design's weight's.
     fn fails(&mut self, placed: &HashSet<&str>, props: &HashSet<&str>, block: &str) -> Result<bool, SequenceError> {
         if !self.enabled {
             return Ok(false);
@@ -436,12 +441,20 @@ impl<'a> LocalCheck<'a> {
             }
             front = next;
         }
-        let fixed: HashSet<&str> = placed.iter().copied().filter(|b| !region.contains(b)).collect();
-        let a = self.stepper.analyse(placed, &fixed)?;
+        // Held: the placed blocks touching the region; the others touch none of its blocks.
+        let held: HashSet<&str> = region
+            .iter()
+            .flat_map(|b| &self.adj.neighbours[self.index[*b].0])
+            .map(|&m| blocks[m].name.as_str())
+            .filter(|m| placed.contains(m) && !region.contains(m))
+            .collect();
+        let scope: HashSet<&str> = region.union(&held).copied().collect();
+        // One first stage, so that the outcomes kept match: most neighbourhoods checked fail.
+        let a = self.stepper.analyse_from(&scope, &held, FirstStage::Relaxed)?;
         let s = &a.statics;
         let threshold = stand_threshold(&self.stepper.settings().statics, s.free_weight, self.adj.free_weight);
         let (tension, excess) = (s.tension_ratio * s.free_weight, s.friction_excess_ratio * s.free_weight);
-        Ok(tension > threshold || excess > Self::EXCESS_MARGIN * threshold)
+        Ok(tension > threshold || (tension == 0.0 && excess > Self::EXCESS_MARGIN * threshold))
     }
 }
 

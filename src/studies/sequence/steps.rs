@@ -45,17 +45,12 @@ impl<'a> Stepper<'a> {
         Self { resolved, empty, settings, pipeline: Pipeline::new(), checks: 0, last_failed: false }
     }
 
-    /// A stepper of the same design and settings with its own pipeline.
-    pub fn twin(&self) -> Stepper<'a> {
-        let settings = self.settings.clone();
-        Stepper {
-            resolved: self.resolved,
-            empty: self.empty.clone(),
-            settings,
-            pipeline: Pipeline::new(),
-            checks: 0,
-            last_failed: false,
-        }
+    /// A stepper of the same design and settings with its own pipeline, whose statics keeps
+    /// `keep` component outcomes of earlier runs ([`Pipeline::keeping_components`]).
+    pub fn twin(&self, keep: usize) -> Stepper<'a> {
+        let (settings, empty) = (self.settings.clone(), self.empty.clone());
+        let pipeline = Pipeline::keeping_components(keep);
+        Stepper { resolved: self.resolved, empty, settings, pipeline, checks: 0, last_failed: false }
     }
 
     /// The settings every prefix is analysed with.
