@@ -19,9 +19,13 @@ fn sequences(c: &mut Criterion) {
     c.bench_function("sequence: arch 15 bottom-up (fails until the keystone)", |b| {
         b.iter(|| check(&arch, &OrderSpec::BottomUp, &s, &Default::default(), &|| {}).unwrap())
     });
-    c.bench_function("search: arch 15 (no order; temporary supports)", |b| {
-        b.iter(|| search(&arch, &s, &SearchSettings::default(), &Default::default(), &|| {}).unwrap())
-    });
+    for local_checks in [true, false] {
+        let settings = SearchSettings { local_checks, ..Default::default() };
+        let on = if local_checks { "on" } else { "off" };
+        c.bench_function(&format!("search: arch 15 (no order; temporary supports; neighbourhood checks {on})"), |b| {
+            b.iter(|| search(&arch, &s, &settings, &Default::default(), &|| {}).unwrap())
+        });
+    }
     // The props' neighbourhood checks against none, in one run (the same props either way).
     let dome = builtin("dome?courses=6&blocks=12").unwrap();
     for local_checks in [true, false] {

@@ -27,7 +27,7 @@ pub struct SequenceArgs {
     pub props: bool,
     // The default budget is the library's, printed from its constants.
     #[arg(long, help = format!(
-        "Static checks the search may run (default {} per block + {})",
+        "Prefixes the search may check (default {} per block + {})",
         SearchSettings::CHECKS_PER_BLOCK,
         SearchSettings::BASE_CHECKS
     ))]

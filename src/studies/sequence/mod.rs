@@ -194,6 +194,7 @@ pub fn search(
         order.extend(ranked.into_iter().filter(|n| !placed.contains(n)));
     }
     let (steps, props, local) = search::with_props(&mut stepper, &resolved, &adj, &order, search, per_step, tick)?;
-    (info.checks, info.local_checks) = (stepper.checks, local);
+    info.checks = stepper.checks;
+    info.local_checks += local;
     Ok(SequenceReport::new(order, steps, props, Some(info)))
 }

@@ -4,8 +4,8 @@
 //! the order it was placed in, so a set from which no complete order exists is remembered and
 //! never explored twice. At each set the candidates are the unplaced blocks touching a placed
 //! block or a fixed body, tried in the from-supports order (graph distance, then height): the
-//! first that stands is taken (greedy), the next on backtracking. With a budget of static
-//! checks; the search is exhaustive (a "no order" is a proof) when it ends within it.
+//! first that stands is taken (greedy), the next on backtracking. With a budget of prefixes
+//! checked; the search is exhaustive (a "no order" is a proof) when it ends within it.
 //!
 //! Temporary supports (props): along an order, when a step does not stand, the fewest placed
 //! blocks are fixed so that it does — one prop is tried first (the new block, then the blocks
@@ -17,7 +17,8 @@
 //! Two checks follow, each on a block's neighbourhood — it and the placed free blocks within
 //! 1, then 2, 4 and 8 interfaces free, the placed blocks touching them fixed ([`LocalCheck`]),
 //! a small problem: when the new block's neighbourhood fails, the step fails with its props
-//! and with fewer, so no release is tried and the new block is propped straight away; when a
+//! and with fewer — a prefix of the search is then dead without its whole analysis, and along
+//! an order no release is tried and the new block is propped straight away; when a
 //! prop's neighbourhood fails without it, its release cannot stand and is not analysed. The
 //! props and steps are those of the whole-step analyses alone (tests below). On the
 //! Armadillo 4 of 5 releases end at the neighbourhoods (docs/benchmarks.md).
@@ -33,13 +34,15 @@ use std::collections::HashSet;
 /// Settings of the order search.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SearchSettings {
-    /// Static checks allowed; `None` (default) allows [`Self::CHECKS_PER_BLOCK`] per free
+    /// Prefixes the order search may check (each decided by its last block's neighbourhood or
+    /// by a whole-step analysis); `None` (default) allows [`Self::CHECKS_PER_BLOCK`] per free
     /// block + [`Self::BASE_CHECKS`].
     pub max_checks: Option<usize>,
     /// Prop candidates tried one by one at a failing step before adding props greedily.
     pub prop_candidates: usize,
-    /// Check a prop's release, and a new block, on the block's neighbourhood before the whole
-    /// step (module docs): the same props, a fraction of the solves. Off only to measure that.
+    /// Check a prefix of the search, a prop's release and a new block on the block's
+    /// neighbourhood before the whole step (module docs): the same orders and props, a
+    /// fraction of the solves. Off only to measure that.
     pub local_checks: bool,
 }
 
@@ -70,7 +73,7 @@ pub struct SearchInfo {
     pub exhaustive: bool,
     /// Static checks of whole steps run (search and props).
     pub checks: usize,
-    /// Static checks of one block's neighbourhood run by the props (module docs).
+    /// Static checks of one block's neighbourhood run (module docs).
     pub local_checks: usize,
     /// The longest standing prefix reached.
     pub deepest: usize,
@@ -80,10 +83,14 @@ type Set = Vec<u64>;
 
 struct Dfs<'s, 'a> {
     stepper: &'s mut Stepper<'a>,
+    local: LocalCheck<'a>,
     names: Vec<&'a str>,
     adj: &'s Adjacency,
     rank: Vec<usize>,
     dead: HashSet<Set>,
+    /// Prefixes decided, by a neighbourhood or the whole prefix, against the budget.
+    decided: usize,
+    last_failed: bool,
     budget: usize,
     out_of_budget: bool,
     best: Vec<usize>,
@@ -95,10 +102,20 @@ fn has(set: &Set, k: usize) -> bool {
 }
 
 impl Dfs<'_, '_> {
+    /// Whether the prefix `order` stands: not when the last block's neighbourhood fails. That
+    /// is checked after a prefix that failed only: failures come in runs, and where prefixes
+    /// stand the neighbourhoods would all be solved for nothing.
     fn stands(&mut self, order: &[usize]) -> Result<bool, SequenceError> {
         let placed: HashSet<&str> = order.iter().map(|&k| self.names[k]).collect();
         (self.tick)();
-        Ok(self.stepper.analyse(&placed, &HashSet::new())?.statics.stands)
+        self.decided += 1;
+        let last = self.names[*order.last().expect("a block placed")];
+        if self.last_failed && self.local.fails(&placed, &HashSet::new(), last)? {
+            return Ok(false);
+        }
+        let stands = self.stepper.analyse(&placed, &HashSet::new())?.statics.stands;
+        self.last_failed = !stands;
+        Ok(stands)
     }
 
     fn candidates(&self, set: &Set, free: &[usize]) -> Vec<usize> {
@@ -119,7 +136,7 @@ impl Dfs<'_, '_> {
             return Ok(true);
         }
         for c in self.candidates(set, free) {
-            if self.stepper.checks >= self.budget {
+            if self.decided >= self.budget {
                 self.out_of_budget = true;
                 return Ok(false);
             }
@@ -153,7 +170,7 @@ impl Dfs<'_, '_> {
 pub(crate) fn search_order<'a>(
     stepper: &mut Stepper<'a>,
     resolved: &'a Scene,
-    adj: &Adjacency,
+    adj: &'a Adjacency,
     ranked: &[String],
     search: &SearchSettings,
     tick: &(dyn Fn() + Sync),
@@ -165,13 +182,17 @@ pub(crate) fn search_order<'a>(
         rank[index[name].0] = r;
     }
     let free: Vec<usize> = (0..n).filter(|&k| !resolved.blocks[k].support).collect();
-    let budget = stepper.checks + search.budget(free.len());
+    let budget = search.budget(free.len());
+    let local = LocalCheck::new(stepper, resolved, adj, search.local_checks);
     let mut dfs = Dfs {
         stepper,
+        local,
         names: resolved.blocks.iter().map(|b| b.name.as_str()).collect(),
         adj,
         rank,
         dead: HashSet::new(),
+        decided: 0,
+        last_failed: false,
         budget,
         out_of_budget: false,
         best: Vec::new(),
@@ -184,7 +205,7 @@ pub(crate) fn search_order<'a>(
         found,
         exhaustive: found || !dfs.out_of_budget,
         checks: dfs.stepper.checks,
-        local_checks: 0,
+        local_checks: dfs.local.stepper.checks,
         deepest: if found { free.len() } else { dfs.best.len() },
     };
     let chosen = if found { order } else { dfs.best };
@@ -219,8 +240,11 @@ pub(crate) fn with_props<'a>(
     for (k, name) in order.iter().enumerate() {
         placed.insert(name);
         tick();
-        // A step whose new block's neighbourhood fails cannot stand with its props, nor with fewer.
-        let doomed = local.fails(&placed, &set_of(&props.active), name)?;
+        // A step whose new block's neighbourhood fails cannot stand with its props, nor with
+        // fewer: no release is tried. Checked once the order has needed a prop: until then the
+        // steps stand and the neighbourhoods would be solved for nothing.
+        let propped = !props.active.is_empty() || !props.released.is_empty();
+        let doomed = propped && local.fails(&placed, &set_of(&props.active), name)?;
         let released = if doomed { None } else { props.release(&mut local, &placed, k)? };
         let current = match released {
             Some(a) => a,
