@@ -107,7 +107,7 @@ fn print_report(r: &crate::studies::sequence::SequenceReport, dynamic: bool, kin
         let what = match (info.found, info.exhaustive) {
             (true, _) => "found an order in which every step stands".to_string(),
             (false, true) => "no order stands at every step (the search was exhaustive)".to_string(),
-            (false, false) => format!("no standing order found within {} checks", info.checks),
+            (false, false) => "no standing order found within the budget (--max-checks)".to_string(),
         };
         println!(
             "search: {what}; {} static checks and {} of neighbourhoods, longest standing prefix {}",
