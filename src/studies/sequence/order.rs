@@ -28,13 +28,19 @@ pub(crate) struct Adjacency {
     pub grounded: Vec<bool>,
     /// The complete design's free weight, N: at least that of any prefix.
     pub free_weight: f64,
+    /// Each block's index by name ([`index`]).
+    pub index: HashMap<String, BlockId>,
 }
 
 pub(crate) fn adjacency(resolved: &Scene, settings: &AnalysisSettings) -> Result<Adjacency, SequenceError> {
     let asm = Assembly::new(resolved, &settings.tolerances).map_err(AnalysisError::from)?;
     let n = asm.blocks.len();
-    let mut adj =
-        Adjacency { neighbours: vec![Vec::new(); n], grounded: vec![false; n], free_weight: asm.free_weight() };
+    let mut adj = Adjacency {
+        neighbours: vec![Vec::new(); n],
+        grounded: vec![false; n],
+        free_weight: asm.free_weight(),
+        index: index(resolved),
+    };
     for i in crate::interfaces::detect(&asm) {
         let free = |b: Body| b.block().filter(|&b| !asm.block(b).support);
         match (free(i.a), free(i.b)) {

@@ -90,7 +90,6 @@ struct Dfs<'s, 'a> {
     dead: HashSet<Set>,
     /// Prefixes decided, by a neighbourhood or the whole prefix, against the budget.
     decided: usize,
-    last_failed: bool,
     budget: usize,
     out_of_budget: bool,
     best: Vec<usize>,
@@ -110,12 +109,10 @@ impl Dfs<'_, '_> {
         (self.tick)();
         self.decided += 1;
         let last = self.names[*order.last().expect("a block placed")];
-        if self.last_failed && self.local.fails(&placed, &HashSet::new(), last)? {
+        if self.stepper.last_failed() && self.local.fails(&placed, &HashSet::new(), last)? {
             return Ok(false);
         }
-        let stands = self.stepper.analyse(&placed, &HashSet::new())?.statics.stands;
-        self.last_failed = !stands;
-        Ok(stands)
+        Ok(self.stepper.analyse(&placed, &HashSet::new())?.statics.stands)
     }
 
     fn candidates(&self, set: &Set, free: &[usize]) -> Vec<usize> {
@@ -175,7 +172,7 @@ pub(crate) fn search_order<'a>(
     search: &SearchSettings,
     tick: &(dyn Fn() + Sync),
 ) -> Result<(Vec<String>, SearchInfo), SequenceError> {
-    let index = super::order::index(resolved);
+    let index = &adj.index;
     let n = resolved.blocks.len();
     let mut rank = vec![usize::MAX; n];
     for (r, name) in ranked.iter().enumerate() {
@@ -192,7 +189,6 @@ pub(crate) fn search_order<'a>(
         rank,
         dead: HashSet::new(),
         decided: 0,
-        last_failed: false,
         budget,
         out_of_budget: false,
         best: Vec::new(),
@@ -340,7 +336,7 @@ impl<'a> Props<'_, 'a> {
         {
             cands.extend([r.a.as_str(), r.b.as_str()]);
         }
-        let me = super::order::index(self.resolved)[name].0;
+        let me = self.adj.index[name].0;
         cands.extend(self.adj.neighbours[me].iter().map(|&m| self.resolved.blocks[m].name.as_str()));
         cands.extend(order[..k].iter().rev().map(String::as_str));
         let mut seen = HashSet::new();
@@ -402,7 +398,6 @@ struct LocalCheck<'a> {
     stepper: Stepper<'a>,
     resolved: &'a Scene,
     adj: &'a Adjacency,
-    index: std::collections::HashMap<String, crate::model::BlockId>,
     enabled: bool,
 }
 
@@ -421,7 +416,7 @@ impl<'a> LocalCheck<'a> {
 
     fn new(step: &Stepper<'a>, resolved: &'a Scene, adj: &'a Adjacency, enabled: bool) -> Self {
         let stepper = step.twin(Self::KEEP);
-        Self { stepper, resolved, adj, index: super::order::index(resolved), enabled }
+        Self { stepper, resolved, adj, enabled }
     }
 
     /// Whether `placed` with the props `props` cannot stand because one of `block`'s
@@ -452,7 +447,7 @@ impl<'a> LocalCheck<'a> {
     ) -> Result<bool, SequenceError> {
         let blocks = &self.resolved.blocks;
         let mut region: HashSet<&str> = HashSet::from([block]);
-        let mut front = vec![self.index[block].0];
+        let mut front = vec![self.adj.index[block].0];
         for _ in 0..rings {
             let mut next = Vec::new();
             for &at in &front {
@@ -468,7 +463,7 @@ impl<'a> LocalCheck<'a> {
         // Held: the placed blocks touching the region; the others touch none of its blocks.
         let held: HashSet<&str> = region
             .iter()
-            .flat_map(|b| &self.adj.neighbours[self.index[*b].0])
+            .flat_map(|b| &self.adj.neighbours[self.adj.index[*b].0])
             .map(|&m| blocks[m].name.as_str())
             .filter(|m| placed.contains(m) && !region.contains(m))
             .collect();

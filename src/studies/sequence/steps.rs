@@ -53,6 +53,11 @@ impl<'a> Stepper<'a> {
         Stepper { resolved: self.resolved, empty, settings, pipeline, checks: 0, last_failed: false }
     }
 
+    /// Whether the last analysis found its prefix failing.
+    pub fn last_failed(&self) -> bool {
+        self.last_failed
+    }
+
     /// The settings every prefix is analysed with.
     pub fn settings(&self) -> &AnalysisSettings {
         &self.settings
