@@ -61,7 +61,8 @@ pub struct DirectionSweep {
     pub worst_load_factor: f64,
     /// The analysis at the worst direction (its mechanism).
     pub worst: Robustness,
-    /// Load-factor problems solved (the grid and the refinement).
+    /// Load-factor problems solved: the grid and its refinement (two refinements when the
+    /// overlapped schedule refined next to a lowest the rest of the grid then undercut).
     pub solves: usize,
 }
 
