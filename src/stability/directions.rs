@@ -193,11 +193,11 @@ impl Grid<'_> {
         let mut results: Vec<Option<Robustness>> = vec![None; n];
         let mut early = None;
         if schedule == Schedule::Overlapped {
-            self.place(&mut results, self.solve_many(&(0..n).step_by(2).collect::<Vec<_>>())?);
+            place(&mut results, self.solve_many(&(0..n).step_by(2).collect::<Vec<_>>())?);
             let c = lowest(&results);
             let near: Vec<usize> =
                 [(c + n - 1) % n, (c + 1) % n].into_iter().filter(|&i| results[i].is_none()).collect();
-            self.place(&mut results, self.solve_many(&near)?);
+            place(&mut results, self.solve_many(&near)?);
             let guess = lowest(&results);
             let rest: Vec<usize> = (0..n).filter(|&i| results[i].is_none()).collect();
             let queue = Queue::new(&rest);
@@ -206,27 +206,25 @@ impl Grid<'_> {
                 let refined = self.refine_if_finite(&results, guess);
                 (refined, self.drain(&queue), other.join().expect("a direction's thread does not panic"))
             });
-            self.place(&mut results, mine?);
-            self.place(&mut results, other?);
+            place(&mut results, mine?);
+            place(&mut results, other?);
             early = Some((guess, refined));
         } else {
-            self.place(&mut results, self.solve_many(&(0..n).collect::<Vec<_>>())?);
+            place(&mut results, self.solve_many(&(0..n).collect::<Vec<_>>())?);
         }
-        let results: Vec<Robustness> = results.into_iter().map(|r| r.expect("every azimuth solved")).collect();
-        if let Some(bad) = results.iter().find(|r| matches!(r.safety, Safety::SolverFailed { .. })) {
+        if let Some(bad) = results.iter().flatten().find(|r| matches!(r.safety, Safety::SolverFailed { .. })) {
             return Err(RobustnessError::Settings(format!("a direction's load factor failed: {:?}", bad.safety)));
         }
-        let solved: Vec<Option<Robustness>> = results.iter().cloned().map(Some).collect();
-        let k = lowest(&solved);
+        let k = lowest(&results);
         let refined = match early {
             Some((guess, refined)) if guess == k => refined,
             Some((_, (_, _, wasted))) => {
-                let (az, r, solves) = self.refine_if_finite(&solved, k);
+                let (az, r, solves) = self.refine_if_finite(&results, k);
                 (az, r, solves + wasted)
             }
-            None => self.refine_if_finite(&solved, k),
+            None => self.refine_if_finite(&results, k),
         };
-        Ok((results, refined))
+        Ok((results.into_iter().map(|r| r.expect("every azimuth solved")).collect(), refined))
     }
 
     /// λ* along azimuth `i`, with the progress reported.
@@ -255,12 +253,6 @@ impl Grid<'_> {
         Ok(out)
     }
 
-    fn place(&self, results: &mut [Option<Robustness>], solved: Vec<(usize, Robustness)>) {
-        for (i, r) in solved {
-            results[i] = Some(r);
-        }
-    }
-
     /// [`refine`] next to `k` when its λ* is finite and refining is asked for; else `k` as is.
     fn refine_if_finite(&self, results: &[Option<Robustness>], k: usize) -> Refined {
         let at_k = results[k].as_ref().expect("the lowest is solved");
@@ -268,6 +260,13 @@ impl Grid<'_> {
             return (self.azimuths[k], at_k.clone(), 0);
         }
         refine(self.assembly, self.interfaces, self.settings, self.sweep, self.azimuths, results, k)
+    }
+}
+
+/// Puts each solved azimuth's analysis in its place.
+fn place(results: &mut [Option<Robustness>], solved: Vec<(usize, Robustness)>) {
+    for (i, r) in solved {
+        results[i] = Some(r);
     }
 }
 

@@ -295,8 +295,9 @@ impl<'a> Props<'_, 'a> {
         Ok(last)
     }
 
-    /// The analysis of step `k` with the active props, and more props when it does not stand. When it cannot (`doomed`: the new block's neighbourhood
-    /// fails), the new block, the first candidate, is tried as a prop straight away.
+    /// The analysis of step `k` with the active props, and more props when it does not stand.
+    /// When it cannot (`doomed`: the new block's neighbourhood fails), the new block, the first
+    /// candidate, is tried as a prop straight away.
     fn prop_if_needed(
         &mut self,
         placed: &HashSet<&'a str>,
