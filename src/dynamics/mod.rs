@@ -26,7 +26,7 @@ pub(crate) mod settings;
 mod world;
 
 pub use exact::{EnergyBalance, ExactStats};
-pub use settings::{ColliderForm, Coulomb, DropError, DropSettings, Engine, ExactSettings};
+pub use settings::{ColliderForm, Coulomb, DropError, DropSettings, Engine, ExactSettings, Selection};
 pub use world::Simulation;
 
 use crate::model::Assembly;

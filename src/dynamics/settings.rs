@@ -74,6 +74,25 @@ impl std::fmt::Display for Coulomb {
     }
 }
 
+/// The friction sets of the exact engine's force selection, which picks among the forces that
+/// keep a round's velocities (the smallest, Σ f²) the ones whose normals become the next
+/// round's capacities.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Selection {
+    /// The round's own capacities |f_t| ≤ c: the round's forces are among the candidates, so
+    /// the selection keeps its velocities exactly (the energy balance to the solves'
+    /// tolerance).
+    #[default]
+    Round,
+    /// Coulomb's sets |f_t| ≤ μ f_n: the smallest forces friction can carry (the least-norm
+    /// rule of the statics' strict QP, in the same sets). A hyperstatic assembly near rest then
+    /// settles in a few rounds, where the round's sets shrink its normals round after round
+    /// towards capacities that cycle; a selection that cannot keep the velocities exactly
+    /// keeps them to the pin's stiffness.
+    Coulomb,
+}
+
 /// Settings of the exact-contact engine; each default written once, in `Default` (with why).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default)]
@@ -112,6 +131,8 @@ pub struct ExactSettings {
     /// force point, the bodies' rows reduced as in the statics) wherever a step has its shape,
     /// else clarabel; `Clarabel` runs every step on clarabel (to cross-check).
     pub backend: Backend,
+    /// The force selection's friction sets.
+    pub selection: Selection,
 }
 
 impl Default for ExactSettings {
@@ -133,6 +154,8 @@ impl Default for ExactSettings {
             warm_start: true,
             accelerate_rounds: true,
             backend: Backend::default(),
+            // Exact velocities for a drop's energy balance; the quasi-static runs take Coulomb.
+            selection: Selection::Round,
         }
     }
 }

@@ -9,7 +9,9 @@
 //!   at rest an equilibrium exists in the moved geometry; if not, it has collapsed. The
 //!   collapsing increment is halved `refine` times, so the movement at collapse is known to
 //!   2^-refine of an increment. No inertia: no velocity is carried from one increment to the
-//!   next.
+//!   next. Where the forces are not unique (a hyperstatic vault), each step keeps the smallest
+//!   that Coulomb's sets carry ([`crate::dynamics::Selection::Coulomb`]), as the statics'
+//!   strict QP does.
 //! - **Exact engine** and **rapier**: the supports moved slowly in real time (at `speed` ×
 //!   √(g × block size)); collapse is the first block faster than `collapse_speed` ×
 //!   √(g × block size).
@@ -21,7 +23,7 @@
 //! size. Units SI, z up; rotations of the paths in degrees (input) about the support's centroid.
 
 use crate::dynamics::exact::World;
-use crate::dynamics::{DropSettings, Engine, ExactSettings, Stepper, SupportPath, Trajectory};
+use crate::dynamics::{DropSettings, Engine, ExactSettings, Selection, Stepper, SupportPath, Trajectory};
 use crate::geometry::Vector3;
 use crate::interfaces::Interface;
 use crate::model::{Assembly, Movement};
@@ -350,6 +352,9 @@ fn quasi_static(analysis: &Analysis, paths: &[SupportPath], scale: &PathScale, s
     let assembly = &analysis.assembly;
     let mut drop = engine_settings(settings, Engine::Exact);
     drop.exact.solver_tolerance = QUASI_STATIC_TOLERANCE;
+    // A sequence of equilibria: the statics' least-norm rule, and a few rounds a step on
+    // hyperstatic vaults (docs/benchmarks.md).
+    drop.exact.selection = Selection::Coulomb;
     let mut world = World::with_paths(assembly, &drop, paths);
     let mut run = Run::new("quasi-static", Engine::Exact);
     let n = settings.increments;

@@ -244,8 +244,9 @@ impl StepProblem {
     /// some squeeze that would become friction capacity. So: the smallest forces (Σ f²) that
     /// keep the first solve's velocities, pinned by (1/η) ½ |r − r*|² (r − r* the new residual
     /// columns, the block rows' right-hand side taking in S r*), none on a contact the first
-    /// solve leaves `open` (complementarity: an open contact carries nothing).
-    pub fn select_forces(&mut self, first: &[f64], open: &[bool]) {
+    /// solve leaves `open` (complementarity: an open contact carries nothing). `first` is in
+    /// the layout of a problem whose residual columns start at `first_residual`.
+    pub fn select_forces(&mut self, first: &[f64], first_residual: usize, open: &[bool]) {
         let (p, residual) = (&mut self.conic, self.cols.residual);
         // An open contact's columns leave the equilibrium: their forces are then 0.
         let mut drop = vec![false; p.n];
@@ -262,7 +263,7 @@ impl StepProblem {
             _ => 0,
         });
         for &(row, col, v) in p.a.iter().filter(|e| e.0 < block_rows && e.1 >= residual) {
-            p.b[row] -= v * first[col];
+            p.b[row] -= v * first[col - residual + first_residual];
         }
         // The crushing cones' auxiliary columns (after the momentum residual) stay free of cost.
         let momentum = residual..residual + block_rows;
@@ -276,22 +277,6 @@ impl StepProblem {
             };
             p.q[j] = 0.0;
         }
-    }
-
-    /// Reads the forces of the force-selection solve `x` with the velocities of the first
-    /// solve `first`.
-    pub fn read_selected(
-        &self,
-        ctx: &StepContext,
-        bodies: &[Body],
-        comp: &[usize],
-        active: &[Active],
-        first: &[f64],
-        x: &[f64],
-    ) -> Solution {
-        let mut sol = self.read(ctx, bodies, comp, active, x);
-        sol.velocities = self.read(ctx, bodies, comp, active, first).velocities;
-        sol
     }
 
     pub fn read(&self, ctx: &StepContext, bodies: &[Body], comp: &[usize], active: &[Active], x: &[f64]) -> Solution {

@@ -5,13 +5,13 @@ use super::anderson::Anderson;
 use super::contact_form::{self, StepData};
 use super::crushing::{self, Crush};
 use super::problem::{self, Active, Solution, StepProblem};
-use crate::dynamics::settings::Coulomb;
+use crate::dynamics::settings::{Coulomb, Selection};
 use crate::geometry::Vector3;
 use crate::statics::{Backend, ConicOutcome, SolverStatus, solve_conic};
 use std::collections::BTreeSet;
 
-/// The component a solve is for, which of its active contacts take part, and whether it is
-/// the force selection.
+/// The component a solve is for, which of its active contacts take part, whether it is the
+/// force selection, and the friction sets its rows have.
 #[derive(Clone, Copy)]
 struct Part<'a> {
     comp: &'a [usize],
@@ -19,6 +19,7 @@ struct Part<'a> {
     active: &'a [Active],
     taking_part: &'a [bool],
     selection: bool,
+    coulomb: Coulomb,
 }
 
 /// What a kept iterate must share with the next problem to start it: the component's bodies,
@@ -64,7 +65,14 @@ impl World {
             let crush = self.ctx.strength.map(|sigma| Crush { bearings: &self.bearings, sigma, bound: &bound });
             let p = problem::build(&self.ctx, &self.bodies, comp, &local, &self.contacts, &active, crush.as_ref());
             let all = vec![true; active.len()];
-            let part = Part { comp, local: &local, active: &active, taking_part: &all, selection: false };
+            let part = Part {
+                comp,
+                local: &local,
+                active: &active,
+                taking_part: &all,
+                selection: false,
+                coulomb: self.ctx.coulomb,
+            };
             let Some(out) = self.solve(&p, part) else {
                 break None;
             };
@@ -77,13 +85,14 @@ impl World {
                 break Some((sol, rest));
             }
             let open = self.open_contacts(&local, &active, &sol);
-            let mut selection = p;
-            selection.select_forces(&out.x, &open);
+            let (selection, sel_ctx) = self.selection_problem(p, &out.x, (comp, &local, &active), &bound, &open);
             // Without the selection the round's own forces stand (its velocities are the step's).
             let closed: Vec<bool> = open.iter().map(|o| !o).collect();
-            let part = Part { comp, local: &local, active: &active, taking_part: &closed, selection: true };
+            let coulomb = sel_ctx.coulomb;
+            let part = Part { comp, local: &local, active: &active, taking_part: &closed, selection: true, coulomb };
             let Some(forces) = self.solve(&selection, part) else { break Some((sol, false)) };
-            let sol = selection.read_selected(&self.ctx, &self.bodies, comp, &active, &out.x, &forces.x);
+            let selected = selection.read(&sel_ctx, &self.bodies, comp, &active, &forces.x);
+            let sol = Solution { velocities: sol.velocities, ..selected };
             let next = capacities(&sol.normal, mu, self.settings.solver_tolerance);
             // Against the mean capacity per point at the least: capacities of ~0 that merely
             // wobble have settled.
@@ -125,6 +134,30 @@ impl World {
         }
     }
 
+    /// The force selection of round problem `p` solved at `first` ([`Selection`]), and the
+    /// context it was built in: the round's own problem, or one with Coulomb's coupled sets
+    /// (the relaxed form's rows, in its column layout).
+    fn selection_problem(
+        &self,
+        p: StepProblem,
+        first: &[f64],
+        (comp, local, active): (&[usize], &[usize], &[Active]),
+        bound: &BTreeSet<usize>,
+        open: &[bool],
+    ) -> (StepProblem, problem::StepContext) {
+        let first_residual = p.cols.residual;
+        let (mut selection, ctx) = match self.settings.selection {
+            Selection::Round => (p, self.ctx),
+            Selection::Coulomb => {
+                let ctx = problem::StepContext { coulomb: Coulomb::Relaxed, ..self.ctx };
+                let crush = self.ctx.strength.map(|sigma| Crush { bearings: &self.bearings, sigma, bound });
+                (problem::build(&ctx, &self.bodies, comp, local, &self.contacts, active, crush.as_ref()), ctx)
+            }
+        };
+        selection.select_forces(first, first_residual, open);
+        (selection, ctx)
+    }
+
     /// With a strength: adds the closed joints whose forces in `sol` come near it to `bound`
     /// ([`crushing::binding`]); whether any was added.
     fn bind(&self, active: &[Active], sol: &Solution, bound: &mut BTreeSet<usize>) -> bool {
@@ -142,8 +175,9 @@ impl World {
         let structured = (self.settings.backend == Backend::Structured)
             .then(|| {
                 let layout = layout_key(&part, &p.cols);
+                let ctx = problem::StepContext { coulomb: part.coulomb, ..self.ctx };
                 let data = StepData {
-                    ctx: &self.ctx,
+                    ctx: &ctx,
                     bodies: &self.bodies,
                     comp: part.comp,
                     local: part.local,
