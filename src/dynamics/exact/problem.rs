@@ -242,8 +242,9 @@ impl StepProblem {
     /// velocities are unique but the forces are not — opposite faces can squeeze a sliding bar
     /// by any amount, a face's corners share a load any way — and an interior point returns
     /// some squeeze that would become friction capacity. So: the smallest forces (Σ f²) that
-    /// keep the first solve's velocities, pinned by (1/η) ½ |r − r*|² (r − r* the new residual
-    /// columns, the block rows' right-hand side taking in S r*), none on a contact the first
+    /// keep the first solve's velocities, pinned by (1/η) ½ |r − r*|² (the new momentum
+    /// columns δ = (r − r*)/√η with weight 1, the block rows' right-hand side taking in S r*:
+    /// its solution's momentum columns are not the velocities), none on a contact the first
     /// solve leaves `open` (complementarity: an open contact carries nothing). `first` is in
     /// the layout of a problem whose residual columns start at `first_residual`.
     pub fn select_forces(&mut self, first: &[f64], first_residual: usize, open: &[bool]) {
@@ -265,16 +266,15 @@ impl StepProblem {
         for &(row, col, v) in p.a.iter().filter(|e| e.0 < block_rows && e.1 >= residual) {
             p.b[row] -= v * first[col - residual + first_residual];
         }
-        // The crushing cones' auxiliary columns (after the momentum residual) stay free of cost.
+        // The momentum columns as δ = (r − r*)/√η: the pin ½|δ|², weighed as the forces are (the
+        // interior point's scaling then spans fewer decades: on the cross vault the selection
+        // with the pin's 1/η as a weight ended short of an answer on the structured solver).
         let momentum = residual..residual + block_rows;
+        let stretch = PIN.sqrt();
+        p.a.iter_mut().filter(|e| momentum.contains(&e.1)).for_each(|e| e.2 *= stretch);
+        // The crushing cones' auxiliary columns (after the momentum residual) stay free of cost.
         for j in 0..p.n {
-            p.p_diag[j] = if j < residual {
-                1.0
-            } else if momentum.contains(&j) {
-                1.0 / PIN
-            } else {
-                0.0
-            };
+            p.p_diag[j] = if j < residual || momentum.contains(&j) { 1.0 } else { 0.0 };
             p.q[j] = 0.0;
         }
     }
