@@ -11,7 +11,8 @@ use crate::statics::{Backend, ConicOutcome, SolverStatus, solve_conic};
 use std::collections::BTreeSet;
 
 /// The component a solve is for, which of its active contacts take part, whether it is the
-/// force selection, and the friction sets its rows have.
+/// force selection, and the context its rows were built in (the selection's friction sets
+/// may be Coulomb's).
 #[derive(Clone, Copy)]
 struct Part<'a> {
     comp: &'a [usize],
@@ -19,7 +20,7 @@ struct Part<'a> {
     active: &'a [Active],
     taking_part: &'a [bool],
     selection: bool,
-    coulomb: Coulomb,
+    ctx: problem::StepContext,
 }
 
 /// What a kept iterate must share with the next problem to start it: the component's bodies,
@@ -65,14 +66,8 @@ impl World {
             let crush = self.ctx.strength.map(|sigma| Crush { bearings: &self.bearings, sigma, bound: &bound });
             let p = problem::build(&self.ctx, &self.bodies, comp, &local, &self.contacts, &active, crush.as_ref());
             let all = vec![true; active.len()];
-            let part = Part {
-                comp,
-                local: &local,
-                active: &active,
-                taking_part: &all,
-                selection: false,
-                coulomb: self.ctx.coulomb,
-            };
+            let part =
+                Part { comp, local: &local, active: &active, taking_part: &all, selection: false, ctx: self.ctx };
             let Some(out) = self.solve(&p, part) else {
                 break None;
             };
@@ -88,8 +83,8 @@ impl World {
             let (selection, sel_ctx) = self.selection_problem(p, &out.x, (comp, &local, &active), &bound, &open);
             // Without the selection the round's own forces stand (its velocities are the step's).
             let closed: Vec<bool> = open.iter().map(|o| !o).collect();
-            let coulomb = sel_ctx.coulomb;
-            let part = Part { comp, local: &local, active: &active, taking_part: &closed, selection: true, coulomb };
+            let part =
+                Part { comp, local: &local, active: &active, taking_part: &closed, selection: true, ctx: sel_ctx };
             let Some(forces) = self.solve(&selection, part) else { break Some((sol, false)) };
             let selected = selection.read(&sel_ctx, &self.bodies, comp, &active, &forces.x);
             let sol = Solution { velocities: sol.velocities, ..selected };
@@ -175,9 +170,8 @@ impl World {
         let structured = (self.settings.backend == Backend::Structured)
             .then(|| {
                 let layout = layout_key(&part, &p.cols);
-                let ctx = problem::StepContext { coulomb: part.coulomb, ..self.ctx };
                 let data = StepData {
-                    ctx: &ctx,
+                    ctx: &part.ctx,
                     bodies: &self.bodies,
                     comp: part.comp,
                     local: part.local,
