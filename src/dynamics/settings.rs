@@ -89,7 +89,8 @@ pub enum Selection {
     /// rule of the statics' strict QP, in the same sets). A hyperstatic assembly near rest then
     /// settles in a few rounds, where the round's sets shrink its normals round after round
     /// towards capacities that cycle; a selection that cannot keep the velocities exactly
-    /// keeps them to the pin's stiffness.
+    /// keeps them to the pin's stiffness. One the structured solver cannot end (a round far
+    /// from the fixed point) ends the step with the round's own forces, counted unsettled.
     Coulomb,
 }
 
@@ -100,9 +101,12 @@ pub struct ExactSettings {
     pub coulomb: Coulomb,
     /// The friction model of every contact point (the statics' three).
     pub friction_model: FrictionModel,
-    /// Tresca rounds allowed per step before the step keeps its last round (counted as
-    /// unsettled).
+    /// Tresca rounds allowed per step before the step keeps its best round (the one whose
+    /// capacities changed least; counted as unsettled).
     pub max_rounds: u32,
+    /// Rounds in a row that do not halve the capacities' smallest change so far, after which a
+    /// step stops as at `max_rounds`: its rounds wander instead of closing in.
+    pub stall_rounds: u32,
     /// The capacities have settled when none changed by more than this fraction of the largest.
     pub settle: f64,
     /// A component is at rest when no vertex moves faster than this fraction of g × dt (an
@@ -142,6 +146,9 @@ impl Default for ExactSettings {
             friction_model: FrictionModel::default(),
             // Warm-started capacities settle in 1–3 rounds; the bound only stops a cycle.
             max_rounds: 30,
+            // A contracting fixed point halves its change every round or two (Anderson's secant
+            // steps overshoot for a round or three, then close in).
+            stall_rounds: 8,
             // The kinematic check's: far inside what changes a verdict.
             settle: 1e-4,
             still: 1e-6,
@@ -173,7 +180,7 @@ impl ExactSettings {
                 return Err(DropError::NotPositive { name, value });
             }
         }
-        if self.max_rounds == 0 || self.max_iterations == 0 {
+        if self.max_rounds == 0 || self.max_iterations == 0 || self.stall_rounds == 0 {
             return Err(DropError::NoIterations);
         }
         Ok(())
@@ -269,7 +276,9 @@ pub enum DropError {
     NotPositive { name: &'static str, value: f64 },
     #[error("drop test setting {name} = {value} must be a finite number ≥ 0")]
     Negative { name: &'static str, value: f64 },
-    #[error("drop test: solver_iterations (and the exact engine's max_rounds, max_iterations) must be at least 1")]
+    #[error(
+        "drop test: solver_iterations (and the exact engine's max_rounds, stall_rounds, max_iterations) must be at least 1"
+    )]
     NoIterations,
     #[error("drop test: {steps} steps (duration / dt) is more than the limit of 10 000 000")]
     TooManySteps { steps: f64 },

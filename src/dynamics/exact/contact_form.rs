@@ -35,7 +35,8 @@ pub(super) struct StepData<'a> {
 
 /// Solves `conic` (built from `data`) on the structured solver, from `warm` when given (a
 /// previous solve's iterate of the same layout), and the iterate it keeps for the next;
-/// `None` when its shape is not the contact form's (the caller then runs clarabel).
+/// `None` when its shape is not the contact form's (the caller then runs clarabel). A solve
+/// that ends short of an answer returns its status and keeps no iterate.
 pub(super) fn solve(
     data: &StepData,
     conic: &ConicProblem,
@@ -74,11 +75,11 @@ pub(super) fn solve(
     };
     let warm = warm.map_or(Warm::Keep, Warm::From);
     let (out, kept) = solve_contact_problem(&cp, Backend::Structured, acc, max_iter, warm);
-    // A solve that ends short of an answer is run again on clarabel (the caller's).
-    let answered = matches!(out.status, SolverStatus::Solved | SolverStatus::AlmostSolved);
-    if out.backend != Backend::Structured || !answered {
+    if out.backend != Backend::Structured {
         return None;
     }
+    let answered = matches!(out.status, SolverStatus::Solved | SolverStatus::AlmostSolved);
+    let kept = kept.filter(|_| answered);
     let mut x = vec![0.0; conic.n];
     for (j, &i) in points.iter().enumerate() {
         for (k, c) in point_columns(data, i, per_point).enumerate() {

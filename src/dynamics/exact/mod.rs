@@ -14,7 +14,8 @@
 //!   opposing the slip; [`Coulomb::Exact`] takes c_p = μ γ_n,p by a fixed point within the step
 //!   (warm-started from the last step's normal forces; a round whose changed capacities bind
 //!   nowhere is the fixed point, else Anderson acceleration picks the next capacities:
-//!   [`anderson`]); [`Coulomb::Relaxed`] couples them in the
+//!   [`anderson`]; rounds that stall or reach the limit keep their best round: [`best`]);
+//!   [`Coulomb::Relaxed`] couples them in the
 //!   one solve (Anitescu's relaxation: sliding contacts separate at μ |v_t|).
 //! - Gauss's principle in impulses makes it one QP/SOCP: minimise ½ |M v⁺|²_{M⁻¹} + Σ_p (gap_p/h) γ_n,p
 //!   over the friction sets; v⁺ is unique (M positive definite) however redundant the contacts.
@@ -47,6 +48,7 @@
 //! same trajectory (the same solves in the same order).
 
 mod anderson;
+mod best;
 mod bodies;
 mod contact_form;
 mod contacts;

@@ -223,6 +223,7 @@ pub(super) fn friction_gauge(model: FrictionModel, cols: &Columns, x: &[f64]) ->
 }
 
 /// A solve read back in SI units.
+#[derive(Clone)]
 pub(super) struct Solution {
     /// Per body of the component: the new velocity (m/s) and angular velocity (rad/s).
     pub velocities: Vec<(Vector3, Vector3)>,
