@@ -105,7 +105,8 @@ pub struct ExactSettings {
     /// capacities changed least; counted as unsettled).
     pub max_rounds: u32,
     /// Rounds in a row that do not halve the capacities' smallest change so far, after which a
-    /// step stops as at `max_rounds`: its rounds wander instead of closing in.
+    /// step stops as at `max_rounds`: its rounds wander instead of closing in. At `max_rounds`
+    /// or above, no step stops early.
     pub stall_rounds: u32,
     /// The capacities have settled when none changed by more than this fraction of the largest.
     pub settle: f64,
@@ -146,9 +147,9 @@ impl Default for ExactSettings {
             friction_model: FrictionModel::default(),
             // Warm-started capacities settle in 1–3 rounds; the bound only stops a cycle.
             max_rounds: 30,
-            // A contracting fixed point halves its change every round or two (Anderson's secant
-            // steps overshoot for a round or three, then close in).
-            stall_rounds: 8,
+            // No early stop: a drop's steps that do not settle within the limit are rare (a
+            // block landing), and the next steps' rounds start from where they ended.
+            stall_rounds: 30,
             // The kinematic check's: far inside what changes a verdict.
             settle: 1e-4,
             still: 1e-6,
