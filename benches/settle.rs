@@ -1,8 +1,8 @@
 //! Support movement (issue #41): the quasi-static settlement analysis of the 15-voussoir arch
 //! (t/R 0.15) on spreading springers (0.15 m each, 100 increments) to its collapse, and of a
 //! block on a support tilting by 60° to its tipping; the compas cross vault with one support
-//! settling by 5 % of its span (`-- crossvault`: ~5 minutes). Increments per second follow from the
-//! medians and the increments the runs take (printed once).
+//! settling by 5 % of its span (`-- crossvault`: ~5 minutes). Increments per second follow
+//! from the medians and the increments the runs take (printed once).
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use std::hint::black_box;

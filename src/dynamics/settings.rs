@@ -105,9 +105,9 @@ pub struct ExactSettings {
     /// capacities changed least; counted as unsettled).
     pub max_rounds: u32,
     /// Rounds in a row that do not halve the capacities' smallest change so far, after which a
-    /// step stops as at `max_rounds`: its rounds wander instead of closing in. At `max_rounds`
-    /// or above, no step stops early.
-    pub stall_rounds: u32,
+    /// step stops as at `max_rounds`: its rounds wander instead of closing in. `None`: no step
+    /// stops before `max_rounds`.
+    pub stall_rounds: Option<u32>,
     /// The capacities have settled when none changed by more than this fraction of the largest.
     pub settle: f64,
     /// A component is at rest when no vertex moves faster than this fraction of g × dt (an
@@ -149,7 +149,7 @@ impl Default for ExactSettings {
             max_rounds: 30,
             // No early stop: a drop's steps that do not settle within the limit are rare (a
             // block landing), and the next steps' rounds start from where they ended.
-            stall_rounds: 30,
+            stall_rounds: None,
             // The kinematic check's: far inside what changes a verdict.
             settle: 1e-4,
             still: 1e-6,
@@ -181,7 +181,7 @@ impl ExactSettings {
                 return Err(DropError::NotPositive { name, value });
             }
         }
-        if self.max_rounds == 0 || self.max_iterations == 0 || self.stall_rounds == 0 {
+        if self.max_rounds == 0 || self.max_iterations == 0 || self.stall_rounds == Some(0) {
             return Err(DropError::NoIterations);
         }
         Ok(())

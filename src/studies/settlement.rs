@@ -362,7 +362,7 @@ fn quasi_static(analysis: &Analysis, paths: &[SupportPath], scale: &PathScale, s
     // A sequence of equilibria: the statics' least-norm rule, and a few rounds a step on
     // hyperstatic vaults (docs/benchmarks.md).
     drop.exact.selection = Selection::Coulomb;
-    drop.exact.stall_rounds = QUASI_STATIC_STALL;
+    drop.exact.stall_rounds = Some(QUASI_STATIC_STALL);
     let mut world = World::with_paths(assembly, &drop, paths);
     let mut run = Run::new("quasi-static", Engine::Exact);
     let n = settings.increments;

@@ -112,7 +112,7 @@ impl World {
             if (change <= slack || unbinding) && !grew {
                 break Some((sol, false));
             }
-            let stalled = best.record(change / largest, &sol, self.settings.stall_rounds);
+            let stalled = best.record(change / largest, &sol, self.settings.stall_rounds.unwrap_or(u32::MAX));
             if stalled || rounds >= self.settings.max_rounds {
                 self.stats.unsettled_steps += 1;
                 break Some((best.take(sol), false));
@@ -215,7 +215,7 @@ impl World {
         self.stats.solves += 1;
         self.stats.iterations += u64::from(out.iterations);
         self.stats.status = self.stats.status.max(out.status);
-        matches!(out.status, SolverStatus::Solved | SolverStatus::AlmostSolved).then_some(out)
+        answered(&out).then_some(out)
     }
 
     /// Per active contact, whether it is open by more than [`OPEN`] of a block and the step's
