@@ -8,10 +8,11 @@ use super::options::SolverOptions;
 use super::{BadInput, load, refuse_overwrite, scene_name, write_output};
 use crate::model::Movement;
 use crate::pipeline::analyze;
-use crate::studies::settlement::{Outcome, Run, SettleSettings, settle};
+use crate::studies::settlement::{Outcome, QUASI_STATIC, Run, SettleSettings, settle_with_progress};
 use crate::viz::plot::{Clock, FrameStrip, ThrustPlot, write_strip, write_thrust};
 use clap::Args;
 use std::path::PathBuf;
+use std::time::Instant;
 
 #[derive(Args, Debug, Clone, PartialEq)]
 pub struct SettleArgs {
@@ -72,7 +73,24 @@ pub fn run(args: &SettleArgs) -> Result<i32, BadInput> {
         backend: args.solver.solver,
         ..Default::default()
     };
-    let result = settle(&analysis, &scene.movements, &settings).map_err(|e| BadInput(format!("{name}: {e}")))?;
+    let bar = super::LateBar::new(Some("{bar:30} {percent:>3}% of the path, {msg} ({elapsed})"));
+    // Each run's first and last report: its wall-clock time.
+    let clocks = std::cell::RefCell::new(Vec::<(&str, Instant, Instant)>::new());
+    let progress = |method: &'static str, fraction: f64| {
+        bar.update((PERMILLE * fraction).round() as usize, PERMILLE as usize, Some(method.to_string()));
+        let mut clocks = clocks.borrow_mut();
+        match clocks.last_mut() {
+            Some((m, _, end)) if *m == method => *end = Instant::now(),
+            _ => clocks.push((method, Instant::now(), Instant::now())),
+        }
+    };
+    let result = settle_with_progress(&analysis, &scene.movements, &settings, &progress)
+        .map_err(|e| BadInput(format!("{name}: {e}")))?;
+    drop(bar);
+    let seconds = |run: &Run| {
+        let clocks = clocks.borrow();
+        clocks.iter().find(|c| c.0 == run.method).map_or(0.0, |(_, start, end)| (*end - *start).as_secs_f64())
+    };
     // The largest turn of a moved support over the whole path, degrees: a tilting base moves
     // by its turn, not by its (zero) translation.
     let turn = scene.movements.iter().map(|m| m.rotation.iter().map(|r| r * r).sum::<f64>().sqrt()).fold(0.0, f64::max);
@@ -87,7 +105,7 @@ pub fn run(args: &SettleArgs) -> Result<i32, BadInput> {
         println!("  crushing at {sigma:.4e} Pa (quasi-static and exact engine; rapier's contacts do not crush)");
     }
     for run in [Some(&result.quasi_static), result.exact.as_ref(), result.rapier.as_ref()].into_iter().flatten() {
-        println!("{}", line(run, turn));
+        println!("{}", line(run, turn, seconds(run)));
     }
     if let Some(out) = &args.json {
         let text = serde_json::to_string_pretty(&result).map_err(|e| BadInput(e.to_string()))?;
@@ -126,8 +144,8 @@ fn write_motion(args: &SettleArgs, assembly: &crate::model::Assembly, run: &Run)
 }
 
 /// One run in a line: how it ended (with the supports' turn then, of `turn` degrees over the
-/// path), and the joints of its mechanism.
-fn line(run: &Run, turn: f64) -> String {
+/// path), the joints of its mechanism, and its pace (`seconds` of wall-clock time).
+fn line(run: &Run, turn: f64, seconds: f64) -> String {
     let how = match run.outcome {
         Outcome::Stands => "stands to the end of the path".to_string(),
         Outcome::Unresolved { fraction, status } => format!(
@@ -145,5 +163,19 @@ fn line(run: &Run, turn: f64) -> String {
         run.mechanism.iter().map(|j| format!("{} → {} {:?}", j.a, j.b, j.state).to_lowercase()).collect();
     let mechanism = if joints.is_empty() { String::new() } else { format!("; mechanism: {}", joints.join(", ")) };
     let crushed = run.crushed.map_or(String::new(), |d| format!("; joints crushed up to {d:.3e} m"));
-    format!("  {:<12} {how}{mechanism}{crushed} ({} steps)", run.method, run.steps)
+    format!("  {:<12} {how}{mechanism}{crushed} ({})", run.method, pace(run, seconds))
+}
+
+/// The bar's resolution: a thousandth of the path.
+const PERMILLE: f64 = 1000.0;
+
+/// How long a run took: its engine steps and `seconds`, and the quasi-static run's increments
+/// a second (its stages: the increments that held).
+fn pace(run: &Run, seconds: f64) -> String {
+    let steps = format!("{} steps in {seconds:.2} s", run.steps);
+    if run.method != QUASI_STATIC {
+        return steps;
+    }
+    let increments = run.stages.len();
+    format!("{steps}; {increments} increments, {:.2} a second", increments as f64 / seconds.max(1e-9))
 }

@@ -32,6 +32,9 @@ use crate::statics::{Backend, JointState, SolverStatus};
 use serde::Serialize;
 use thiserror::Error;
 
+/// The quasi-static run's [`Run::method`].
+pub const QUASI_STATIC: &str = "quasi-static";
+
 /// A joint counts as open (sliding) where a contact's gap (slip) passes this fraction of the
 /// median block size.
 pub const JOINT_TOLERANCE: f64 = 1e-4;
@@ -232,15 +235,35 @@ pub fn settle(
     movements: &[Movement],
     settings: &SettleSettings,
 ) -> Result<Settlement, SettleError> {
+    settle_with_progress(analysis, movements, settings, &|_, _| {})
+}
+
+/// [`settle`], calling `progress(method, fraction)` as each run goes: the fraction of the path
+/// it has followed, 0 as it starts and 1 as it ends (at the path's end or its collapse), never
+/// decreasing within a run; the runs in the report's order.
+pub fn settle_with_progress(
+    analysis: &Analysis,
+    movements: &[Movement],
+    settings: &SettleSettings,
+    progress: &dyn Fn(&'static str, f64),
+) -> Result<Settlement, SettleError> {
     settings.validate()?;
     let assembly = &analysis.assembly;
     let paths = resolve(assembly, movements)?;
     let path = PathScale::new(assembly, &paths);
-    let quasi_static = quasi_static(analysis, &paths, &path, settings);
+    let reported = |method: &'static str, run: &dyn Fn(&dyn Fn(f64)) -> Run| {
+        progress(method, 0.0);
+        let r = run(&|fraction| progress(method, fraction));
+        progress(method, 1.0);
+        r
+    };
+    let quasi_static = reported(QUASI_STATIC, &|p| quasi_static(analysis, &paths, &path, settings, p));
     let (exact, rapier) = if settings.engines {
         (
-            Some(in_engine(analysis, &paths, &path, settings, Engine::Exact)),
-            Some(in_engine(analysis, &paths, &path, settings, Engine::Rapier)),
+            Some(reported(method(Engine::Exact), &|p| in_engine(analysis, &paths, &path, settings, Engine::Exact, p))),
+            Some(reported(method(Engine::Rapier), &|p| {
+                in_engine(analysis, &paths, &path, settings, Engine::Rapier, p)
+            })),
         )
     } else {
         (None, None)
@@ -354,8 +377,14 @@ const QUASI_STATIC_TOLERANCE: f64 = 1e-8;
 /// for a round or three).
 const QUASI_STATIC_STALL: u32 = 8;
 
-/// The quasi-static run (module docs).
-fn quasi_static(analysis: &Analysis, paths: &[SupportPath], scale: &PathScale, settings: &SettleSettings) -> Run {
+/// The quasi-static run (module docs); `progress` hears the fraction of the path held so far.
+fn quasi_static(
+    analysis: &Analysis,
+    paths: &[SupportPath],
+    scale: &PathScale,
+    settings: &SettleSettings,
+    progress: &dyn Fn(f64),
+) -> Run {
     let assembly = &analysis.assembly;
     let mut drop = engine_settings(settings, Engine::Exact);
     drop.exact.solver_tolerance = QUASI_STATIC_TOLERANCE;
@@ -364,7 +393,7 @@ fn quasi_static(analysis: &Analysis, paths: &[SupportPath], scale: &PathScale, s
     drop.exact.selection = Selection::Coulomb;
     drop.exact.stall_rounds = Some(QUASI_STATIC_STALL);
     let mut world = World::with_paths(assembly, &drop, paths);
-    let mut run = Run::new("quasi-static", Engine::Exact);
+    let mut run = Run::new(QUASI_STATIC, Engine::Exact);
     let n = settings.increments;
     let mut done = 0.0;
     let g = assembly.gravity.norm().max(f64::MIN_POSITIVE);
@@ -393,6 +422,7 @@ fn quasi_static(analysis: &Analysis, paths: &[SupportPath], scale: &PathScale, s
             done = fraction;
             run.stages.push(stage(assembly, &analysis.interfaces, &world, done, scale));
             run.frame(&world, done);
+            progress(done);
             continue;
         }
         let h = step(1.0 / n as f64);
@@ -407,6 +437,7 @@ fn quasi_static(analysis: &Analysis, paths: &[SupportPath], scale: &PathScale, s
             s.snapped = true;
             run.stages.push(s);
             run.frame(&world, done);
+            progress(done);
             continue;
         }
         let (mut lo, mut hi, mut held) = (done, fraction, before);
@@ -421,6 +452,7 @@ fn quasi_static(analysis: &Analysis, paths: &[SupportPath], scale: &PathScale, s
             }
             if stays {
                 (lo, held) = (mid, w);
+                progress(lo);
             } else {
                 (hi, past) = (mid, w);
             }
@@ -614,13 +646,20 @@ fn classify(
         .collect()
 }
 
-/// The path in real time in `engine` (module docs).
+/// An engine run's [`Run::method`].
+fn method(engine: Engine) -> &'static str {
+    if engine == Engine::Exact { "exact" } else { "rapier" }
+}
+
+/// The path in real time in `engine` (module docs); `progress` hears the fraction of the path at
+/// each stage.
 fn in_engine(
     analysis: &Analysis,
     paths: &[SupportPath],
     scale: &PathScale,
     settings: &SettleSettings,
     engine: Engine,
+    progress: &dyn Fn(f64),
 ) -> Run {
     let assembly = &analysis.assembly;
     let drop = engine_settings(settings, engine);
@@ -630,8 +669,7 @@ fn in_engine(
     let duration = scale.travel / (settings.speed * unit);
     let steps = ((duration / settings.dt).ceil() as usize).max(1);
     let every = (steps / settings.increments).max(1);
-    let method = if engine == Engine::Exact { "exact" } else { "rapier" };
-    let mut run = Run::new(method, engine);
+    let mut run = Run::new(method(engine), engine);
     let mut stepper = Stepper::with_paths(assembly, &drop, paths);
     if let Stepper::Exact(w) = &stepper {
         run.frame(w, 0.0);
@@ -658,6 +696,7 @@ fn in_engine(
         }
         if k % every == 0 {
             let fraction = k as f64 / steps as f64;
+            progress(fraction);
             let s = match &stepper {
                 Stepper::Exact(w) => {
                     run.frame(w, fraction);

@@ -10,7 +10,9 @@ use crate::common::*;
 use voussoir::model::{Movement, Scene};
 use voussoir::pipeline::AnalysisSettings;
 use voussoir::statics::JointState;
-use voussoir::studies::settlement::{Outcome, SettleError, SettleSettings, Settlement, settle};
+use voussoir::studies::settlement::{
+    Outcome, QUASI_STATIC, SettleError, SettleSettings, Settlement, settle, settle_with_progress,
+};
 
 /// A 2 × 2 slab turning by `tilt` degrees about y under a b × 0.5 × h block, μ = `mu`.
 fn tilting(b: f64, h: f64, mu: f64, tilt: f64, engines: bool) -> Settlement {
@@ -285,6 +287,36 @@ fn a_settling_pier_carries_its_share_in_every_run() {
         let r = last.reactions[0];
         assert!((r[2] / w + share).abs() < tol * share, "{}: vertical {} W, {share} expected", run.method, r[2] / w);
     }
+}
+
+/// Invariant: `settle_with_progress` reports the three runs in the report's order, each from
+/// 0 to 1 of the path and never going back, the quasi-static run at each of its stages; and it
+/// only listens: the report is `settle`'s, byte for byte.
+#[test]
+fn a_settlement_reports_each_run_s_progress_along_the_path() {
+    let scene = lintel();
+    let analysis = run(&scene, &AnalysisSettings::default());
+    let settle_right = Movement { block: "right".into(), translation: [0.0, 0.0, -0.1], rotation: [0.0; 3] };
+    let settings = SettleSettings { increments: 8, ..Default::default() };
+    let heard = std::cell::RefCell::new(Vec::new());
+    let s = settle_with_progress(&analysis, std::slice::from_ref(&settle_right), &settings, &|method, fraction| {
+        heard.borrow_mut().push((method, fraction))
+    })
+    .unwrap();
+    let heard = heard.into_inner();
+    let mut methods: Vec<&str> = heard.iter().map(|h| h.0).collect();
+    methods.dedup();
+    assert_eq!(methods, [QUASI_STATIC, "exact", "rapier"]);
+    for method in methods {
+        let fractions: Vec<f64> = heard.iter().filter(|h| h.0 == method).map(|h| h.1).collect();
+        assert_eq!((fractions[0], *fractions.last().unwrap()), (0.0, 1.0), "{method}: {fractions:?}");
+        assert!(fractions.windows(2).all(|w| w[0] <= w[1]), "{method}: {fractions:?}");
+    }
+    for stage in &s.quasi_static.stages {
+        assert!(heard.contains(&(QUASI_STATIC, stage.fraction)), "stage at {}", stage.fraction);
+    }
+    let quiet = settle(&analysis, &[settle_right], &settings).unwrap();
+    assert_eq!(serde_json::to_string(&s).unwrap(), serde_json::to_string(&quiet).unwrap());
 }
 
 /// The least or the greatest horizontal thrust a semicircular arch of `n` radial voussoirs
