@@ -238,6 +238,9 @@ pub fn settle(
     settle_with_progress(analysis, movements, settings, &|_, _| {})
 }
 
+/// What a run tells of its progress: the fraction of the path it has followed.
+type Heard<'a> = &'a dyn Fn(f64);
+
 /// [`settle`], calling `progress(method, fraction)` as each run goes: the fraction of the path
 /// it has followed, 0 as it starts and 1 as it ends (at the path's end or its collapse), never
 /// decreasing within a run; the runs in the report's order.
@@ -251,7 +254,7 @@ pub fn settle_with_progress(
     let assembly = &analysis.assembly;
     let paths = resolve(assembly, movements)?;
     let path = PathScale::new(assembly, &paths);
-    let reported = |method: &'static str, run: &dyn Fn(&dyn Fn(f64)) -> Run| {
+    let reported = |method: &'static str, run: &dyn Fn(Heard) -> Run| {
         progress(method, 0.0);
         let r = run(&|fraction| progress(method, fraction));
         progress(method, 1.0);
@@ -383,7 +386,7 @@ fn quasi_static(
     paths: &[SupportPath],
     scale: &PathScale,
     settings: &SettleSettings,
-    progress: &dyn Fn(f64),
+    progress: Heard,
 ) -> Run {
     let assembly = &analysis.assembly;
     let mut drop = engine_settings(settings, Engine::Exact);
@@ -659,7 +662,7 @@ fn in_engine(
     scale: &PathScale,
     settings: &SettleSettings,
     engine: Engine,
-    progress: &dyn Fn(f64),
+    progress: Heard,
 ) -> Run {
     let assembly = &analysis.assembly;
     let drop = engine_settings(settings, engine);
