@@ -19,12 +19,19 @@ pub enum Engine {
     Exact,
 }
 
-impl std::fmt::Display for Engine {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(match self {
+impl Engine {
+    /// The engine's name in reports and on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
             Self::Rapier => "rapier",
             Self::Exact => "exact",
-        })
+        }
+    }
+}
+
+impl std::fmt::Display for Engine {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
     }
 }
 

@@ -28,7 +28,7 @@ fn both(sys: &System, stage: Stage) -> (SolverStatus, f64, f64) {
     let cp = contact_problem(sys, stage, &settings);
     let s = solve(&cp, LP, 200, Warm::Off).expect("the structured solver takes every stage");
     let c = run(&cp, Backend::Clarabel, LP, settings.max_iterations);
-    let solved = |st: SolverStatus| matches!(st, SolverStatus::Solved | SolverStatus::AlmostSolved);
+    let solved = SolverStatus::solved;
     let status = match (s.status, c.status) {
         (a, b) if solved(a) && solved(b) => SolverStatus::Solved,
         (a, b) if a == b => a,

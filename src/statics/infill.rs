@@ -305,7 +305,7 @@ pub fn component_densities(
         let r = out.x[out.x.len() - cells.len()..].to_vec();
         (out.status, out.iterations, Backend::Clarabel, out.x, r)
     };
-    let found = matches!(status, SolverStatus::Solved | SolverStatus::AlmostSolved);
+    let found = status.solved();
     let mut outcome = DensityOutcome {
         status,
         densities: Vec::new(),
@@ -371,7 +371,7 @@ fn certificate(
     for stage in [Stage::Tension, Stage::FrictionExcess { tension: 0.0, penalty: 0.0 }] {
         let (out, _) = solve_dead(&mut sys, stage, settings, assembly.scale, columns.clone(), &dead);
         iterations += out.iterations;
-        let solved = matches!(out.status, SolverStatus::Solved | SolverStatus::AlmostSolved);
+        let solved = out.status.solved();
         if solved && out.objective > PINNED_TENSION {
             let blocks = comp.blocks.len();
             let m = motions(&out.duals, blocks, sys.force_scale, assembly.scale, out.objective);

@@ -204,7 +204,7 @@ pub fn failure_mechanism(
         let cp = contact_problem(&sys, stage, settings);
         let out = run(&cp, settings.backend, accuracy(settings, true), settings.max_iterations);
         iterations += out.iterations;
-        let solved = matches!(out.status, SolverStatus::Solved | SolverStatus::AlmostSolved);
+        let solved = out.status.solved();
         // The dead load's work Dᵀz = −rhsᵀz: the LP's optimum (strong duality).
         let work: f64 = -sys.eq_rhs.iter().zip(&out.duals).map(|(b, z)| b * z).sum::<f64>();
         let found = solved && work > super::assemble::PINNED_TENSION;

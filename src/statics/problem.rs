@@ -94,6 +94,13 @@ pub enum SolverStatus {
     Unsupported,
 }
 
+impl SolverStatus {
+    /// Whether the solve reached an answer: solved, at full or reduced accuracy.
+    pub fn solved(self) -> bool {
+        matches!(self, SolverStatus::Solved | SolverStatus::AlmostSolved)
+    }
+}
+
 /// What a solve must reach: clarabel's feasibility and duality-gap tolerances. The relative
 /// gap is taken against max(1, |objective|) (clarabel's definition), or with `pure_relative`
 /// against |objective| itself — then near a zero optimum only `gap_abs` decides, and a large

@@ -170,7 +170,7 @@ pub fn rate_problem(
         let gauss = solve_conic(&problem, acc, settings.max_iterations);
         iterations += gauss.iterations;
         let motion = read_motion(assembly, comp, &inertia, &cols, &gauss.x);
-        let solved = |s| matches!(s, SolverStatus::Solved | SolverStatus::AlmostSolved);
+        let solved = SolverStatus::solved;
         // At rest the round's forces are not needed (no next round): the second QP only runs
         // for a component that moves.
         let at_rest = solved(gauss.status) && motion.peak <= settings.still;

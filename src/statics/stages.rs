@@ -129,10 +129,6 @@ pub fn solve_component(
     (ComponentOutcome { crushing, ..solve.finish(solution) }, kept)
 }
 
-fn solved(status: SolverStatus) -> bool {
-    matches!(status, SolverStatus::Solved | SolverStatus::AlmostSolved)
-}
-
 /// The accuracy a stage is solved to. The LPs decide the verdict: they are solved to 1e-10
 /// (absolute) so that their optimum resolves a tension or friction excess of 1e-8 W near zero
 /// (see `StaticsSettings::stand_tolerance`); a large optimum (a design far from standing) needs
@@ -301,13 +297,13 @@ impl<'a> ComponentSolve<'a> {
         let violation = |out: &QpOutcome| sys.friction_violation(&out.x) * sys.force_scale;
         let mut out = self.stage(&sys, Stage::Strict);
         let missed = violation(&out);
-        if solved(out.status) && missed > threshold && missed <= CONFIRM_BELOW * weight {
+        if out.status.solved() && missed > threshold && missed <= CONFIRM_BELOW * weight {
             let tol = self.settings.solver_tolerance;
             let tighter = Accuracy { feas: tol.min(LP_TOLERANCE), ..Accuracy::uniform(tol) };
             out = self.stage_to(&sys, Stage::Strict, tighter);
         }
         let within = violation(&out) <= threshold;
-        (solved(out.status) && within).then_some(Solution { sys, out, tension: 0.0, excess: 0.0 })
+        (out.status.solved() && within).then_some(Solution { sys, out, tension: 0.0, excess: 0.0 })
     }
 
     /// The relaxed stages: the exact minimum friction excess (and minimum tension when it is
@@ -319,7 +315,7 @@ impl<'a> ComponentSolve<'a> {
         // last LP's solution is an equilibrium with the same minimum tension and excess.
         let out = if self.settings.distribution {
             let c = self.stage(&sys, Stage::Distribution { tension, excess });
-            if solved(c.status) { c } else { best }
+            if c.status.solved() { c } else { best }
         } else {
             best
         };
@@ -339,7 +335,7 @@ impl<'a> ComponentSolve<'a> {
         let mut within: Option<(QpOutcome, f64)> = None;
         let (best, excess) = loop {
             let mut out = self.stage(sys, Stage::FrictionExcess { tension: tension.unwrap_or(0.0), penalty });
-            if !solved(out.status) {
+            if !out.status.solved() {
                 if let Some(found) = within.take() {
                     break found;
                 }
@@ -388,7 +384,7 @@ impl<'a> ComponentSolve<'a> {
     /// ([`System::make_feasible`]).
     fn minimum_tension(&mut self, sys: &System) -> Result<f64, Box<ComponentOutcome>> {
         let mut out = self.stage(sys, Stage::Tension);
-        if !solved(out.status) {
+        if !out.status.solved() {
             let msg = format!("the minimum-tension LP ended with status {:?}", out.status);
             return Err(Box::new(self.failed(out.status, msg, sys.residual(&out.x) * sys.force_scale)));
         }
@@ -415,7 +411,7 @@ impl<'a> ComponentSolve<'a> {
         sys.stress = blocks;
         let unit = sys.strength_scale(self.assembly.scale);
         let least = self.stage(&sys, Stage::Strength);
-        if !solved(least.status) {
+        if !least.status.solved() {
             return None;
         }
         let demands = sys.stress_demands(&sys.stress, &least.x);
@@ -424,7 +420,7 @@ impl<'a> ComponentSolve<'a> {
         if needed <= sigma * unit && own > sigma * unit {
             let capped = self.stage(&sys, Stage::Capped { strength: sigma * unit });
             // Should that solve fail, the least-strength equilibrium is one the stone carries.
-            let carried = if solved(capped.status) { capped } else { least };
+            let carried = if capped.status.solved() { capped } else { least };
             *solution = Solution { sys, out: carried, tension: 0.0, excess: 0.0 };
         }
         Some((needed / unit, governing))
@@ -440,7 +436,7 @@ impl<'a> ComponentSolve<'a> {
         let forces = (0..sys.points.len())
             .map(|i| [Var::CnPos, Var::CnNeg, Var::Cu, Var::Cv, Var::Slack].map(|v| sys.value(&out.x, i, v) * fs))
             .collect();
-        let message = (!solved(status)).then(|| format!("the force-distribution QP ended with status {status:?}"));
+        let message = (!status.solved()).then(|| format!("the force-distribution QP ended with status {status:?}"));
         ComponentOutcome {
             forces,
             points: sys.points,

@@ -263,10 +263,8 @@ pub fn settle_with_progress(
     let quasi_static = reported(QUASI_STATIC, &|p| quasi_static(analysis, &paths, &path, settings, p));
     let (exact, rapier) = if settings.engines {
         (
-            Some(reported(method(Engine::Exact), &|p| in_engine(analysis, &paths, &path, settings, Engine::Exact, p))),
-            Some(reported(method(Engine::Rapier), &|p| {
-                in_engine(analysis, &paths, &path, settings, Engine::Rapier, p)
-            })),
+            Some(reported(Engine::Exact.name(), &|p| in_engine(analysis, &paths, &path, settings, Engine::Exact, p))),
+            Some(reported(Engine::Rapier.name(), &|p| in_engine(analysis, &paths, &path, settings, Engine::Rapier, p))),
         )
     } else {
         (None, None)
@@ -649,11 +647,6 @@ fn classify(
         .collect()
 }
 
-/// An engine run's [`Run::method`].
-fn method(engine: Engine) -> &'static str {
-    if engine == Engine::Exact { "exact" } else { "rapier" }
-}
-
 /// The path in real time in `engine` (module docs); `progress` hears the fraction of the path at
 /// each stage.
 fn in_engine(
@@ -672,7 +665,7 @@ fn in_engine(
     let duration = scale.travel / (settings.speed * unit);
     let steps = ((duration / settings.dt).ceil() as usize).max(1);
     let every = (steps / settings.increments).max(1);
-    let mut run = Run::new(method(engine), engine);
+    let mut run = Run::new(engine.name(), engine);
     let mut stepper = Stepper::with_paths(assembly, &drop, paths);
     if let Stepper::Exact(w) = &stepper {
         run.frame(w, 0.0);

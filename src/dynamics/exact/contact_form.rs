@@ -78,7 +78,7 @@ pub(super) fn solve(
     if out.backend != Backend::Structured {
         return None;
     }
-    let answered = matches!(out.status, SolverStatus::Solved | SolverStatus::AlmostSolved);
+    let answered = out.status.solved();
     let kept = kept.filter(|_| answered);
     let mut x = vec![0.0; conic.n];
     for (j, &i) in points.iter().enumerate() {

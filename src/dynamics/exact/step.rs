@@ -8,7 +8,7 @@ use super::crushing::{self, Crush};
 use super::problem::{self, Active, Solution, StepProblem};
 use crate::dynamics::settings::{Coulomb, Selection};
 use crate::geometry::Vector3;
-use crate::statics::{Backend, ConicOutcome, SolverStatus, solve_conic};
+use crate::statics::{Backend, ConicOutcome, solve_conic};
 use std::collections::BTreeSet;
 
 /// The component a solve is for, which of its active contacts take part, whether it is the
@@ -197,8 +197,7 @@ impl World {
                 }
                 out
             });
-        let answered = |out: &ConicOutcome| matches!(out.status, SolverStatus::Solved | SolverStatus::AlmostSolved);
-        if let Some(out) = structured.as_ref().filter(|out| !answered(out))
+        if let Some(out) = structured.as_ref().filter(|out| !out.status.solved())
             && part.selection
             && self.settings.selection == Selection::Coulomb
         {
@@ -209,13 +208,13 @@ impl World {
             self.stats.iterations += u64::from(out.iterations);
             return None;
         }
-        let structured = structured.filter(answered);
+        let structured = structured.filter(|out| out.status.solved());
         self.stats.structured_solves += u64::from(structured.is_some());
         let out = structured.unwrap_or_else(|| solve_conic(conic, self.acc, max_iter));
         self.stats.solves += 1;
         self.stats.iterations += u64::from(out.iterations);
         self.stats.status = self.stats.status.max(out.status);
-        answered(&out).then_some(out)
+        out.status.solved().then_some(out)
     }
 
     /// Per active contact, whether it is open by more than [`OPEN`] of a block and the step's
