@@ -144,6 +144,8 @@ pub fn worst_direction(
     settings.validate()?;
     let n = sweep.directions;
     let azimuths: Vec<f64> = (0..n).map(|k| 360.0 * k as f64 / n as f64).collect();
+    // The grid takes both cores, a direction on each: each solve keeps to its own.
+    let settings = &StaticsSettings { parallel: false, ..settings.clone() };
     let grid = Grid { assembly, interfaces, settings, sweep, azimuths: &azimuths, progress, done: AtomicUsize::new(0) };
     let schedule = if sweep.refine > 0 { Schedule::Overlapped } else { Schedule::Serial };
     let (results, (worst_azimuth, worst, refined)) = grid.run(schedule)?;

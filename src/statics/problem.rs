@@ -258,8 +258,9 @@ pub struct ContactProblem<'a> {
     /// A load factor λ: one more variable, after the points' (and the budgets' slacks), with
     /// `column` in the block rows (6 per block: the live load) and linear cost `cost`.
     pub factor: Option<LoadColumn>,
-    /// Threads the solver may give one factorisation: 2 when the statics may use both cores
-    /// and nothing else runs beside this solve ([`super::StaticsSettings::parallel`]), else 1.
+    /// Threads the solver may use for this solve (its per-point kernels and a large
+    /// factorisation): 2 when the statics may use both cores and nothing else runs beside this
+    /// solve ([`super::StaticsSettings::parallel`]), else 1.
     pub threads: usize,
     /// The crushing rows, when the material has a compressive strength.
     pub crushing: Option<Crushing<'a>>,

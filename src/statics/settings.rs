@@ -37,8 +37,9 @@ pub struct StaticsSettings {
     pub solver_tolerance: f64,
     /// Interior-point iterations allowed per problem.
     pub max_iterations: u32,
-    /// Solve independent components on two threads when the problem is big enough; results
-    /// are identical either way.
+    /// Use both cores: independent components on two threads, and a large component's
+    /// per-point kernels split in two (its solve then keeps the second core busy). Off where
+    /// the caller already runs two solves at once. Results are identical either way.
     pub parallel: bool,
     /// Solve each connected component of free blocks on its own. Off puts every free block in
     /// one problem: the same answer, only slower (kept to measure the saving).

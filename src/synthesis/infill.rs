@@ -178,6 +178,8 @@ pub fn infill(
     let mut pipeline = Pipeline::new();
     let mut warm = analysis.clone();
     warm.statics.warm_start = true;
+    // The design's statics and the density problems run side by side, one on each core.
+    warm.statics.parallel = false;
     let analysis = &warm;
     let prepared = pipeline.prepare(scene, analysis)?;
     let (assembly, interfaces) = (&prepared.assembly, prepared.interfaces.as_slice());

@@ -1,7 +1,9 @@
 //! Each force point's algebra, four points at a time (module docs of the kkt): forming S —
 //! H_p = P + εI + G_pᵀ Hs_p⁻¹ G_p, its Cholesky factor and the local force covariance
 //! Y_p = N H_p⁻¹ Nᵀ ([`factor_points`]); S's right-hand side ([`reduce_points`]); and the back
-//! substitution from z_E ([`back_points`]).
+//! substitution from z_E ([`back_points`]). With [`Shape::split`], each kernel cuts the
+//! points in two at a multiple of four and computes the halves on rayon's two threads: every
+//! point in the same batch either way, the same bits.
 //!
 //! One point's algebra is a C×C Cholesky with C ≤ 5: a chain of square roots and divisions
 //! that no vector lane count divides, so one point at a time runs at the latency of that chain
@@ -12,6 +14,7 @@
 use super::cones::Scaling;
 use super::iterate::{Rhs, Step};
 use super::shape::Shape;
+use std::ops::Range;
 
 /// Points per batch.
 const LANES: usize = 4;
@@ -35,17 +38,40 @@ pub(super) fn factor_points<const C: usize>(
     chol: &mut [[[f64; C]; C]],
     y: &mut [[[f64; 3]; 3]],
 ) -> bool {
-    batches(sh.points(), |points, lanes| {
+    let run = |range: Range<usize>, chol: &mut [[[f64; C]; C]], y: &mut [[[f64; 3]; 3]]| {
+        factor_range(sh, sc, eps, range, chol, y)
+    };
+    match sh.split {
+        None => run(0..sh.points(), chol, y),
+        Some(mid) => {
+            let ((c0, c1), (y0, y1)) = (chol.split_at_mut(mid), y.split_at_mut(mid));
+            let (a, b) = rayon::join(|| run(0..mid, c0, y0), || run(mid..sh.points(), c1, y1));
+            a && b
+        }
+    }
+}
+
+/// [`factor_points`] for the points of `range`; `chol` and `y` start at its first point.
+fn factor_range<const C: usize>(
+    sh: &Shape<C>,
+    sc: &Scaling,
+    eps: f64,
+    range: Range<usize>,
+    chol: &mut [[[f64; C]; C]],
+    y: &mut [[[f64; 3]; 3]],
+) -> bool {
+    let lo = range.start;
+    batches(range, |points, lanes| {
         let Some(b) = batch(sh, sc, eps, points) else { return false };
         for (q, &p) in points.iter().enumerate().take(lanes) {
             for i in 0..C {
                 for j in 0..C {
-                    chol[p][i][j] = b.l[i][j][q];
+                    chol[p - lo][i][j] = b.l[i][j][q];
                 }
             }
             for i in 0..3 {
                 for j in 0..3 {
-                    y[p][i][j] = b.y[i][j][q];
+                    y[p - lo][i][j] = b.y[i][j][q];
                 }
             }
         }
@@ -177,10 +203,11 @@ fn backward<const C: usize>(l: &[[Lanes; C]; C], y: &[Lanes; C]) -> [Lanes; C] {
     x
 }
 
-/// Calls `f(points, lanes)` for each batch of `np` points: a short last batch repeats its last
-/// point in the spare lanes, whose results the caller drops. Stops at the first `false`.
-fn batches(np: usize, mut f: impl FnMut(&[usize; LANES], usize) -> bool) -> bool {
-    let mut p0 = 0;
+/// Calls `f(points, lanes)` for each batch of the points of `range` (its start a multiple of
+/// [`LANES`]): a short last batch repeats its last point in the spare lanes, whose results the
+/// caller drops. Stops at the first `false`.
+fn batches(range: Range<usize>, mut f: impl FnMut(&[usize; LANES], usize) -> bool) -> bool {
+    let (mut p0, np) = (range.start, range.end);
     while p0 < np {
         let lanes = LANES.min(np - p0);
         let points: [usize; LANES] = std::array::from_fn(|l| p0 + l.min(lanes - 1));
@@ -209,7 +236,32 @@ pub(super) fn reduce_points<const C: usize>(
     w: &mut [[f64; C]],
     wr: &mut [[f64; 6]],
 ) {
-    batches(sh.points(), |points, lanes| {
+    let run = |range: Range<usize>, rt: &mut [[f64; C]], w: &mut [[f64; C]], wr: &mut [[f64; 6]]| {
+        reduce_range(sh, sc, chol, (rx, rg), range, rt, w, wr)
+    };
+    match sh.split {
+        None => run(0..sh.points(), rt, w, wr),
+        Some(mid) => {
+            let ((rt0, rt1), (w0, w1), (wr0, wr1)) = (rt.split_at_mut(mid), w.split_at_mut(mid), wr.split_at_mut(mid));
+            rayon::join(|| run(0..mid, rt0, w0, wr0), || run(mid..sh.points(), rt1, w1, wr1));
+        }
+    }
+}
+
+/// [`reduce_points`] for the points of `range`; `rt`, `w` and `wr` start at its first point.
+#[allow(clippy::too_many_arguments)]
+fn reduce_range<const C: usize>(
+    sh: &Shape<C>,
+    sc: &Scaling,
+    chol: &[[[f64; C]; C]],
+    (rx, rg): (&[f64], &[f64]),
+    range: Range<usize>,
+    rt: &mut [[f64; C]],
+    w: &mut [[f64; C]],
+    wr: &mut [[f64; 6]],
+) {
+    let lo = range.start;
+    batches(range, |points, lanes| {
         let l = load_factors(chol, points);
         let r = point_rhs(sh, sc, rx, rg, points);
         let x = backward(&l, &forward(&l, &r));
@@ -223,7 +275,7 @@ pub(super) fn reduce_points<const C: usize>(
         }
         let rho: [[f64; 3]; LANES] = std::array::from_fn(|q| sh.rho[points[q]]);
         for q in 0..lanes {
-            let p = points[q];
+            let p = points[q] - lo;
             let (f, rho) = ([f[0][q], f[1][q], f[2][q]], &rho[q]);
             wr[p] = [
                 f[0],
@@ -328,37 +380,63 @@ impl ApplyWork {
 /// in one sweep over the points, four at a time. Each lane takes one point's expressions in the
 /// order separate passes would (G x, then − Hs z per row; Eᵀz_E + Gᵀz_G, then + P x) and
 /// the contacts' sums run in point order: the same bits as one point at a time.
-pub(super) fn apply<const C: usize>(
-    sh: &Shape<C>,
-    kkt: Option<&Scaling>,
-    sol: Rhs,
-    mut out: Step,
-    work: &mut ApplyWork,
-) {
+pub(super) fn apply<const C: usize>(sh: &Shape<C>, kkt: Option<&Scaling>, sol: Rhs, out: Step, work: &mut ApplyWork) {
     out.eq.iter_mut().for_each(|v| *v = 0.0);
     work.see(sh, sol.eq);
     let ApplyWork { seen, contact_of, wrench } = work;
-    batches(sh.points(), |points, lanes| {
-        apply_batch(sh, kkt, (points, lanes), (seen, contact_of), sol, &mut out, wrench);
-        true
-    });
+    let (np, mp) = (sh.points(), sh.m_p);
+    let seen = (seen.as_slice(), contact_of.as_slice());
+    let run = |range: Range<usize>, mut rows: Rows| {
+        let (cx, cg) = (range.start * C, range.start * mp);
+        let sol = Rhs { x: &sol.x[cx..], eq: sol.eq, ineq: &sol.ineq[cg..] };
+        batches(range, |points, lanes| {
+            apply_batch(sh, kkt, (points, lanes), seen, sol, &mut rows);
+            true
+        });
+    };
+    match sh.split {
+        None => {
+            let budgets = &mut out.eq[6 * sh.blocks..];
+            run(0..np, Rows { lo: 0, x: &mut *out.x, ineq: &mut *out.ineq, wrench, budgets });
+        }
+        Some(mid) => {
+            let (x0, x1) = out.x.split_at_mut(mid * C);
+            let (g0, g1) = out.ineq.split_at_mut(mid * mp);
+            let (w0, w1) = wrench.split_at_mut(mid);
+            rayon::join(
+                || run(0..mid, Rows { lo: 0, x: x0, ineq: g0, wrench: w0, budgets: &mut [] }),
+                || run(mid..np, Rows { lo: mid, x: x1, ineq: g1, wrench: w1, budgets: &mut [] }),
+            );
+        }
+    }
     work.add_wrenches(sh, out.eq);
     sh.apply_tail(kkt, sol, out);
 }
 
-/// The batch's part of [`apply`]: its rows of `out.x` and `out.ineq`, its wrenches, its budget
-/// columns added to `out.eq`.
+/// Where [`apply_batch`] writes the points of a range from `lo` on: their rows of x and of the
+/// inequalities and their wrenches (each slice from point `lo`), and the budget rows of the
+/// equalities (summed over the points: a range with budgets is all of them).
+struct Rows<'a> {
+    lo: usize,
+    x: &'a mut [f64],
+    ineq: &'a mut [f64],
+    wrench: &'a mut [[f64; 6]],
+    budgets: &'a mut [f64],
+}
+
+/// The batch's part of [`apply`]: its rows of x and of the inequalities, its wrenches, its
+/// budget columns added; `sol.x` and `sol.ineq` start at point `out.lo`.
+#[inline]
 fn apply_batch<const C: usize>(
     sh: &Shape<C>,
     kkt: Option<&Scaling>,
     (points, lanes): (&[usize; LANES], usize),
     (seen, contact_of): (&[[f64; 6]], &[u32]),
     sol: Rhs,
-    out: &mut Step,
-    wrench: &mut [[f64; 6]],
+    out: &mut Rows,
 ) {
-    let nb = sh.blocks;
-    let xp: [Lanes; C] = std::array::from_fn(|k| std::array::from_fn(|q| sol.x[points[q] * C + k]));
+    let (nb, lo) = (sh.blocks, out.lo);
+    let xp: [Lanes; C] = std::array::from_fn(|k| std::array::from_fn(|q| sol.x[(points[q] - lo) * C + k]));
     let mut f = [[0.0f64; LANES]; 3];
     for i in 0..3 {
         for k in 0..C {
@@ -369,14 +447,14 @@ fn apply_batch<const C: usize>(
     }
     for q in 0..lanes {
         let p = points[q];
-        wrench[p] = crate::statics::problem::wrench(&sh.rho[p], &[f[0][q], f[1][q], f[2][q]]);
+        out.wrench[p - lo] = crate::statics::problem::wrench(&sh.rho[p], &[f[0][q], f[1][q], f[2][q]]);
         for (kb, &col) in sh.budget_vars.iter().enumerate() {
-            out.eq[6 * nb + kb] += xp[col][q];
+            out.budgets[kb] += xp[col][q];
         }
     }
-    row_products(sh, kkt, (points, lanes), &xp, sol.ineq, out.ineq);
+    row_products(sh, kkt, (points, lanes, lo), &xp, sol.ineq, out.ineq);
     let mut t = point_motions(sh, seen, contact_of, &sol.eq[6 * nb..], points);
-    transposed_rows(sh, points, sol.ineq, &mut t);
+    transposed_rows(sh, (points, lo), sol.ineq, &mut t);
     if kkt.is_some() {
         for k in 0..C {
             for q in 0..LANES {
@@ -386,21 +464,23 @@ fn apply_batch<const C: usize>(
     }
     for q in 0..lanes {
         for k in 0..C {
-            out.x[points[q] * C + k] = t[k][q];
+            out.x[(points[q] - lo) * C + k] = t[k][q];
         }
     }
 }
 
 /// The batch's G_p x_p, less Hs_p z_G with `kkt`, into its rows of `og`.
+/// `zg` and `og` start at point `lo`.
 fn row_products<const C: usize>(
     sh: &Shape<C>,
     kkt: Option<&Scaling>,
-    (points, lanes): (&[usize; LANES], usize),
+    (points, lanes, lo): (&[usize; LANES], usize, usize),
     xp: &[Lanes; C],
     zg: &[f64],
     og: &mut [f64],
 ) {
     let (mp, nn) = (sh.m_p, sh.nonneg.len());
+    let off = lo * mp;
     for (r, g) in sh.nonneg.iter().enumerate() {
         let mut s = [0.0f64; LANES];
         for k in 0..C {
@@ -411,16 +491,16 @@ fn row_products<const C: usize>(
         if let Some(sc) = kkt {
             for q in 0..LANES {
                 let i = points[q] * mp + r;
-                s[q] -= sc.d[i] * zg[i];
+                s[q] -= sc.d[i] * zg[i - off];
             }
         }
         for q in 0..lanes {
-            og[points[q] * mp + r] = s[q];
+            og[points[q] * mp + r - off] = s[q];
         }
     }
     if let Some(soc) = &sh.soc {
         for q in 0..lanes {
-            let at = points[q] * mp + nn;
+            let at = points[q] * mp + nn - off;
             for i in 0..3 {
                 let mut s = 0.0;
                 for k in 0..C {
@@ -438,11 +518,17 @@ fn row_products<const C: usize>(
     }
 }
 
-/// Gᵀ z_G of the batch's points added to `t`.
-fn transposed_rows<const C: usize>(sh: &Shape<C>, points: &[usize; LANES], zg: &[f64], t: &mut [Lanes; C]) {
+/// Gᵀ z_G of the batch's points added to `t`; `zg` starts at point `lo`.
+fn transposed_rows<const C: usize>(
+    sh: &Shape<C>,
+    (points, lo): (&[usize; LANES], usize),
+    zg: &[f64],
+    t: &mut [Lanes; C],
+) {
     let (mp, nn) = (sh.m_p, sh.nonneg.len());
+    let off = lo * mp;
     for (r, g) in sh.nonneg.iter().enumerate() {
-        let zr: Lanes = std::array::from_fn(|q| zg[points[q] * mp + r]);
+        let zr: Lanes = std::array::from_fn(|q| zg[points[q] * mp + r - off]);
         for k in 0..C {
             for q in 0..LANES {
                 t[k][q] += g[k] * zr[q];
@@ -451,7 +537,7 @@ fn transposed_rows<const C: usize>(sh: &Shape<C>, points: &[usize; LANES], zg: &
     }
     if let Some(soc) = &sh.soc {
         for i in 0..3 {
-            let zr: Lanes = std::array::from_fn(|q| zg[points[q] * mp + nn + i]);
+            let zr: Lanes = std::array::from_fn(|q| zg[points[q] * mp + nn + i - off]);
             for k in 0..C {
                 for q in 0..LANES {
                     t[k][q] += soc[i][k] * zr[q];
@@ -480,13 +566,54 @@ pub(super) fn back_points<const C: usize>(
     sc: &Scaling,
     chol: &[[[f64; C]; C]],
     rt: &[[f64; C]],
-    (u, contact_of): (&[[f64; 6]], &[u32]),
+    seen: (&[[f64; 6]], &[u32]),
     (budgets, rg): (&[f64], &[f64]),
     x: &mut [f64],
     zg: &mut [f64],
-    mut products: Option<PointProducts>,
+    products: Option<PointProducts>,
 ) {
-    batches(sh.points(), |points, lanes| {
+    let (np, mp) = (sh.points(), sh.m_p);
+    let run = |range: Range<usize>, x: &mut [f64], zg: &mut [f64], products: Option<(&[f64], Rows)>| {
+        back_range(sh, sc, (chol, rt), seen, (budgets, rg), range, (x, zg), products)
+    };
+    let Some(mid) = sh.split else {
+        let products = products.map(|pr| {
+            let Step { x, eq, ineq } = pr.out;
+            (pr.ze, Rows { lo: 0, x, ineq, wrench: pr.wrench, budgets: &mut eq[6 * sh.blocks..] })
+        });
+        return run(0..np, x, zg, products);
+    };
+    let (x0, x1) = x.split_at_mut(mid * C);
+    let (z0, z1) = zg.split_at_mut(mid * mp);
+    let (p0, p1) = match products {
+        None => (None, None),
+        Some(pr) => {
+            let ((ox0, ox1), (og0, og1)) = (pr.out.x.split_at_mut(mid * C), pr.out.ineq.split_at_mut(mid * mp));
+            let (w0, w1) = pr.wrench.split_at_mut(mid);
+            (
+                Some((pr.ze, Rows { lo: 0, x: ox0, ineq: og0, wrench: w0, budgets: &mut [] })),
+                Some((pr.ze, Rows { lo: mid, x: ox1, ineq: og1, wrench: w1, budgets: &mut [] })),
+            )
+        }
+    };
+    rayon::join(|| run(0..mid, x0, z0, p0), || run(mid..np, x1, z1, p1));
+}
+
+/// [`back_points`] for the points of `range`; `x` and `zg` start at its first point, and so do
+/// the products' rows.
+#[allow(clippy::too_many_arguments)]
+fn back_range<const C: usize>(
+    sh: &Shape<C>,
+    sc: &Scaling,
+    (chol, rt): (&[[[f64; C]; C]], &[[f64; C]]),
+    (u, contact_of): (&[[f64; 6]], &[u32]),
+    (budgets, rg): (&[f64], &[f64]),
+    range: Range<usize>,
+    (x, zg): (&mut [f64], &mut [f64]),
+    mut products: Option<(&[f64], Rows)>,
+) {
+    let lo = range.start;
+    batches(range, |points, lanes| {
         let l = load_factors(chol, points);
         let mut r: [Lanes; C] = std::array::from_fn(|k| std::array::from_fn(|q| rt[points[q]][k]));
         let t = point_motions(sh, u, contact_of, budgets, points);
@@ -498,13 +625,13 @@ pub(super) fn back_points<const C: usize>(
         let xp = backward(&l, &forward(&l, &r));
         for q in 0..lanes {
             for k in 0..C {
-                x[points[q] * C + k] = xp[k][q];
+                x[(points[q] - lo) * C + k] = xp[k][q];
             }
         }
-        point_duals(sh, sc, rg, points, lanes, &xp, zg);
-        if let Some(pr) = products.as_mut() {
-            let sol = Rhs { x: &*x, eq: pr.ze, ineq: &*zg };
-            apply_batch(sh, Some(sc), (points, lanes), (u, contact_of), sol, &mut pr.out, pr.wrench);
+        point_duals(sh, sc, rg, (points, lanes, lo), &xp, zg);
+        if let Some((ze, rows)) = products.as_mut() {
+            let sol = Rhs { x: &*x, eq: ze, ineq: &*zg };
+            apply_batch(sh, Some(sc), (points, lanes), (u, contact_of), sol, rows);
         }
         true
     });
@@ -541,17 +668,18 @@ fn point_motions<const C: usize>(
     t
 }
 
-/// z_G = Hs_p⁻¹ (G_p x_p − r_G) of the batch's first `lanes` points into `zg`.
+/// z_G = Hs_p⁻¹ (G_p x_p − r_G) of the batch's first `lanes` points into `zg`, which starts
+/// at point `lo`.
 fn point_duals<const C: usize>(
     sh: &Shape<C>,
     sc: &Scaling,
     rg: &[f64],
-    points: &[usize; LANES],
-    lanes: usize,
+    (points, lanes, lo): (&[usize; LANES], usize, usize),
     xp: &[Lanes; C],
     zg: &mut [f64],
 ) {
     let (mp, nn) = (sh.m_p, sh.nonneg.len());
+    let off = lo * mp;
     for (r, g) in sh.nonneg.iter().enumerate() {
         let mut gx = [0.0f64; LANES];
         for k in 0..C {
@@ -561,7 +689,7 @@ fn point_duals<const C: usize>(
         }
         for q in 0..lanes {
             let i = points[q] * mp + r;
-            zg[i] = (gx[q] - rg[i]) * sc.dinv[i];
+            zg[i - off] = (gx[q] - rg[i]) * sc.dinv[i];
         }
     }
     if let Some(soc) = &sh.soc {
@@ -575,7 +703,7 @@ fn point_duals<const C: usize>(
                 }
                 gx[i] = s;
             }
-            zg[at..at + 3].copy_from_slice(&sc.hs_inv_mul(points[q], &gx));
+            zg[at - off..at - off + 3].copy_from_slice(&sc.hs_inv_mul(points[q], &gx));
         }
     }
 }
@@ -812,6 +940,68 @@ mod tests {
         apply(sh, Some(sc), Rhs { x: &xb, eq: sol.eq, ineq: &zb }, out.step(), work);
         for (a, b) in [(&fused.x, &out.x), (&fused.eq, &out.eq), (&fused.ineq, &out.ineq)] {
             assert!(a.iter().zip(b).all(|(a, b)| a.to_bits() == b.to_bits()), "{model:?}: fused products differ");
+        }
+    }
+
+    /// Every kernel's outputs with the points cut at `split` (`None`: all on one thread).
+    fn kernels_split_at<const C: usize>(sh: &mut Shape<C>, sc: &Scaling, split: Option<usize>) -> Vec<u64> {
+        sh.split = split;
+        let (np, mut rng) = (sh.points(), Lcg(7));
+        let mut random = |len: usize| (0..len).map(|_| rng.next() - 0.5).collect::<Vec<f64>>();
+        let (rx, ze, rg) = (random(sh.n()), random(sh.m_e()), random(sh.m_g()));
+        let (mut chol, mut y) = (vec![[[0.0; C]; C]; np], vec![[[0.0; 3]; 3]; np]);
+        assert!(factor_points(sh, sc, 1e-13, &mut chol, &mut y));
+        let (mut rt, mut w, mut wr) = (vec![[0.0; C]; np], vec![[0.0; C]; np], vec![[0.0; 6]; np]);
+        reduce_points(sh, sc, &chol, (&rx, &rg), &mut rt, &mut w, &mut wr);
+        let mut work = ApplyWork::new(sh);
+        work.see(sh, &ze);
+        let (mut x, mut zg) = (vec![0.0; sh.n()], vec![0.0; sh.m_g()]);
+        let mut fused = Blocks::zeros(sh.n(), sh.m_e(), sh.m_g());
+        let mut wrench = vec![[0.0; 6]; np];
+        let products = PointProducts { ze: &ze, out: fused.step(), wrench: &mut wrench };
+        let seen = (work.seen.as_slice(), work.contact_of.as_slice());
+        back_points(sh, sc, &chol, &rt, seen, (&ze[6 * sh.blocks..], &rg), &mut x, &mut zg, Some(products));
+        let mut applied = Blocks::zeros(sh.n(), sh.m_e(), sh.m_g());
+        apply(sh, Some(sc), Rhs { x: &x, eq: &ze, ineq: &zg }, applied.step(), &mut work);
+        let flat = [chol.as_flattened().as_flattened(), y.as_flattened().as_flattened(), rt.as_flattened()];
+        let more = [w.as_flattened(), wr.as_flattened(), &x, &zg, &fused.x, &fused.ineq, wrench.as_flattened()];
+        let last = [&applied.x[..], &applied.eq, &applied.ineq];
+        flat.into_iter().chain(more).chain(last).flatten().map(|v| v.to_bits()).collect()
+    }
+
+    /// Invariant: the points cut in two halves on two threads ([`Shape::split`]) give every
+    /// kernel's outputs bit for bit as one thread does — each point is computed by the same
+    /// batch either way (the cut at a multiple of four) and nothing sums across the halves.
+    fn check_halves<const C: usize>(model: FrictionModel) {
+        let asm = Assembly::new(&builtin("wall?courses=3&bricks=3").unwrap(), &Default::default()).unwrap();
+        let ifs = detect(&asm);
+        let sys = System::new(&asm, &ifs, &components(&asm, &ifs)[0], 0.6, model, false);
+        let cp = contact_problem(&sys, Stage::Strict, &StaticsSettings::default());
+        let mut sh = Shape::<C>::new(&cp).expect("the strict QP's shape");
+        let mut contacts = sh.contacts.to_vec();
+        contacts.last_mut().expect("contacts").points.end -= 1;
+        let rho = &sh.rho[..sh.rho.len() - 1];
+        (sh.contacts, sh.rho) = (&contacts, rho);
+        assert!(sh.points() > 12 && !sh.points().is_multiple_of(LANES), "two halves and a short last batch");
+        let sc = interior_scaling(&sh, &mut Lcg(3));
+        let whole = kernels_split_at(&mut sh, &sc, None);
+        for mid in [4, sh.points() / 8 * 4] {
+            assert_eq!(kernels_split_at(&mut sh, &sc, Some(mid)), whole, "{model:?}: cut at point {mid}");
+        }
+    }
+
+    #[test]
+    fn two_halves_give_one_threads_bits() {
+        for model in [FrictionModel::Pyramid8, FrictionModel::Box4, FrictionModel::Cone] {
+            let asm = Assembly::new(&builtin("wall?courses=3&bricks=3").unwrap(), &Default::default()).unwrap();
+            let ifs = detect(&asm);
+            let sys = System::new(&asm, &ifs, &components(&asm, &ifs)[0], 0.6, model, false);
+            match contact_problem(&sys, Stage::Strict, &StaticsSettings::default()).per_point() {
+                3 => check_halves::<3>(model),
+                4 => check_halves::<4>(model),
+                5 => check_halves::<5>(model),
+                c => panic!("{c} variables per point"),
+            }
         }
     }
 

@@ -1,6 +1,7 @@
 //! Kernel timers of the structured solver, for the roofline table in docs/benchmarks.md
 //! (`cargo run --release --example roofline`). Off unless [`enable`]d: a timer then costs one
-//! relaxed atomic load. Times accumulate per thread; [`take`] returns and clears them.
+//! relaxed atomic load. Times accumulate per thread (a solve moved onto rayon's pool brings its own back);
+//! [`take`] returns and clears them.
 //!
 //! Each kernel's flops and bytes per call come from [`Dims`] ([`Kernel::cost`]): leading
 //! terms counted from the loops of the kernel (a multiply–add is two flops; a division or
@@ -175,6 +176,21 @@ pub fn factor_by_blocks(on: bool) {
 
 pub(super) fn blocks_on() -> bool {
     BLOCKS.load(Ordering::Relaxed)
+}
+
+/// Adds `other` (another thread's, [`take`]n there) to this thread's profile: a solve run on
+/// rayon's pool brings its times back to the thread that asked for it.
+pub(super) fn merge(other: Profile) {
+    if ON.load(Ordering::Relaxed) {
+        PROFILE.with(|p| {
+            let mut p = p.borrow_mut();
+            for k in 0..p.time.len() {
+                p.time[k] += other.time[k];
+                p.calls[k] += other.calls[k];
+            }
+            p.dims = other.dims;
+        });
+    }
 }
 
 pub(super) fn record_dims(d: impl FnOnce() -> Dims) {

@@ -41,6 +41,21 @@ pub struct Shape<'a, const C: usize> {
     pub column_rows: Vec<Option<usize>>,
     /// Right-hand side of the tail's inequality rows (from [`Self::tail_row0`]).
     pub b_tail: Vec<f64>,
+    /// The point where the points' kernels cut their work in two, one half on each of two
+    /// threads ([`split_point`]); `None`: one thread.
+    pub split: Option<usize>,
+}
+
+/// From this many points on, the split pays (docs/benchmarks.md: the Armadillo's 4 819
+/// points −13 %, the dome's 7 936 −10 %; the cross vault's step problems of fewer gain ~5 %
+/// for a second core's time).
+const SPLIT_FROM_POINTS: usize = 2048;
+
+/// Where to cut `points` in two for `threads` threads: at a multiple of four (the kernels'
+/// batches), so that each point is computed by the same batch either way. Not with budget
+/// variables, whose rows sum over all points in point order.
+pub(super) fn split_point(points: usize, threads: usize, budgets: usize) -> Option<usize> {
+    (threads > 1 && budgets == 0 && points >= SPLIT_FROM_POINTS).then_some(points / 8 * 4)
 }
 
 fn fixed<const C: usize>(v: &[f64]) -> [f64; C] {
@@ -102,6 +117,7 @@ impl<'a, const C: usize> Shape<'a, C> {
             columns: &cp.columns,
             column_rows,
             b_tail,
+            split: split_point(g.points(), cp.threads, cp.budgets.len()),
         })
     }
 
