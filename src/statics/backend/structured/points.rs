@@ -722,7 +722,7 @@ mod tests {
     use crate::statics::backend::structured::cones::Layout;
     use crate::statics::backend::structured::iterate::Blocks;
     use crate::statics::components::components;
-    use crate::statics::problem::FrictionModel;
+    use crate::statics::problem::{ContactProblem, FrictionModel};
     use crate::statics::settings::StaticsSettings;
     use nalgebra::{DMatrix, DVector};
 
@@ -732,6 +732,41 @@ mod tests {
             self.0 = self.0.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
             (self.0 >> 11) as f64 / (1u64 << 53) as f64
         }
+    }
+
+    /// The 3×3 wall's strict QP in `model` as a [`Shape`] with its last point dropped (the
+    /// wall's faces have four points each: the last batch is short), handed to `check`.
+    fn short_wall<const C: usize>(model: FrictionModel, check: impl FnOnce(Shape<C>, FrictionModel)) {
+        wall_problem(model, |cp| {
+            let mut sh = Shape::<C>::new(cp).expect("the strict QP's shape");
+            let mut contacts = sh.contacts.to_vec();
+            contacts.last_mut().expect("contacts").points.end -= 1;
+            let rho = &sh.rho[..sh.rho.len() - 1];
+            (sh.contacts, sh.rho) = (&contacts, rho);
+            check(sh, model);
+        });
+    }
+
+    /// The 3×3 wall's strict QP in `model`, handed to `f`.
+    fn wall_problem<R>(model: FrictionModel, f: impl FnOnce(&ContactProblem) -> R) -> R {
+        let asm = Assembly::new(&builtin("wall?courses=3&bricks=3").unwrap(), &Default::default()).unwrap();
+        let ifs = detect(&asm);
+        let sys = System::new(&asm, &ifs, &components(&asm, &ifs)[0], 0.6, model, false);
+        f(&contact_problem(&sys, Stage::Strict, &StaticsSettings::default()))
+    }
+
+    /// `$check::<C>` on the short wall of each friction model, C its variables per point.
+    macro_rules! on_short_walls {
+        ($check:ident) => {
+            for model in [FrictionModel::Pyramid8, FrictionModel::Box4, FrictionModel::Cone] {
+                match wall_problem(model, |cp| cp.per_point()) {
+                    3 => short_wall::<3>(model, $check::<3>),
+                    4 => short_wall::<4>(model, $check::<4>),
+                    5 => short_wall::<5>(model, $check::<5>),
+                    c => panic!("{c} variables per point"),
+                }
+            }
+        };
     }
 
     /// G_p as a dense (rows × C) matrix.
@@ -767,17 +802,7 @@ mod tests {
         sc
     }
 
-    fn check<const C: usize>(model: FrictionModel) {
-        let asm = Assembly::new(&builtin("wall?courses=3&bricks=3").unwrap(), &Default::default()).unwrap();
-        let ifs = detect(&asm);
-        let sys = System::new(&asm, &ifs, &components(&asm, &ifs)[0], 0.6, model, false);
-        let cp = contact_problem(&sys, Stage::Strict, &StaticsSettings::default());
-        let mut sh = Shape::<C>::new(&cp).expect("the strict QP's shape");
-        // The wall's faces have four points each: its last point dropped, the last batch is short.
-        let mut contacts = sh.contacts.to_vec();
-        contacts.last_mut().expect("contacts").points.end -= 1;
-        let rho = &sh.rho[..sh.rho.len() - 1];
-        (sh.contacts, sh.rho) = (&contacts, rho);
+    fn check<const C: usize>(sh: Shape<C>, model: FrictionModel) {
         let (np, mp) = (sh.points(), sh.m_p);
         assert_ne!(np % LANES, 0, "a short last batch is exercised");
         let mut rng = Lcg(11);
@@ -844,16 +869,7 @@ mod tests {
     /// written out with nalgebra ([`reference_products`]), to 1e-14 of each block's largest
     /// entry; and the products [`back_points`] leaves at the solution it forms against
     /// [`apply`] there, bit for bit ([`check_fused`]).
-    fn check_products<const C: usize>(model: FrictionModel) {
-        let asm = Assembly::new(&builtin("wall?courses=3&bricks=3").unwrap(), &Default::default()).unwrap();
-        let ifs = detect(&asm);
-        let sys = System::new(&asm, &ifs, &components(&asm, &ifs)[0], 0.6, model, false);
-        let cp = contact_problem(&sys, Stage::Strict, &StaticsSettings::default());
-        let mut sh = Shape::<C>::new(&cp).expect("the strict QP's shape");
-        let mut contacts = sh.contacts.to_vec();
-        contacts.last_mut().expect("contacts").points.end -= 1;
-        let rho = &sh.rho[..sh.rho.len() - 1];
-        (sh.contacts, sh.rho) = (&contacts, rho);
+    fn check_products<const C: usize>(sh: Shape<C>, model: FrictionModel) {
         let mut rng = Lcg(5);
         let sc = interior_scaling(&sh, &mut rng);
         let mut random = |len: usize| (0..len).map(|_| rng.next() - 0.5).collect::<Vec<f64>>();
@@ -972,16 +988,7 @@ mod tests {
     /// Invariant: the points cut in two halves on two threads ([`Shape::split`]) give every
     /// kernel's outputs bit for bit as one thread does — each point is computed by the same
     /// batch either way (the cut at a multiple of four) and nothing sums across the halves.
-    fn check_halves<const C: usize>(model: FrictionModel) {
-        let asm = Assembly::new(&builtin("wall?courses=3&bricks=3").unwrap(), &Default::default()).unwrap();
-        let ifs = detect(&asm);
-        let sys = System::new(&asm, &ifs, &components(&asm, &ifs)[0], 0.6, model, false);
-        let cp = contact_problem(&sys, Stage::Strict, &StaticsSettings::default());
-        let mut sh = Shape::<C>::new(&cp).expect("the strict QP's shape");
-        let mut contacts = sh.contacts.to_vec();
-        contacts.last_mut().expect("contacts").points.end -= 1;
-        let rho = &sh.rho[..sh.rho.len() - 1];
-        (sh.contacts, sh.rho) = (&contacts, rho);
+    fn check_halves<const C: usize>(mut sh: Shape<C>, model: FrictionModel) {
         assert!(sh.points() > 12 && !sh.points().is_multiple_of(LANES), "two halves and a short last batch");
         let sc = interior_scaling(&sh, &mut Lcg(3));
         let whole = kernels_split_at(&mut sh, &sc, None);
@@ -992,46 +999,16 @@ mod tests {
 
     #[test]
     fn two_halves_give_one_threads_bits() {
-        for model in [FrictionModel::Pyramid8, FrictionModel::Box4, FrictionModel::Cone] {
-            let asm = Assembly::new(&builtin("wall?courses=3&bricks=3").unwrap(), &Default::default()).unwrap();
-            let ifs = detect(&asm);
-            let sys = System::new(&asm, &ifs, &components(&asm, &ifs)[0], 0.6, model, false);
-            match contact_problem(&sys, Stage::Strict, &StaticsSettings::default()).per_point() {
-                3 => check_halves::<3>(model),
-                4 => check_halves::<4>(model),
-                5 => check_halves::<5>(model),
-                c => panic!("{c} variables per point"),
-            }
-        }
+        on_short_walls!(check_halves);
     }
 
     #[test]
     fn products_four_at_a_time_are_each_points_and_fused_ones_the_same() {
-        for model in [FrictionModel::Pyramid8, FrictionModel::Box4, FrictionModel::Cone] {
-            let asm = Assembly::new(&builtin("wall?courses=3&bricks=3").unwrap(), &Default::default()).unwrap();
-            let ifs = detect(&asm);
-            let sys = System::new(&asm, &ifs, &components(&asm, &ifs)[0], 0.6, model, false);
-            match contact_problem(&sys, Stage::Strict, &StaticsSettings::default()).per_point() {
-                3 => check_products::<3>(model),
-                4 => check_products::<4>(model),
-                5 => check_products::<5>(model),
-                c => panic!("{c} variables per point"),
-            }
-        }
+        on_short_walls!(check_products);
     }
 
     #[test]
     fn four_lanes_give_each_points_algebra() {
-        for model in [FrictionModel::Pyramid8, FrictionModel::Box4, FrictionModel::Cone] {
-            let asm = Assembly::new(&builtin("wall?courses=3&bricks=3").unwrap(), &Default::default()).unwrap();
-            let ifs = detect(&asm);
-            let sys = System::new(&asm, &ifs, &components(&asm, &ifs)[0], 0.6, model, false);
-            match contact_problem(&sys, Stage::Strict, &StaticsSettings::default()).per_point() {
-                3 => check::<3>(model),
-                4 => check::<4>(model),
-                5 => check::<5>(model),
-                c => panic!("{c} variables per point"),
-            }
-        }
+        on_short_walls!(check);
     }
 }

@@ -1,7 +1,7 @@
 //! Kernel timers of the structured solver, for the roofline table in docs/benchmarks.md
 //! (`cargo run --release --example roofline`). Off unless [`enable`]d: a timer then costs one
-//! relaxed atomic load. Times accumulate per thread (a solve moved onto rayon's pool brings its own back);
-//! [`take`] returns and clears them.
+//! relaxed atomic load. Times accumulate per thread (a solve moved onto rayon's pool brings
+//! its own back); [`take`] returns and clears them.
 //!
 //! Each kernel's flops and bytes per call come from [`Dims`] ([`Kernel::cost`]): leading
 //! terms counted from the loops of the kernel (a multiply–add is two flops; a division or
