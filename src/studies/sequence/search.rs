@@ -15,13 +15,14 @@
 //!
 //! Fixing a block only adds supports, so whatever stands with some props stands with more.
 //! Two checks follow, each on a block's neighbourhood — it and the placed free blocks within
-//! 1, then 2, 4 and 8 interfaces free, the placed blocks touching them fixed ([`LocalCheck`]),
-//! a small problem: when the new block's neighbourhood fails, the step fails with its props
-//! and with fewer — a prefix of the search is then dead without its whole analysis, and along
-//! an order no release is tried and the new block is propped straight away; when a
-//! prop's neighbourhood fails without it, its release cannot stand and is not analysed. The
-//! props and steps are those of the whole-step analyses alone (tests below). On the
-//! Armadillo 4 of 5 releases end at the neighbourhoods (docs/benchmarks.md).
+//! 1, then 2, 4 and 8 interfaces free (1 and 2 around a new block along an order with props),
+//! the placed blocks touching them fixed ([`LocalCheck`]), a small problem: when the new
+//! block's neighbourhood fails, the step fails with its props and with fewer — a prefix of the
+//! search is then dead without its whole analysis, and along an order no release is tried and
+//! the new block is propped straight away; when a prop's neighbourhood fails without it, its
+//! release cannot stand and is not analysed. The props and steps are those of the whole-step
+//! analyses alone (tests below). On the Armadillo 4 of 5 releases end at the neighbourhoods
+//! (docs/benchmarks.md).
 
 use super::order::Adjacency;
 use super::steps::Stepper;
@@ -109,7 +110,7 @@ impl Dfs<'_, '_> {
         (self.tick)();
         self.decided += 1;
         let last = self.names[*order.last().expect("a block placed")];
-        if self.stepper.last_failed() && self.local.fails(&placed, &HashSet::new(), last)? {
+        if self.stepper.last_failed() && self.local.fails(&placed, &HashSet::new(), last, LocalCheck::RINGS)? {
             return Ok(false);
         }
         Ok(self.stepper.analyse(&placed, &HashSet::new())?.statics.stands)
@@ -240,7 +241,7 @@ pub(crate) fn with_props<'a>(
         // fewer: no release is tried. Checked once the order has needed a prop: until then the
         // steps stand and the neighbourhoods would be solved for nothing.
         let propped = !props.active.is_empty() || !props.released.is_empty();
-        let doomed = propped && local.fails(&placed, &set_of(&props.active), name)?;
+        let doomed = propped && local.fails(&placed, &set_of(&props.active), name, LocalCheck::NEW_BLOCK_RINGS)?;
         let released = if doomed { None } else { props.release(&mut local, &placed, k)? };
         let current = match released {
             Some(a) => a,
@@ -282,7 +283,7 @@ impl<'a> Props<'_, 'a> {
             let mut without = self.active.clone();
             let (prop, _) = without.remove(i);
             let without = set_of(&without);
-            if local.fails(placed, &without, prop)? {
+            if local.fails(placed, &without, prop, LocalCheck::RINGS)? {
                 continue;
             }
             let a = self.stepper.analyse_from(placed, &without, FirstStage::Relaxed)?;
@@ -411,6 +412,11 @@ impl<'a> LocalCheck<'a> {
     /// The neighbourhoods tried, in interfaces from the block: a small one first (most
     /// failures show there), a wider one for what it lets through.
     const RINGS: &'static [usize] = &[1, 2, 4, 8];
+    /// The new block's neighbourhoods along an order with props: a block that cannot be placed
+    /// fails within two interfaces; the wider rings around it never failed where the closer
+    /// ones passed (the Armadillo, both domes, the arch, the DMSC ligature:
+    /// docs/benchmarks.md), and cost more than the releases they would spare.
+    const NEW_BLOCK_RINGS: &'static [usize] = &[1, 2];
     /// Neighbourhood outcomes kept from earlier checks: a prop's neighbourhood comes back
     /// unchanged at every step that places a block outside it.
     const KEEP: usize = 1024;
@@ -421,15 +427,22 @@ impl<'a> LocalCheck<'a> {
     }
 
     /// Whether `placed` with the props `props` cannot stand because one of `block`'s
-    /// neighbourhoods ([`Self::RINGS`]) fails with every other placed block fixed. Fixing
-    /// blocks only adds supports; the step's component holding the neighbourhood has at least
-    /// its minimum tension (and, when that is zero, its minimum friction excess), and a stand
-    /// threshold at most the larger of the neighbourhood's weight's and the design's weight's.
-    fn fails(&mut self, placed: &HashSet<&str>, props: &HashSet<&str>, block: &str) -> Result<bool, SequenceError> {
+    /// neighbourhoods (within each of `rings` interfaces, in turn) fails with every other
+    /// placed block fixed. Fixing blocks only adds supports; the step's component holding the
+    /// neighbourhood has at least its minimum tension (and, when that is zero, its minimum
+    /// friction excess), and a stand threshold at most the larger of the neighbourhood's
+    /// weight's and the design's weight's.
+    fn fails(
+        &mut self,
+        placed: &HashSet<&str>,
+        props: &HashSet<&str>,
+        block: &str,
+        rings: &[usize],
+    ) -> Result<bool, SequenceError> {
         if !self.enabled {
             return Ok(false);
         }
-        for &rings in Self::RINGS {
+        for &rings in rings {
             if self.fails_within(placed, props, block, rings)? {
                 return Ok(true);
             }
