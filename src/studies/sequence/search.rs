@@ -442,8 +442,8 @@ impl<'a> LocalCheck<'a> {
         if !self.enabled {
             return Ok(false);
         }
-        for &rings in rings {
-            if self.fails_within(placed, props, block, rings)? {
+        for &within in rings {
+            if self.fails_within(placed, props, block, within)? {
                 return Ok(true);
             }
         }
