@@ -394,19 +394,12 @@ pub(super) fn apply<const C: usize>(sh: &Shape<C>, kkt: Option<&Scaling>, sol: R
             true
         });
     };
+    let rows = Rows::of(sh, Step { x: &mut *out.x, eq: &mut *out.eq, ineq: &mut *out.ineq }, wrench);
     match sh.split {
-        None => {
-            let budgets = &mut out.eq[6 * sh.blocks..];
-            run(0..np, Rows { lo: 0, x: &mut *out.x, ineq: &mut *out.ineq, wrench, budgets });
-        }
+        None => run(0..np, rows),
         Some(mid) => {
-            let (x0, x1) = out.x.split_at_mut(mid * C);
-            let (g0, g1) = out.ineq.split_at_mut(mid * mp);
-            let (w0, w1) = wrench.split_at_mut(mid);
-            rayon::join(
-                || run(0..mid, Rows { lo: 0, x: x0, ineq: g0, wrench: w0, budgets: &mut [] }),
-                || run(mid..np, Rows { lo: mid, x: x1, ineq: g1, wrench: w1, budgets: &mut [] }),
-            );
+            let (r0, r1) = rows.halves::<C>(mid, mp);
+            rayon::join(|| run(0..mid, r0), || run(mid..np, r1));
         }
     }
     work.add_wrenches(sh, out.eq);
@@ -422,6 +415,26 @@ struct Rows<'a> {
     ineq: &'a mut [f64],
     wrench: &'a mut [[f64; 6]],
     budgets: &'a mut [f64],
+}
+
+impl<'a> Rows<'a> {
+    /// All the points' rows of `out` and their wrenches.
+    fn of<const C: usize>(sh: &Shape<C>, out: Step<'a>, wrench: &'a mut [[f64; 6]]) -> Self {
+        let Step { x, eq, ineq } = out;
+        Rows { lo: 0, x, ineq, wrench, budgets: &mut eq[6 * sh.blocks..] }
+    }
+
+    /// These rows (all the points') cut at point `mid`, `mp` inequality rows per point; a
+    /// problem is only cut without budget rows ([`Shape::split`]).
+    fn halves<const C: usize>(self, mid: usize, mp: usize) -> (Rows<'a>, Rows<'a>) {
+        let (x0, x1) = self.x.split_at_mut(mid * C);
+        let (g0, g1) = self.ineq.split_at_mut(mid * mp);
+        let (w0, w1) = self.wrench.split_at_mut(mid);
+        (
+            Rows { lo: 0, x: x0, ineq: g0, wrench: w0, budgets: &mut [] },
+            Rows { lo: mid, x: x1, ineq: g1, wrench: w1, budgets: &mut [] },
+        )
+    }
 }
 
 /// The batch's part of [`apply`]: its rows of x and of the inequalities, its wrenches, its
@@ -576,24 +589,17 @@ pub(super) fn back_points<const C: usize>(
     let run = |range: Range<usize>, x: &mut [f64], zg: &mut [f64], products: Option<(&[f64], Rows)>| {
         back_range(sh, sc, (chol, rt), seen, (budgets, rg), range, (x, zg), products)
     };
+    let products = products.map(|pr| (pr.ze, Rows::of(sh, pr.out, pr.wrench)));
     let Some(mid) = sh.split else {
-        let products = products.map(|pr| {
-            let Step { x, eq, ineq } = pr.out;
-            (pr.ze, Rows { lo: 0, x, ineq, wrench: pr.wrench, budgets: &mut eq[6 * sh.blocks..] })
-        });
         return run(0..np, x, zg, products);
     };
     let (x0, x1) = x.split_at_mut(mid * C);
     let (z0, z1) = zg.split_at_mut(mid * mp);
     let (p0, p1) = match products {
         None => (None, None),
-        Some(pr) => {
-            let ((ox0, ox1), (og0, og1)) = (pr.out.x.split_at_mut(mid * C), pr.out.ineq.split_at_mut(mid * mp));
-            let (w0, w1) = pr.wrench.split_at_mut(mid);
-            (
-                Some((pr.ze, Rows { lo: 0, x: ox0, ineq: og0, wrench: w0, budgets: &mut [] })),
-                Some((pr.ze, Rows { lo: mid, x: ox1, ineq: og1, wrench: w1, budgets: &mut [] })),
-            )
+        Some((ze, rows)) => {
+            let (r0, r1) = rows.halves::<C>(mid, mp);
+            (Some((ze, r0)), Some((ze, r1)))
         }
     };
     rayon::join(|| run(0..mid, x0, z0, p0), || run(mid..np, x1, z1, p1));
