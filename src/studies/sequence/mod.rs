@@ -51,6 +51,13 @@ pub struct StepChecks {
     pub kinematic: Option<KinematicSettings>,
 }
 
+impl StepChecks {
+    /// Whether any check besides the statics runs (each needs the step's analysis).
+    pub fn any(&self) -> bool {
+        self.dynamic.is_some() || self.kinematic.is_some()
+    }
+}
+
 /// One step: the block placed and the verdicts of the blocks placed so far.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Step {
@@ -68,6 +75,24 @@ pub struct Step {
     pub dynamic: Option<DropResult>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub kinematic: Option<Kinematic>,
+}
+
+impl Step {
+    /// A step that stands by construction, with no analysis of its own: no tension, no friction
+    /// excess, nothing offending — what a standing analysis reports — and no other checks.
+    fn standing(placed: &str, props: Vec<String>) -> Self {
+        Self {
+            placed: placed.to_string(),
+            stands: true,
+            verdict: crate::statics::Verdict::Stands,
+            tension_ratio: 0.0,
+            friction_excess_ratio: 0.0,
+            offending: Vec::new(),
+            props,
+            dynamic: None,
+            kinematic: None,
+        }
+    }
 }
 
 /// A block propped (treated as a support) at steps `from..until` (step indices from 0; at step

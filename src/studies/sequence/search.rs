@@ -19,18 +19,19 @@
 //! the placed blocks touching them fixed ([`LocalCheck`]), a small problem: when the new
 //! block's neighbourhood fails, the step fails with its props and with fewer — a prefix of the
 //! search is then dead without its whole analysis, and along an order no release is tried and
-//! the new block is propped straight away; when a prop's neighbourhood fails without it, its
+//! the new block is propped straight away (the step then stands with no analysis when the last
+//! one stood with the same props: a prop adds supports and no load); when a prop's neighbourhood fails without it, its
 //! release cannot stand and is not analysed. A release a whole step refused is tried again
 //! later first on the neighbourhood of the blocks where it failed (it mostly fails again,
 //! there). The props and steps are those of the whole-step analyses alone (tests below). On the
 //! Armadillo 4 of 5 releases end at the neighbourhoods (docs/benchmarks.md).
 
 use super::order::Adjacency;
-use super::steps::Stepper;
+use super::steps::{Stepper, offending, sorted};
 use super::{SequenceError, Step, TemporarySupport};
 use crate::model::Scene;
 use crate::pipeline::Analysis;
-use crate::statics::{FirstStage, InterfaceResult, stand_threshold};
+use crate::statics::{FirstStage, stand_threshold};
 use std::collections::{HashMap, HashSet};
 
 /// Settings of the order search.
@@ -214,12 +215,6 @@ fn set_of<'x>(active: &[(&'x str, usize)]) -> HashSet<&'x str> {
     active.iter().map(|p| p.0).collect()
 }
 
-/// The interfaces of an analysis that need tension or friction beyond μ (above 1e-6 of W).
-fn offending(a: &Analysis) -> impl Iterator<Item = &InterfaceResult> {
-    let s = &a.statics;
-    s.interfaces.iter().filter(|r| r.tension > 1e-6 * s.free_weight || r.friction_excess > 1e-6 * s.free_weight)
-}
-
 /// The graded answer of an analysis: minimum tension plus friction excess, relative to W.
 fn graded(a: &Analysis) -> f64 {
     a.statics.tension_ratio + a.statics.friction_excess_ratio
@@ -250,6 +245,13 @@ pub(crate) fn with_props<'a>(
         // steps stand and the neighbourhoods would be solved for nothing.
         let propped = !props.active.is_empty() || !props.released.is_empty();
         let doomed = propped && local.fails(&placed, &set_of(&props.active), name, LocalCheck::NEW_BLOCK_RINGS)?;
+        // Propped at once on a step that stood with the same props, the step stands: a prop adds
+        // supports and no load, so the last step's forces still balance every free block.
+        if doomed && !per_step.any() && steps.last().is_some_and(|s: &Step| s.stands) {
+            props.active.push((name, k));
+            steps.push(Step::standing(name, sorted(&set_of(&props.active))));
+            continue;
+        }
         let released = if doomed { None } else { props.release(&mut local, &placed, k)? };
         let current = match released {
             Some(a) => a,

@@ -6,7 +6,7 @@ use super::{SequenceError, Step, StepChecks};
 use crate::dynamics::drop_test;
 use crate::model::{Load, Scene};
 use crate::pipeline::{Analysis, AnalysisSettings, Pipeline};
-use crate::statics::FirstStage;
+use crate::statics::{FirstStage, InterfaceResult};
 use std::collections::HashSet;
 
 /// `settings` for the prefixes of `resolved`: every prefix takes its tolerances (and the
@@ -136,12 +136,7 @@ impl<'a> Stepper<'a> {
         per_step: &StepChecks,
     ) -> Result<Step, SequenceError> {
         let s = &a.statics;
-        let offending = s
-            .interfaces
-            .iter()
-            .filter(|r| r.tension > 1e-6 * s.free_weight || r.friction_excess > 1e-6 * s.free_weight)
-            .map(|r| format!("{} | {}", r.a, r.b))
-            .collect();
+        let offending = offending(a).map(|r| format!("{} | {}", r.a, r.b)).collect();
         let dynamic = match &per_step.dynamic {
             Some(ds) => Some(drop_test(&a.assembly, ds).map_err(|e| SequenceError::Drop(e.to_string()))?),
             None => None,
@@ -153,8 +148,7 @@ impl<'a> Stepper<'a> {
             ),
             None => None,
         };
-        let mut props: Vec<String> = props.iter().map(|p| p.to_string()).collect();
-        props.sort();
+        let props = sorted(props);
         Ok(Step {
             placed: name.to_string(),
             stands: s.stands,
@@ -210,4 +204,17 @@ pub(crate) fn check_order(
     let mut steps: Vec<(usize, Step)> = a.into_iter().chain(b).collect();
     steps.sort_by_key(|s| s.0);
     Ok(steps.into_iter().map(|s| s.1).collect())
+}
+
+/// The props' names in order, as a step reports them.
+pub(crate) fn sorted(props: &HashSet<&str>) -> Vec<String> {
+    let mut props: Vec<String> = props.iter().map(|p| p.to_string()).collect();
+    props.sort();
+    props
+}
+
+/// The interfaces of an analysis that need tension or friction beyond μ (above 1e-6 of W).
+pub(crate) fn offending(a: &Analysis) -> impl Iterator<Item = &InterfaceResult> {
+    let s = &a.statics;
+    s.interfaces.iter().filter(|r| r.tension > 1e-6 * s.free_weight || r.friction_excess > 1e-6 * s.free_weight)
 }
