@@ -20,11 +20,12 @@
 //! block's neighbourhood fails, the step fails with its props and with fewer — a prefix of the
 //! search is then dead without its whole analysis, and along an order no release is tried and
 //! the new block is propped straight away (the step then stands with no analysis when the last
-//! one stood with the same props: a prop adds supports and no load); when a prop's neighbourhood fails without it, its
-//! release cannot stand and is not analysed. A release a whole step refused is tried again
-//! later first on the neighbourhood of the blocks where it failed (it mostly fails again,
-//! there). The props and steps are those of the whole-step analyses alone (tests below). On the
-//! Armadillo 4 of 5 releases end at the neighbourhoods (docs/benchmarks.md).
+//! one stood with the same props: a prop adds supports and no load); when a prop's
+//! neighbourhood fails without it, its release cannot stand and is not analysed. A release a
+//! whole step refused is tried again later first on the neighbourhood of the blocks where it
+//! failed (it mostly fails again, there). The props and steps are those of the whole-step
+//! analyses alone (tests below). On the Armadillo 4 of 5 releases end at the neighbourhoods
+//! (docs/benchmarks.md).
 
 use super::order::Adjacency;
 use super::steps::{Stepper, offending, sorted};
@@ -215,6 +216,16 @@ fn set_of<'x>(active: &[(&'x str, usize)]) -> HashSet<&'x str> {
     active.iter().map(|p| p.0).collect()
 }
 
+/// The placed blocks of the interfaces that need tension or friction beyond μ in `a`: where a
+/// refused release failed (the props among them are left out where they are checked).
+fn failing_blocks<'a>(a: &Analysis, placed: &HashSet<&'a str>) -> Vec<&'a str> {
+    let mut blocks: Vec<&'a str> =
+        offending(a).flat_map(|r| [r.a.as_str(), r.b.as_str()]).filter_map(|b| placed.get(b).copied()).collect();
+    blocks.sort_unstable();
+    blocks.dedup();
+    blocks
+}
+
 /// The graded answer of an analysis: minimum tension plus friction excess, relative to W.
 fn graded(a: &Analysis) -> f64 {
     a.statics.tension_ratio + a.statics.friction_excess_ratio
@@ -274,7 +285,7 @@ struct Props<'s, 'a> {
     /// Active props: name → step from which it is propped.
     active: Vec<(&'a str, usize)>,
     released: Vec<TemporarySupport>,
-    /// Active props whose release a whole-step analysis refused, each with the free blocks of
+    /// Active props whose release a whole-step analysis refused, each with the placed blocks of
     /// the interfaces that failed in that analysis.
     refused: HashMap<&'a str, Vec<&'a str>>,
 }
@@ -316,24 +327,10 @@ impl<'a> Props<'_, 'a> {
                 self.released.push(TemporarySupport::new(b, from, k));
                 last = Some(a);
             } else {
-                let at = self.failing_blocks(&a, placed, &without);
-                self.refused.insert(prop, at);
+                self.refused.insert(prop, failing_blocks(&a, placed));
             }
         }
         Ok(last)
-    }
-
-    /// The placed free blocks (`props` not among them) of the interfaces that need tension or
-    /// friction beyond μ in `a`: where a refused release failed.
-    fn failing_blocks(&self, a: &Analysis, placed: &HashSet<&'a str>, props: &HashSet<&str>) -> Vec<&'a str> {
-        let mut blocks: Vec<&'a str> = offending(a)
-            .flat_map(|r| [r.a.as_str(), r.b.as_str()])
-            .filter_map(|b| placed.get(b).copied())
-            .filter(|b| !props.contains(b))
-            .collect();
-        blocks.sort_unstable();
-        blocks.dedup();
-        blocks
     }
 
     /// The analysis of step `k` with the active props, and more props when it does not stand.
