@@ -441,27 +441,46 @@ fn quasi_static(
             progress(done);
             continue;
         }
-        let (mut lo, mut hi, mut held) = (done, fraction, before);
-        let mut past = world;
-        for _ in 0..settings.refine {
+        let ctx = Bisection { analysis, settings, scale, step: &step, progress };
+        return ctx.refine(run, (done, fraction), before, world);
+    }
+    run
+}
+
+/// What the bisection of a collapsing increment works with ([`Bisection::refine`]).
+struct Bisection<'a> {
+    analysis: &'a Analysis,
+    settings: &'a SettleSettings,
+    scale: &'a PathScale,
+    /// The step length of an increment of the given fraction of the path.
+    step: &'a dyn Fn(f64) -> f64,
+    progress: Heard<'a>,
+}
+
+impl Bisection<'_> {
+    /// The blocks held at `bracket.0` (`held`) and collapsed by `bracket.1` (`past`): the
+    /// bracket halved `settings.refine` times from the held world, and the run ended collapsed
+    /// at its top (or unresolved where a solve failed).
+    fn refine(&self, mut run: Run, bracket: (f64, f64), mut held: World, mut past: World) -> Run {
+        let (mut lo, mut hi) = bracket;
+        for _ in 0..self.settings.refine {
             let mid = 0.5 * (lo + hi);
             let mut w = held.clone();
-            w.set_step(step(mid - lo));
+            w.set_step((self.step)(mid - lo));
             let stays = increment(&mut w, mid - lo, &mut run.steps);
             if let Some(status) = failure(&w) {
                 return unresolved(run, mid, status);
             }
             if stays {
                 (lo, held) = (mid, w);
-                progress(lo);
+                (self.progress)(lo);
             } else {
                 (hi, past) = (mid, w);
             }
         }
-        run.crushed = crush_depth(&past, settings, assembly);
-        return collapsed(run, analysis, past, hi, scale);
+        run.crushed = crush_depth(&past, self.settings, &self.analysis.assembly);
+        collapsed(run, self.analysis, past, hi, self.scale)
     }
-    run
 }
 
 /// The worst solver status, when a step's solve failed (the world has left the dynamics).

@@ -94,30 +94,17 @@ impl World {
             let selected = selection.read(&sel_ctx, &self.bodies, comp, &active, &forces.x);
             let sol = Solution { velocities: sol.velocities, ..selected };
             let next = capacities(&sol.normal, mu, self.settings.solver_tolerance);
-            // Against the mean capacity per point at the least: capacities of ~0 that merely
-            // wobble have settled.
-            let mean = mu / active.len().max(1) as f64;
-            let largest = next
-                .iter()
-                .chain(active.iter().map(|a| &a.capacity))
-                .fold(mean.max(f64::MIN_POSITIVE), |m, c| m.max(*c));
-            let slack = self.settings.settle * largest;
-            let change = next.iter().zip(&active).fold(0.0f64, |m, (c, a)| m.max((c - a.capacity).abs()));
-            let accelerate = self.settings.accelerate_rounds;
-            let unbinding = accelerate && {
-                let gauge = problem::friction_gauge(self.ctx.model, &selection.cols, &forces.x);
-                binds_nowhere(&active, &next, &gauge, slack)
-            };
+            let (settled, change) = self.round_change(&active, &next, &selection, &forces.x);
             let grew = self.bind(&active, &sol, &mut bound);
-            if (change <= slack || unbinding) && !grew {
+            if settled && !grew {
                 break Some((sol, false));
             }
-            let stalled = best.record(change / largest, &sol, self.settings.stall_rounds.unwrap_or(u32::MAX));
+            let stalled = best.record(change, &sol, self.settings.stall_rounds.unwrap_or(u32::MAX));
             if stalled || rounds >= self.settings.max_rounds {
                 self.stats.unsettled_steps += 1;
                 break Some((best.take(sol), false));
             }
-            let next = if !accelerate {
+            let next = if !self.settings.accelerate_rounds {
                 next
             } else if grew {
                 anderson.restart();
@@ -133,6 +120,24 @@ impl World {
             Some((sol, rest)) => self.accept(comp, &active, sol, rest),
             None => self.stats.failed_steps += 1,
         }
+    }
+
+    /// How far a round's capacities `next` moved from `active`'s, relative to the largest
+    /// capacity, and whether that has settled: within `settings.settle` of it, or (with
+    /// accelerated rounds) binding nowhere, by the selection's forces `x` of `selection`.
+    fn round_change(&self, active: &[Active], next: &[f64], selection: &StepProblem, x: &[f64]) -> (bool, f64) {
+        // Against the mean capacity per point at the least: capacities of ~0 that merely
+        // wobble have settled.
+        let mean = self.ctx.mu / active.len().max(1) as f64;
+        let largest =
+            next.iter().chain(active.iter().map(|a| &a.capacity)).fold(mean.max(f64::MIN_POSITIVE), |m, c| m.max(*c));
+        let slack = self.settings.settle * largest;
+        let change = next.iter().zip(active).fold(0.0f64, |m, (c, a)| m.max((c - a.capacity).abs()));
+        let unbinding = self.settings.accelerate_rounds && {
+            let gauge = problem::friction_gauge(self.ctx.model, &selection.cols, x);
+            binds_nowhere(active, next, &gauge, slack)
+        };
+        (change <= slack || unbinding, change / largest)
     }
 
     /// The force selection of round problem `p` solved at `first` ([`Selection`]), and the
