@@ -3,8 +3,9 @@
 //! worst interfaces; with a drop test, its verdict beside the statics' and whether they agree.
 
 use crate::dynamics::DropResult;
+use crate::model::Warning;
 use crate::pipeline::Analysis;
-use crate::statics::{FrictionModel, Verdict};
+use crate::statics::{FrictionModel, InterfaceResult, Verdict};
 
 /// Warnings printed in full; the JSON report lists them all.
 const SHOWN_WARNINGS: usize = 5;
@@ -64,6 +65,16 @@ pub fn summary(analysis: &Analysis, worst: usize) -> String {
             c.b
         );
     }
+    solver_lines(&mut o, analysis);
+    warning_lines(&mut o, &a.warnings);
+    worst_lines(&mut o, &s.interfaces, worst);
+    o
+}
+
+/// The solver's line, its messages and the pipeline's timings.
+fn solver_lines(o: &mut String, analysis: &Analysis) {
+    use std::fmt::Write;
+    let s = &analysis.statics;
     let _ = writeln!(
         o,
         "  solver: {} — {:?}, {} iterations, residual {:.2e} W",
@@ -85,14 +96,24 @@ pub fn summary(analysis: &Analysis, worst: usize) -> String {
         1e3 * t.solve,
         1e3 * t.total
     );
+}
+
+/// The assembly's first warnings and how many more the JSON report has.
+fn warning_lines(o: &mut String, warnings: &[Warning]) {
+    use std::fmt::Write;
     // Overlaps first (they can make the statics wrong), then unknown keys and repairs.
-    for w in a.warnings.iter().take(SHOWN_WARNINGS) {
+    for w in warnings.iter().take(SHOWN_WARNINGS) {
         let _ = writeln!(o, "  warning: {w}");
     }
-    if a.warnings.len() > SHOWN_WARNINGS {
-        let _ = writeln!(o, "  … {} more warning(s) in the JSON report", a.warnings.len() - SHOWN_WARNINGS);
+    if warnings.len() > SHOWN_WARNINGS {
+        let _ = writeln!(o, "  … {} more warning(s) in the JSON report", warnings.len() - SHOWN_WARNINGS);
     }
-    let mut ranked: Vec<_> = s.interfaces.iter().collect();
+}
+
+/// The `worst` interfaces, by tension, then friction excess, then friction use.
+fn worst_lines(o: &mut String, interfaces: &[InterfaceResult], worst: usize) {
+    use std::fmt::Write;
+    let mut ranked: Vec<_> = interfaces.iter().collect();
     ranked.sort_by(|x, y| {
         (y.tension, y.friction_excess, y.friction_utilization)
             .partial_cmp(&(x.tension, x.friction_excess, x.friction_utilization))
@@ -112,7 +133,6 @@ pub fn summary(analysis: &Analysis, worst: usize) -> String {
             );
         }
     }
-    o
 }
 
 /// The drop test beside the statics, with the disagreement flagged.
