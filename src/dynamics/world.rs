@@ -36,82 +36,26 @@ impl Simulation {
     /// ([`Self::step_supports`]).
     pub fn with_paths(assembly: &Assembly, settings: &DropSettings, paths: &[SupportPath]) -> Self {
         let mut world = PhysicsWorld::new();
-        let g = assembly.gravity;
-        world.gravity = v32(g);
+        world.gravity = v32(assembly.gravity);
         let unit = assembly.median_block_size().unwrap_or(1.0).max(1e-6);
-        let p = &mut world.integration_parameters;
-        p.dt = settings.dt as f32;
-        p.num_solver_iterations = settings.solver_iterations;
-        p.length_unit = unit as f32;
-        p.contact_softness.natural_frequency = settings.contact_frequency as f32;
-        p.contact_softness.damping_ratio = settings.contact_damping as f32;
-        p.static_contact_softness.natural_frequency = settings.contact_frequency as f32;
-        p.static_contact_softness.damping_ratio = settings.contact_damping as f32;
-        // Recycled contacts let touching wedges hinge (a standing arch drifts under any dt).
-        p.contact_recycling = false;
+        configure(&mut world.integration_parameters, settings, unit);
         let mu = settings.friction.unwrap_or(assembly.material.friction) as f32;
         let mut all = crate::geometry::Aabb3::empty();
         assembly.blocks.iter().for_each(|b| all.merge(&b.aabb));
         let c = all.center();
         let offset = Vector3::new(c.x, c.y, 0.0);
-        let mut bodies = Vec::with_capacity(assembly.blocks.len());
         let shapes = Colliders::new(assembly, settings, unit);
         let (max_volume_error, initial_overlap) = (shapes.max_volume_error, shapes.initial_overlap.clone());
-        for (b, builder) in assembly.blocks.iter().zip(shapes.builders) {
-            let centroid = b.mass.centroid;
-            let mass = b.mass() as f32;
-            let i = b.mass.inertia * b.density;
-            let inertia = Matrix::from_cols_array(&[
-                i[(0, 0)] as f32,
-                i[(1, 0)] as f32,
-                i[(2, 0)] as f32,
-                i[(0, 1)] as f32,
-                i[(1, 1)] as f32,
-                i[(2, 1)] as f32,
-                i[(0, 2)] as f32,
-                i[(1, 2)] as f32,
-                i[(2, 2)] as f32,
-            ]);
-            let collider = builder
-                .friction(mu)
-                .friction_combine_rule(CoefficientCombineRule::Min)
-                .restitution(0.0)
-                .restitution_combine_rule(CoefficientCombineRule::Min)
-                .contact_skin(0.0)
-                .active_hooks(ActiveHooks::MODIFY_SOLVER_CONTACTS)
-                .mass_properties(MassProperties::with_inertia_matrix(Vector::ZERO, mass, inertia));
-            let moved = paths.iter().any(|p| p.block == bodies.len());
-            let body = match (b.support, moved) {
-                (true, true) => RigidBodyBuilder::kinematic_position_based(),
-                (true, false) => RigidBodyBuilder::fixed(),
-                (false, _) => RigidBodyBuilder::dynamic(),
-            };
-            let mut body = body.translation(v32(centroid.coords - offset)).can_sleep(false);
-            if !b.support && settings.perturbation > 0.0 {
-                let speed = settings.perturbation * (g.norm() * b.aabb.diagonal()).sqrt();
-                body = body.linvel(Vector::new(speed as f32, 0.0, 0.0));
-            }
-            bodies.push(world.insert(body, collider).0);
-        }
-        // Dead loads (self-weight is the gravity): a constant world force and torque about the
-        // centroid — the small motions of a drop test do not turn a point load's arm.
-        for (i, &h) in bodies.iter().enumerate() {
-            let d = assembly.loads[i].dead;
-            if let Some(body) = world.bodies.get_mut(h).filter(|_| d != [0.0; 6]) {
-                body.add_force(v32(Vector3::new(d[0], d[1], d[2])), true);
-                body.add_torque(v32(Vector3::new(d[3], d[4], d[5])), true);
-            }
-        }
+        let bodies: Vec<RigidBodyHandle> = (assembly.blocks.iter().zip(shapes.builders).enumerate())
+            .map(|(i, (b, builder))| {
+                let moved = paths.iter().any(|p| p.block == i);
+                let (body, collider) = block_body(b, builder, mu, moved, offset, settings, assembly.gravity);
+                world.insert(body, collider).0
+            })
+            .collect();
+        apply_dead_loads(&mut world, assembly, &bodies);
         if assembly.ground {
-            let half = (10.0 * all.diagonal()).max(1.0) as f32;
-            let depth = (0.5 * unit) as f32;
-            let ground = RigidBodyBuilder::fixed().translation(Vector::new(0.0, 0.0, -depth));
-            let collider = ColliderBuilder::cuboid(half, half, depth)
-                .friction(mu)
-                .friction_combine_rule(CoefficientCombineRule::Min)
-                .restitution(0.0)
-                .contact_skin(0.0);
-            world.insert(ground, collider);
+            insert_ground(&mut world, (10.0 * all.diagonal()).max(1.0), unit, mu);
         }
         let start = bodies.iter().map(|&h| (world.bodies[h].translation(), *world.bodies[h].rotation())).collect();
         let deep = DeepContacts { depth: (settings.max_contact_depth * unit) as f32 };
@@ -204,4 +148,75 @@ impl PhysicsHooks for DeepContacts {
             m.solver_contacts.retain(|c| c.dist > -self.depth);
         }
     }
+}
+
+/// The step, solver iterations and contact softness of the settings; `unit` (m) is rapier's length unit.
+fn configure(p: &mut IntegrationParameters, settings: &DropSettings, unit: f64) {
+    p.dt = settings.dt as f32;
+    p.num_solver_iterations = settings.solver_iterations;
+    p.length_unit = unit as f32;
+    p.contact_softness.natural_frequency = settings.contact_frequency as f32;
+    p.contact_softness.damping_ratio = settings.contact_damping as f32;
+    p.static_contact_softness.natural_frequency = settings.contact_frequency as f32;
+    p.static_contact_softness.damping_ratio = settings.contact_damping as f32;
+    // Recycled contacts let touching wedges hinge (a standing arch drifts under any dt).
+    p.contact_recycling = false;
+}
+
+/// A block's body (fixed, kinematic when its path moves it, or dynamic, nudged by the
+/// settings' perturbation) and its collider with the block's mass and inertia about its centroid.
+fn block_body(
+    b: &crate::model::AssemblyBlock,
+    builder: ColliderBuilder,
+    mu: f32,
+    moved: bool,
+    offset: Vector3,
+    settings: &DropSettings,
+    g: Vector3,
+) -> (RigidBodyBuilder, ColliderBuilder) {
+    let i = b.mass.inertia * b.density;
+    let inertia = Matrix::from_cols_array(&std::array::from_fn(|k| i[(k % 3, k / 3)] as f32));
+    let collider = builder
+        .friction(mu)
+        .friction_combine_rule(CoefficientCombineRule::Min)
+        .restitution(0.0)
+        .restitution_combine_rule(CoefficientCombineRule::Min)
+        .contact_skin(0.0)
+        .active_hooks(ActiveHooks::MODIFY_SOLVER_CONTACTS)
+        .mass_properties(MassProperties::with_inertia_matrix(Vector::ZERO, b.mass() as f32, inertia));
+    let body = match (b.support, moved) {
+        (true, true) => RigidBodyBuilder::kinematic_position_based(),
+        (true, false) => RigidBodyBuilder::fixed(),
+        (false, _) => RigidBodyBuilder::dynamic(),
+    };
+    let mut body = body.translation(v32(b.mass.centroid.coords - offset)).can_sleep(false);
+    if !b.support && settings.perturbation > 0.0 {
+        let speed = settings.perturbation * (g.norm() * b.aabb.diagonal()).sqrt();
+        body = body.linvel(Vector::new(speed as f32, 0.0, 0.0));
+    }
+    (body, collider)
+}
+
+/// Dead loads (self-weight is the gravity): a constant world force and torque about the
+/// centroid — the small motions of a drop test do not turn a point load's arm.
+fn apply_dead_loads(world: &mut PhysicsWorld, assembly: &Assembly, bodies: &[RigidBodyHandle]) {
+    for (i, &h) in bodies.iter().enumerate() {
+        let d = assembly.loads[i].dead;
+        if let Some(body) = world.bodies.get_mut(h).filter(|_| d != [0.0; 6]) {
+            body.add_force(v32(Vector3::new(d[0], d[1], d[2])), true);
+            body.add_torque(v32(Vector3::new(d[3], d[4], d[5])), true);
+        }
+    }
+}
+
+/// A fixed ground slab `half` wide each way, its top at z = 0, half a block size deep.
+fn insert_ground(world: &mut PhysicsWorld, half: f64, unit: f64, mu: f32) {
+    let depth = (0.5 * unit) as f32;
+    let ground = RigidBodyBuilder::fixed().translation(Vector::new(0.0, 0.0, -depth));
+    let collider = ColliderBuilder::cuboid(half as f32, half as f32, depth)
+        .friction(mu)
+        .friction_combine_rule(CoefficientCombineRule::Min)
+        .restitution(0.0)
+        .contact_skin(0.0);
+    world.insert(ground, collider);
 }

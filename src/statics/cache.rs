@@ -88,6 +88,15 @@ pub(crate) fn component_key(
     h.finish()
 }
 
+/// What every component's key shares: the settings, μ and gravity.
+fn common_key(settings: &StaticsSettings, mu: f64, gravity: &crate::geometry::Vector3) -> u64 {
+    let mut h = std::collections::hash_map::DefaultHasher::new();
+    format!("{settings:?}").hash(&mut h);
+    mu.to_bits().hash(&mut h);
+    gravity.iter().for_each(|g| g.to_bits().hash(&mut h));
+    h.finish()
+}
+
 /// A component's layout: what fixes the rows and columns of its problems (not their numbers).
 fn layout_key(interfaces: &[Interface], comp: &Component, common: u64) -> u64 {
     let mut h = std::collections::hash_map::DefaultHasher::new();
@@ -125,70 +134,83 @@ pub fn solve_cached(
     if !settings.split_components && comps.len() > 1 {
         comps = vec![merged(comps)];
     }
-    let common = {
-        let mut h = std::collections::hash_map::DefaultHasher::new();
-        format!("{settings:?}").hash(&mut h);
-        mu.to_bits().hash(&mut h);
-        assembly.gravity.iter().for_each(|g| g.to_bits().hash(&mut h));
-        h.finish()
-    };
+    let common = common_key(settings, mu, &assembly.gravity);
     let keys: Vec<u64> = comps.iter().map(|c| component_key(assembly, interfaces, c, block_keys, common)).collect();
-    cache.runs += 1;
-    let mut outcomes: Vec<Option<ComponentOutcome>> =
-        keys.iter().map(|k| cache.map.get(k).map(|e| e.0.clone())).collect();
-    let missing: Vec<usize> = (0..comps.len()).filter(|&i| outcomes[i].is_none()).collect();
-    let to_solve: Vec<Component> = missing.iter().map(|&i| comps[i].clone()).collect();
-    let stats = SolveStats { solved: missing.len(), reused: comps.len() - missing.len() };
     let layouts: Vec<u64> = comps.iter().map(|c| layout_key(interfaces, c, common)).collect();
+    cache.runs += 1;
+    let cached: Vec<Option<ComponentOutcome>> = keys.iter().map(|k| cache.map.get(k).map(|e| e.0.clone())).collect();
+    let missing: Vec<usize> = (0..comps.len()).filter(|&i| cached[i].is_none()).collect();
+    let stats = SolveStats { solved: missing.len(), reused: comps.len() - missing.len() };
+    let to_solve: Vec<Component> = missing.iter().map(|&i| comps[i].clone()).collect();
     let warm: Vec<Option<&WarmStart>> = missing.iter().map(|&i| cache.warm.get(&layouts[i])).collect();
-    let solved = solve_components(assembly, interfaces, &to_solve, mu, settings, &warm);
-    let mut next_warm = HashMap::new();
-    let solved: Vec<ComponentOutcome> = solved
-        .into_iter()
-        .zip(&missing)
-        .map(|((out, kept), &i)| {
-            if let Some(kept) = kept {
-                next_warm.insert(layouts[i], kept);
-            }
-            out
-        })
-        .collect();
-    // A reused component keeps the iterates its last solve kept.
-    let mut reused = vec![true; comps.len()];
+    let (solved, kept): (Vec<_>, Vec<_>) =
+        solve_components(assembly, interfaces, &to_solve, mu, settings, &warm).into_iter().unzip();
+    cache.warm = next_warm_starts(std::mem::take(&mut cache.warm), &layouts, &missing, kept);
+    let (outcomes, used) = merge_outcomes(&comps, &keys, cached, solved);
+    cache.store(used);
+    Ok((result::collect(assembly, interfaces, &comps, outcomes, mu, settings), stats))
+}
+
+/// The iterates to keep for the next run, by layout: those this run's solves kept, and a
+/// reused component's own from the last run.
+fn next_warm_starts(
+    mut last: HashMap<u64, WarmStart>,
+    layouts: &[u64],
+    missing: &[usize],
+    kept: Vec<Option<WarmStart>>,
+) -> HashMap<u64, WarmStart> {
+    let mut next = HashMap::new();
+    for (&i, kept) in missing.iter().zip(kept) {
+        if let Some(kept) = kept {
+            next.insert(layouts[i], kept);
+        }
+    }
+    let mut reused = vec![true; layouts.len()];
     missing.iter().for_each(|&i| reused[i] = false);
     for (i, layout) in layouts.iter().enumerate() {
         if reused[i]
-            && let Some(w) = cache.warm.remove(layout)
+            && let Some(w) = last.remove(layout)
         {
-            next_warm.entry(*layout).or_insert(w);
+            next.entry(*layout).or_insert(w);
         }
     }
-    cache.warm = next_warm;
+    next
+}
+
+/// Every component's outcome in this run's interface indices, and the entries to store by key
+/// (the force points' interfaces local to their component).
+fn merge_outcomes(
+    comps: &[Component],
+    keys: &[u64],
+    cached: Vec<Option<ComponentOutcome>>,
+    solved: Vec<ComponentOutcome>,
+) -> (Vec<ComponentOutcome>, HashMap<u64, ComponentOutcome>) {
     let mut solved = solved.into_iter();
-    let mut next = HashMap::new();
-    for (i, slot) in outcomes.iter_mut().enumerate() {
-        let local = &comps[i].interfaces;
-        let out = match slot.take() {
-            Some(mut out) => {
-                // Reused: no work this run; points back to this run's interface indices.
-                next.insert(keys[i], out.clone());
-                out.points.iter_mut().for_each(|p| p.interface = local[p.interface]);
-                (out.assemble_seconds, out.solver_seconds, out.iterations) = (0.0, 0.0, 0);
-                out
-            }
-            None => {
-                let out = solved.next().expect("one outcome per solved component");
-                let mut stored = out.clone();
-                for p in &mut stored.points {
-                    p.interface = local.binary_search(&p.interface).expect("a point of the component");
+    let mut used = HashMap::new();
+    let outcomes = cached
+        .into_iter()
+        .enumerate()
+        .map(|(i, slot)| {
+            let local = &comps[i].interfaces;
+            match slot {
+                Some(mut out) => {
+                    // Reused: no work this run; points back to this run's interface indices.
+                    used.insert(keys[i], out.clone());
+                    out.points.iter_mut().for_each(|p| p.interface = local[p.interface]);
+                    (out.assemble_seconds, out.solver_seconds, out.iterations) = (0.0, 0.0, 0);
+                    out
                 }
-                next.insert(keys[i], stored);
-                out
+                None => {
+                    let out = solved.next().expect("one outcome per solved component");
+                    let mut stored = out.clone();
+                    for p in &mut stored.points {
+                        p.interface = local.binary_search(&p.interface).expect("a point of the component");
+                    }
+                    used.insert(keys[i], stored);
+                    out
+                }
             }
-        };
-        *slot = Some(out);
-    }
-    cache.store(next);
-    let outcomes = outcomes.into_iter().map(|o| o.expect("every component has an outcome")).collect();
-    Ok((result::collect(assembly, interfaces, &comps, outcomes, mu, settings), stats))
+        })
+        .collect();
+    (outcomes, used)
 }
