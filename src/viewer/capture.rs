@@ -82,18 +82,11 @@ struct Runner {
     failed: Option<String>,
 }
 
-#[allow(clippy::too_many_arguments)]
 fn run_script(
     mut commands: Commands,
     mut runner: ResMut<Runner>,
-    ready: Res<PipelinesReady>,
     mut state: ResMut<ViewerState>,
-    pipeline: Res<PipelineState>,
-    drop: Res<DropStatus>,
-    settle: Res<SettleStatus>,
-    sequence: Res<SequenceStatus>,
-    repair: Res<RepairStatus>,
-    coloured: Query<(), With<InterfaceColors>>,
+    busy: Busy,
     mut actions: MessageWriter<ViewerAction>,
     mut edits: MessageWriter<EditDesign>,
     mut exit: MessageWriter<AppExit>,
@@ -110,29 +103,74 @@ fn run_script(
     if runner.in_flight {
         return;
     }
-    if runner.settling {
-        let busy = pipeline.dirty
-            || drop.running()
+    if runner.settling && !settled(&mut runner, busy.any(&state), busy.compiled()) {
+        return;
+    }
+    if next_steps(&mut runner, &mut commands, &mut state, &mut actions, &mut edits) {
+        finish(&runner, &mut exit);
+    }
+}
+
+/// What a `Settle` step waits for: the pipeline and every job at rest, what they spawned
+/// drawn, and every render pipeline compiled.
+#[derive(bevy::ecs::system::SystemParam)]
+struct Busy<'w, 's> {
+    ready: Res<'w, PipelinesReady>,
+    pipeline: Res<'w, PipelineState>,
+    drop: Res<'w, DropStatus>,
+    settle: Res<'w, SettleStatus>,
+    sequence: Res<'w, SequenceStatus>,
+    repair: Res<'w, RepairStatus>,
+    coloured: Query<'w, 's, (), With<InterfaceColors>>,
+}
+
+impl Busy<'_, '_> {
+    fn compiled(&self) -> bool {
+        self.ready.0.load(Ordering::Relaxed)
+    }
+
+    fn any(&self, state: &ViewerState) -> bool {
+        let (pipeline, settle, sequence) = (&self.pipeline, &self.settle, &self.sequence);
+        pipeline.dirty
+            || self.drop.running()
             || settle.running()
             || (state.settle_view && settle.result.is_some() && !settle.played())
-            || repair.running()
-            || repair.animating()
+            || self.repair.running()
+            || self.repair.animating()
             || (state.sequence_view && sequence.error.is_none() && sequence.analysis.is_none())
-            || (pipeline.analysis.as_ref().is_some_and(|a| !a.statics.interfaces.is_empty()) && coloured.is_empty());
-        if busy {
-            return;
-        }
-        // Consecutive frames with every pipeline compiled: what was spawned is on screen.
-        if !ready.0.load(Ordering::Relaxed) {
-            runner.wait = runner.settle;
-            return;
-        }
-        if runner.wait > 0 {
-            runner.wait -= 1;
-            return;
-        }
-        runner.settling = false;
+            || (pipeline.analysis.as_ref().is_some_and(|a| !a.statics.interfaces.is_empty())
+                && self.coloured.is_empty())
     }
+}
+
+/// Whether a `Settle` step is over: its frames counted with nothing busy, again from the start
+/// while a pipeline still compiles (consecutive frames with every pipeline compiled: what was
+/// spawned is on screen).
+fn settled(runner: &mut Runner, busy: bool, compiled: bool) -> bool {
+    if busy {
+        return false;
+    }
+    if !compiled {
+        runner.wait = runner.settle;
+        return false;
+    }
+    if runner.wait > 0 {
+        runner.wait -= 1;
+        return false;
+    }
+    runner.settling = false;
+    true
+}
+
+/// Sends the script's steps up to the next one that waits (a settle or a shot); true when the
+/// script has ended.
+fn next_steps(
+    runner: &mut Runner,
+    commands: &mut Commands,
+    state: &mut ViewerState,
+    actions: &mut MessageWriter<ViewerAction>,
+    edits: &mut MessageWriter<EditDesign>,
+) -> bool {
     while let Some(step) = runner.script.steps.get(runner.next).cloned() {
         runner.next += 1;
         match step {
@@ -152,7 +190,7 @@ fn run_script(
                 // The requests just sent are applied later this frame: look from the next one.
                 runner.wait = frames;
                 runner.settle = frames;
-                return;
+                return false;
             }
             ScriptStep::Shot(path) => {
                 runner.in_flight = true;
@@ -165,10 +203,15 @@ fn run_script(
                         }
                     },
                 );
-                return;
+                return false;
             }
         }
     }
+    true
+}
+
+/// The script has ended: its report written (when it asks for one), and the app's exit.
+fn finish(runner: &Runner, exit: &mut MessageWriter<AppExit>) {
     if let Some(report) = &runner.script.report {
         let text = serde_json::to_string_pretty(&json!({ "shots": runner.shots })).expect("plain JSON");
         if let Err(e) = crate::io::write_atomic(report, text.as_bytes()) {
