@@ -3,9 +3,10 @@
 
 use super::options::{DropOptions, LoadOptions, SceneOptions, SolverOptions};
 use super::{BadInput, load, refuse_overwrite, scene_name, write_output};
+use crate::dynamics::DropResult;
 use crate::io;
 use crate::model::LoadKind;
-use crate::pipeline::analyze;
+use crate::pipeline::{Analysis, analyze};
 use crate::report::{self, text as text_report};
 use clap::{Args, FromArgMatches};
 use std::path::PathBuf;
@@ -111,22 +112,7 @@ fn write_motion(
 }
 
 pub fn run(args: &AnalyzeArgs) -> Result<i32, BadInput> {
-    if let Some(out) = &args.compas_out {
-        refuse_overwrite(args.scene.as_deref(), out, "--compas-out")?;
-    }
-    for (out, option) in [(&args.frames, "--frames"), (&args.strip, "--strip")] {
-        if let Some(out) = out {
-            refuse_overwrite(args.scene.as_deref(), out, option)?;
-            if !args.dynamic {
-                return Err(BadInput(format!(
-                    "{option}: the motion is the drop test's (use `drop` or `analyze --dynamic`)"
-                )));
-            }
-        }
-    }
-    if let Some(out) = &args.json {
-        refuse_overwrite(args.scene.as_deref(), out, "--json")?;
-    }
+    check_outputs(args)?;
     let mut scene = load(args.scene.as_deref())?;
     let settings = args.solver.settings();
     args.scene_options.apply(&mut scene, &settings)?;
@@ -138,21 +124,7 @@ pub fn run(args: &AnalyzeArgs) -> Result<i32, BadInput> {
     if live > 0 {
         println!("  {live} live load(s) not applied: `voussoir robustness` gives their load factor");
     }
-    let dynamic = if args.dynamic {
-        let settings = args.drop.settings(args.solver.mu, args.solver.friction_model, args.solver.solver);
-        let d = if args.frames.is_some() || args.strip.is_some() {
-            let (d, motion) = crate::dynamics::record(&analysis.assembly, &settings, FRAMES_PER_SECOND)
-                .map_err(|e| BadInput(e.to_string()))?;
-            write_motion(args, &analysis.assembly, &motion)?;
-            d
-        } else {
-            crate::dynamics::drop_test(&analysis.assembly, &settings).map_err(|e| BadInput(e.to_string()))?
-        };
-        print!("{}", text_report::side_by_side(&analysis, &d));
-        Some(d)
-    } else {
-        None
-    };
+    let dynamic = if args.dynamic { Some(drop_test(args, &analysis)?) } else { None };
     let kinematic = if args.kinematic {
         let k = crate::stability::kinematic::check(&analysis, &settings.statics, &Default::default())
             .map_err(|e| BadInput(e.to_string()))?;
@@ -170,12 +142,7 @@ pub fn run(args: &AnalyzeArgs) -> Result<i32, BadInput> {
         None
     };
     if let Some(out) = &args.compas_out {
-        let format = args.compas_format.unwrap_or_else(|| CompasFormat::of_input(args.scene.as_deref()));
-        let text = match format {
-            CompasFormat::Assembly => report::compas::assembly_json(&analysis),
-            CompasFormat::BlockModel => report::compas::block_model_json(&analysis),
-        };
-        write_output(out, text.as_bytes())?;
+        write_compas(args, &analysis, out)?;
     }
     if let Some(out) = &args.json {
         let extras = report::json::Extras {
@@ -191,4 +158,53 @@ pub fn run(args: &AnalyzeArgs) -> Result<i32, BadInput> {
         && dynamic.as_ref().is_none_or(|d| d.stands)
         && kinematic.as_ref().is_none_or(|k| k.verdict == crate::stability::kinematic::KinematicVerdict::Stands);
     Ok(if stands { 0 } else { 1 })
+}
+
+/// The outputs asked for, before any work: none overwrites the input, and the motion's files
+/// come with the drop test.
+fn check_outputs(args: &AnalyzeArgs) -> Result<(), BadInput> {
+    if let Some(out) = &args.compas_out {
+        refuse_overwrite(args.scene.as_deref(), out, "--compas-out")?;
+    }
+    for (out, option) in [(&args.frames, "--frames"), (&args.strip, "--strip")] {
+        if let Some(out) = out {
+            refuse_overwrite(args.scene.as_deref(), out, option)?;
+            if !args.dynamic {
+                return Err(BadInput(format!(
+                    "{option}: the motion is the drop test's (use `drop` or `analyze --dynamic`)"
+                )));
+            }
+        }
+    }
+    if let Some(out) = &args.json {
+        refuse_overwrite(args.scene.as_deref(), out, "--json")?;
+    }
+    Ok(())
+}
+
+/// The drop test beside the statics (`--dynamic`), printed, with its motion written when
+/// `--frames` or `--strip` asks for it.
+fn drop_test(args: &AnalyzeArgs, analysis: &Analysis) -> Result<DropResult, BadInput> {
+    let settings = args.drop.settings(args.solver.mu, args.solver.friction_model, args.solver.solver);
+    let d = if args.frames.is_some() || args.strip.is_some() {
+        let (d, motion) = crate::dynamics::record(&analysis.assembly, &settings, FRAMES_PER_SECOND)
+            .map_err(|e| BadInput(e.to_string()))?;
+        write_motion(args, &analysis.assembly, &motion)?;
+        d
+    } else {
+        crate::dynamics::drop_test(&analysis.assembly, &settings).map_err(|e| BadInput(e.to_string()))?
+    };
+    print!("{}", text_report::side_by_side(analysis, &d));
+    Ok(d)
+}
+
+/// The design in COMPAS's form (`--compas-out`): the input's own format unless
+/// `--compas-format` names one.
+fn write_compas(args: &AnalyzeArgs, analysis: &Analysis, out: &std::path::Path) -> Result<(), BadInput> {
+    let format = args.compas_format.unwrap_or_else(|| CompasFormat::of_input(args.scene.as_deref()));
+    let text = match format {
+        CompasFormat::Assembly => report::compas::assembly_json(analysis),
+        CompasFormat::BlockModel => report::compas::block_model_json(analysis),
+    };
+    write_output(out, text.as_bytes())
 }
