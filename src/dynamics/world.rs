@@ -209,7 +209,7 @@ fn apply_dead_loads(world: &mut PhysicsWorld, assembly: &Assembly, bodies: &[Rig
     }
 }
 
-/// A fixed ground slab `half` wide each way, its top at z = 0, half a block size deep.
+/// A fixed ground slab, `half` out each way and a block size thick, its top at z = 0.
 fn insert_ground(world: &mut PhysicsWorld, half: f64, unit: f64, mu: f32) {
     let depth = (0.5 * unit) as f32;
     let ground = RigidBodyBuilder::fixed().translation(Vector::new(0.0, 0.0, -depth));
