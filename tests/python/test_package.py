@@ -614,12 +614,16 @@ def test_package_docstring_examples_run():
 
 
 def test_readme_python_example_runs(monkeypatch):
+    """Every ```pycon block of the README and of the guide (docs/guide/*.md) runs as a doctest."""
     monkeypatch.chdir(ROOT)  # the example's paths are the checkout's
     text = (ROOT / "README.md").read_text()
     blocks = re.findall(r"```pycon\n(.*?)```", text, flags=re.S)
     assert blocks, "the README has no ```pycon example"
     parser, runner = doctest.DocTestParser(), doctest.DocTestRunner(verbose=False)
-    for k, block in enumerate(blocks):
-        test = parser.get_doctest(block, {"__file__": str(ROOT / "README.md")}, f"README[{k}]", "README.md", 0)
-        runner.run(test)
+    for path in [ROOT / "README.md", *sorted((ROOT / "docs" / "guide").glob("*.md"))]:
+        name = str(path.relative_to(ROOT))
+        blocks = re.findall(r"```pycon\n(.*?)```", path.read_text(), flags=re.S)
+        for k, block in enumerate(blocks):
+            test = parser.get_doctest(block, {"__file__": str(path)}, f"{name}[{k}]", name, 0)
+            runner.run(test)
     assert runner.failures == 0 and runner.tries > 0
