@@ -124,9 +124,15 @@ pub struct ExactSettings {
     pub solver_tolerance: f64,
     /// Interior-point iterations allowed per solve.
     pub max_iterations: u32,
-    /// A penetration is pushed out within one step, but no faster than this fraction of
-    /// √(g × block size) (Chrono's clamped recovery speed): no energy out of overlap.
-    pub recovery_speed: f64,
+    /// An overlap deeper than this fraction of the smaller block's size at the end of a step is
+    /// projected out: the blocks moved apart by the least mass-weighted displacement, their
+    /// velocities untouched (no energy out of overlap; the loads' work on the correction is
+    /// accounted apart). Shallower overlaps only stop closing (Signorini at velocity level).
+    pub projection: f64,
+    /// Split a step at the instant a contact open at its start closes (estimated from the gap
+    /// and its closing speed), so the impact acts at its time, not at a step's end: impacts
+    /// second order in dt.
+    pub split_impacts: bool,
     /// Vertices within this fraction of the median block size of the ground, or reaching it
     /// within two steps, are ground contacts of the step.
     pub envelope: f64,
@@ -163,8 +169,9 @@ impl Default for ExactSettings {
             // The kinematic check's: its first step is that check's rate problem.
             solver_tolerance: 1e-10,
             max_iterations: 200,
-            // Far above a hinge's O(dt² ω² r) overlap per step, far below a falling block's speed.
-            recovery_speed: 0.1,
+            // Far above a hinge's O(dt² ω² r) drift per step, far below the landing test's 1e-3.
+            projection: 1e-4,
+            split_impacts: true,
             envelope: 0.02,
             warm_start: true,
             accelerate_rounds: true,
@@ -181,7 +188,7 @@ impl ExactSettings {
             ("exact.settle", self.settle),
             ("exact.still", self.still),
             ("exact.solver_tolerance", self.solver_tolerance),
-            ("exact.recovery_speed", self.recovery_speed),
+            ("exact.projection", self.projection),
             ("exact.envelope", self.envelope),
         ] {
             if !(value > 0.0 && value.is_finite()) {

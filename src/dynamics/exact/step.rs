@@ -244,7 +244,7 @@ impl World {
                 let c = &self.contacts[a.contact];
                 let g = &a.geometry;
                 let relative = velocity(c.b, &g.point) - velocity(c.a, &g.point) + a.prescribed;
-                g.gap > OPEN * self.size && (g.gap / h).max(-recovery) + relative.dot(&g.frame[0]) > tol
+                g.gap > OPEN * c.scale && (g.gap / h).max(-recovery) + relative.dot(&g.frame[0]) > tol
             })
             .collect()
     }
@@ -296,18 +296,24 @@ impl World {
         for c in self.contacts.iter_mut().filter(|c| comp.iter().any(|&k| c.touches(k))) {
             c.last_normal = 0.0;
         }
+        let mut contact_work = 0.0;
         for ((a, &n), impulse) in active.iter().zip(&sol.normal).zip(&sol.impulses) {
             let c = &self.contacts[a.contact];
             let poses = super::contacts::Poses { bodies: &self.bodies, movers: &self.movers };
             let relative = c.relative_velocity(poses, &a.geometry.point);
-            self.stats.energy.contact -= impulse.dot(&relative);
+            contact_work -= impulse.dot(&relative);
             self.stats.energy.support_work -= impulse.dot(&a.prescribed);
-            self.add_reaction(c.a, c.b, impulse, &a.geometry.point);
+            let (sides, scale) = ((c.a, c.b), c.scale);
+            self.add_reaction(sides.0, sides.1, impulse, &a.geometry.point);
             if n > 0.0 {
-                self.stats.max_penetration = self.stats.max_penetration.max(-a.geometry.gap / self.size);
+                self.stats.max_penetration = self.stats.max_penetration.max(-a.geometry.gap / scale);
+                self.deepest = self.deepest.max(-a.geometry.gap);
             }
             self.contacts[a.contact].last_normal = n * self.ctx.units.force;
         }
+        let e = &mut self.stats.energy;
+        e.contact += contact_work;
+        e.least_step_contact = e.least_step_contact.min(contact_work);
         self.stats.residual = self.stats.residual.max(sol.residual);
     }
 }

@@ -6,10 +6,11 @@
 //! lands on a face, a voussoir that falls onto another, or a block that slid off its joint and
 //! hits its neighbour is a contact of the step in which it closes, and is released when it opens.
 //!
-//! Only a pair one of whose blocks has moved by more than the envelope since the start is
-//! queried: at the start every contact is an interface's (the statics' force points), so the
-//! first step stays the kinematic check's rate problem, and edges that merely touch in the
-//! design (a stack bond's diagonal neighbours) carry nothing until the blocks move.
+//! Only a pair one of whose blocks has moved by more than the envelope since the start, or is
+//! held by no interface at all (a block set on its edge, or above its support), is queried: at
+//! the start every contact of a block that has interfaces is an interface's (the statics' force
+//! points), so the first step stays the kinematic check's rate problem, and edges that merely
+//! touch in the design (a stack bond's diagonal neighbours) carry nothing until the blocks move.
 //!
 //! Shapes are given to parry (f32) relative to each block's centroid in units of the median
 //! block size, and the pair's relative pose is formed in f64 first: a contact point is exact to
@@ -62,6 +63,11 @@ impl Solids {
         })
     }
 
+    /// Block `i`'s size, m: its bounding-box diagonal.
+    pub fn size(&self, i: usize) -> f64 {
+        self.blocks[i].aabb.diagonal().max(f64::MIN_POSITIVE)
+    }
+
     /// Every block's centroid at the start, in block order.
     pub fn starts(&self) -> impl Iterator<Item = Point3> + '_ {
         self.centres.iter().map(|c| c.0)
@@ -101,13 +107,13 @@ impl World {
         let a = block(c.a).unwrap_or(if b == i { j } else { i });
         let pa = self.placed(a);
         let pb = c.point_b(poses);
-        self.solids.contains(a, &pa.x, &pa.q, &pb, 0.5 * self.settings.envelope * self.size)
+        self.solids.contains(a, &pa.x, &pa.q, &pb, 0.5 * self.settings.envelope * c.scale)
     }
 
     /// Drops the last step's touches and finds this step's (module docs).
     pub(super) fn find_touches(&mut self) {
         self.contacts.truncate(self.persistent);
-        let envelope = self.settings.envelope * self.size;
+        let envelope = self.settings.envelope;
         let candidates = self.touch_candidates(envelope);
         if candidates.is_empty() {
             return;
@@ -116,7 +122,8 @@ impl World {
         let mut found = Vec::new();
         for &[i, j] in candidates.difference(&held) {
             let (pi, pj) = (self.placed(i), self.placed(j));
-            let prediction = envelope + 2.0 * self.ctx.h * (pi.speed + pj.speed);
+            let scale = self.solids.size(i).min(self.solids.size(j));
+            let prediction = envelope * scale + 2.0 * self.ctx.h * (pi.speed + pj.speed);
             let (ri, rj) = (self.solids.centres[i].1, self.solids.centres[j].1);
             if (pj.x - pi.x).norm() > ri + rj + prediction {
                 continue;
@@ -127,9 +134,15 @@ impl World {
     }
 
     /// The pairs of blocks (ascending) one of which is awake and has moved by more than
-    /// `envelope` since the start, the other any block.
+    /// `envelope` of its own size since the start, the other any block.
     fn touch_candidates(&self, envelope: f64) -> BTreeSet<[usize; 2]> {
-        let moved = |b: &super::Body| (b.x - b.start).norm() + b.q.angle() * b.radius > envelope;
+        // A block held by no interface at the start (set on an edge, or above its support) may
+        // meet any block from the first step.
+        let held: BTreeSet<usize> = self.contacts[..self.persistent].iter().filter_map(|c| c.pair).flatten().collect();
+        let moved = |b: &super::Body| {
+            !held.contains(&b.block)
+                || (b.x - b.start).norm() + b.q.angle() * b.radius > envelope * self.solids.size(b.block)
+        };
         let mut pairs = BTreeSet::new();
         let movers = self.bodies.iter().filter(|b| !b.asleep).chain(&self.movers);
         for b in movers.filter(|b| moved(b)) {
@@ -189,6 +202,7 @@ impl World {
                         rb: ob + on_b,
                         frame: point.frame,
                         reach: f64::INFINITY,
+                        scale: self.solids.size(i).min(self.solids.size(j)),
                         last_normal: 0.0,
                     });
                 }
