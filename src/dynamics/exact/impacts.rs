@@ -122,9 +122,12 @@ impl World {
             (b.v, b.w) = ((v + v0) * 0.5, (w + w0) * 0.5);
             // The account booked h × the loads' power at the step's end velocities.
             let beyond = h * (load_power(&b.load, &b.v, &b.w) - load_power(&b.load, &v, &w));
+            let before = 0.5 * w.dot(&(b.inertia_now() * w));
             let screw = b.advance(h);
             (b.v, b.w) = (v, w);
             self.stats.energy.correction += beyond + load_power(&b.load, &screw, &Vector3::zeros());
+            // Turned about the mean spin, not the spin now: its kinetic energy moved with it.
+            self.stats.energy.retiming += 0.5 * w.dot(&(b.inertia_now() * w)) - before;
         }
     }
 

@@ -102,8 +102,9 @@ pub struct EnergyBalance {
     /// by a kick (a screw's turn, a split step's halves) (J; not part of the balance: these move
     /// blocks without changing their velocities).
     pub correction: f64,
-    /// Kinetic energy changed by timing a split step's velocities to its start (J; in the
-    /// balance, with its sign).
+    /// Kinetic energy changed without a force: by timing a split step's velocities to its
+    /// start, and by turning a block other than about its spin (a split step's mean spin, an
+    /// overlap's projection) (J; in the balance, with its sign).
     pub retiming: f64,
     /// |load_work + support_work + retiming − kinetic − contact − impact| relative to max(load_work, the free weight × the median block size × 1e-6).
     pub error: f64,
@@ -206,7 +207,7 @@ impl World {
         let strength = settings.strength.or(assembly.material.strength);
         let contacts = contacts::build(assembly, &interfaces, &sides, Poses { bodies: &bodies, movers: &movers });
         let size = assembly.median_block_size().unwrap_or(1.0).max(f64::MIN_POSITIVE);
-        let solids = touches::Solids::new(&assembly.blocks, size);
+        let solids = touches::Solids::new(&assembly.blocks);
         let weight: f64 = bodies.iter().map(|b| b.mass * g).sum();
         let units = Units { length: assembly.scale.max(f64::MIN_POSITIVE), force: weight.max(f64::MIN_POSITIVE), g };
         let ctx = StepContext {

@@ -230,6 +230,9 @@ pub(super) struct Solution {
     /// Per active contact: the normal force, non-dimensional, and the impulse on b, N·s.
     pub normal: Vec<f64>,
     pub impulses: Vec<Vector3>,
+    /// Per active contact, the impulse on b that made `velocities`, N·s: `impulses` but where a
+    /// force selection picked them (its forces keep the velocities only to its pin).
+    pub work: Vec<Vector3>,
     /// ‖G f − S r + M v/dt + w‖_∞ of the solve, N.
     pub residual: f64,
 }
@@ -299,7 +302,7 @@ impl StepProblem {
             })
             .collect();
         let normal: Vec<f64> = self.cols.normal.iter().map(|&c| x[c]).collect();
-        let impulses = active
+        let impulses: Vec<Vector3> = active
             .iter()
             .enumerate()
             .map(|(i, a)| {
@@ -314,6 +317,6 @@ impl StepProblem {
             rows[row] += v * x[col];
         }
         let residual = rows.iter().zip(&self.conic.b).fold(0.0f64, |m, (r, b)| m.max((r - b).abs())) * u.force;
-        Solution { velocities, normal, impulses, residual }
+        Solution { velocities, normal, work: impulses.clone(), impulses, residual }
     }
 }

@@ -76,9 +76,12 @@ impl World {
             self.stats.energy.correction +=
                 unit * (l[0] * dx.x + l[1] * dx.y + l[2] * dx.z + l[3] * dq.x + l[4] * dq.y + l[5] * dq.z);
             let (v, w) = (b.v, b.w);
+            let before = b.kinetic_energy();
             (b.v, b.w) = (dx, dq);
             let beyond = b.advance(unit);
             (b.v, b.w) = (v, w);
+            // A turned block's spin keeps its world vector: its kinetic energy moves with it.
+            self.stats.energy.retiming += b.kinetic_energy() - before;
             self.stats.energy.correction += l_dot(&b.load, &beyond);
         }
     }

@@ -92,7 +92,9 @@ impl World {
                 break Some((best.take(sol), false));
             };
             let selected = selection.read(&sel_ctx, &self.bodies, comp, &active, &forces.x);
-            let sol = Solution { velocities: sol.velocities, ..selected };
+            // The round's velocities and the work of the forces that made them; the selection's
+            // forces for the next capacities and the reactions.
+            let sol = Solution { velocities: sol.velocities, work: sol.work, ..selected };
             let next = capacities(&sol.normal, mu, self.settings.solver_tolerance);
             let (settled, change) = self.round_change(&active, &next, &selection, &forces.x);
             let grew = self.bind(&active, &sol, &mut bound);
@@ -264,7 +266,7 @@ impl World {
                 (b.v + Vector3::new(b.load[0], b.load[1], b.load[2]) * (h / b.mass), w)
             })
             .collect();
-        Solution { velocities, normal: Vec::new(), impulses: Vec::new(), residual: 0.0 }
+        Solution { velocities, normal: Vec::new(), impulses: Vec::new(), work: Vec::new(), residual: 0.0 }
     }
 
     /// The fastest vertex of the component after the step, m/s (bounded by |v| + |ω| r).
@@ -297,12 +299,12 @@ impl World {
             c.last_normal = 0.0;
         }
         let mut contact_work = 0.0;
-        for ((a, &n), impulse) in active.iter().zip(&sol.normal).zip(&sol.impulses) {
+        for (((a, &n), impulse), work) in active.iter().zip(&sol.normal).zip(&sol.impulses).zip(&sol.work) {
             let c = &self.contacts[a.contact];
             let poses = super::contacts::Poses { bodies: &self.bodies, movers: &self.movers };
             let relative = c.relative_velocity(poses, &a.geometry.point);
-            contact_work -= impulse.dot(&relative);
-            self.stats.energy.support_work -= impulse.dot(&a.prescribed);
+            contact_work -= work.dot(&relative);
+            self.stats.energy.support_work -= work.dot(&a.prescribed);
             let (sides, scale) = ((c.a, c.b), c.scale);
             self.add_reaction(sides.0, sides.1, impulse, &a.geometry.point);
             if n > 0.0 {

@@ -12,8 +12,8 @@
 //! points), so the first step stays the kinematic check's rate problem, and edges that merely
 //! touch in the design (a stack bond's diagonal neighbours) carry nothing until the blocks move.
 //!
-//! Shapes are given to parry (f32) relative to each block's centroid in units of the median
-//! block size, and the pair's relative pose is formed in f64 first: a contact point is exact to
+//! Shapes are given to parry (f32) relative to each block's centroid in units of the smallest
+//! block's size, and the pair's relative pose is formed in f64 first: a contact point is exact to
 //! ~1e-7 of a block whatever the model's size or distance from the origin.
 
 use super::World;
@@ -36,12 +36,17 @@ pub(super) struct Solids {
     /// Per block: its start centroid (m) and the farthest vertex from it (m).
     centres: Vec<(Point3, f64)>,
     parts: Vec<OnceLock<Arc<[SharedShape]>>>,
-    /// The shapes' length unit, m (the median block size).
+    /// The shapes' length unit, m (the smallest block's size).
     unit: f64,
 }
 
 impl Solids {
-    pub fn new(blocks: &[AssemblyBlock], unit: f64) -> Self {
+    /// The blocks' parts in units of the smallest block's size: parry's tolerances are
+    /// absolute in shape units, so a unit set by a large support would blur the small blocks'
+    /// contacts (a corner 0.3 mm above a 10 m slab reported inside it).
+    pub fn new(blocks: &[AssemblyBlock]) -> Self {
+        let unit = blocks.iter().map(|b| b.aabb.diagonal()).filter(|d| *d > 0.0).fold(f64::INFINITY, f64::min);
+        let unit = if unit.is_finite() { unit } else { 1.0 };
         let centres = blocks
             .iter()
             .map(|b| {
@@ -182,6 +187,7 @@ impl World {
         let t = v32(inv * (pj.x - pi.x) / unit);
         let rot = Rotation::from_xyzw(rot.i as f32, rot.j as f32, rot.k as f32, rot.w as f32).normalize();
         let pos12 = Pose::from_parts(t, rot);
+        let exact = RelativePose { rot: inv * pj.q, t: inv * (pj.x - pi.x) / unit };
         let (a, b) = (self.sides[i], self.sides[j]);
         // A fixed side's material point is the world point; a moving one's its offset.
         let anchor =
@@ -190,7 +196,8 @@ impl World {
         let reach = (prediction / unit) as f32;
         for (pa, part_a) in si.iter().enumerate() {
             for (pb, part_b) in sj.iter().enumerate() {
-                for (k, point) in part_touches(part_a, part_b, &pos12, reach).into_iter().enumerate() {
+                let poses = (&pos12, &exact);
+                for (k, point) in part_touches(part_a, part_b, poses, reach).into_iter().enumerate() {
                     // b's material point back in b's own frame, in f64.
                     let on_b = pj.q.inverse() * (pi.x + pi.q * (point.on_b * unit) - pj.x);
                     out.push(Contact {
@@ -232,7 +239,12 @@ const TOUCHING: f64 = 1e-5;
 /// The pair's normal serves where a vertex touches exactly. A contact manifold clipping two
 /// faces can miss the far end of an edge lying on a face (the end that then swings in), and
 /// one normal for the pair turns a vertex sliding off a corner into a deep overlap.
-fn part_touches(a: &SharedShape, b: &SharedShape, pos12: &Pose, reach: f32) -> Vec<PartPoint> {
+fn part_touches(
+    a: &SharedShape,
+    b: &SharedShape,
+    (pos12, exact): (&Pose, &RelativePose),
+    reach: f32,
+) -> Vec<PartPoint> {
     let Ok(Some(c)) = DefaultQueryDispatcher.contact(pos12, a.as_ref(), b.as_ref(), reach) else {
         return Vec::new();
     };
@@ -263,21 +275,19 @@ fn part_touches(a: &SharedShape, b: &SharedShape, pos12: &Pose, reach: f32) -> V
             out.push(p);
         }
     };
-    for w in vertices(b).into_iter().map(|w| pos12.transform_point(w)) {
-        let proj = a.project_local_point(w, false);
-        let (w, p) = (f64v(w), f64v(proj.point));
-        if (w - p).norm() <= reach as f64 || proj.is_inside {
+    for w in vertices(b).into_iter().map(|w| exact.to_a(f64v(w))) {
+        let (p, inside) = project(a, w);
+        if (w - p).norm() <= reach as f64 || inside {
             // b's vertex outside a: a → b is p → w; inside, the way out is w → p.
-            push(point(p, w, along(p, w, proj.is_inside)));
+            push(point(p, w, along(p, w, inside)));
         }
     }
-    let inv = pos12.inverse();
-    for v in vertices(a) {
-        let proj = b.project_local_point(inv.transform_point(v), false);
-        let (v, p) = (f64v(v), f64v(pos12.transform_point(proj.point)));
-        if (p - v).norm() <= reach as f64 || proj.is_inside {
+    for v in vertices(a).into_iter().map(f64v) {
+        let (p, inside) = project(b, exact.to_b(v));
+        let p = exact.to_a(p);
+        if (p - v).norm() <= reach as f64 || inside {
             // a's vertex outside b: a → b is v → p; inside, b leaves it along p → v.
-            push(point(v, p, along(v, p, proj.is_inside)));
+            push(point(v, p, along(v, p, inside)));
         }
     }
     if out.is_empty() {
@@ -285,3 +295,56 @@ fn part_touches(a: &SharedShape, b: &SharedShape, pos12: &Pose, reach: f32) -> V
     }
     out
 }
+
+/// Part b's pose in part a's frame in f64 (shape units): b's points map to a's by rot, then t.
+struct RelativePose {
+    rot: UnitQuaternion<f64>,
+    t: Vector3,
+}
+
+impl RelativePose {
+    fn to_a(&self, p: Vector3) -> Vector3 {
+        self.rot * p + self.t
+    }
+
+    fn to_b(&self, p: Vector3) -> Vector3 {
+        self.rot.inverse() * (p - self.t)
+    }
+}
+
+/// The nearest boundary point of convex part `part` to `p` (both in its frame, shape units) and
+/// whether `p` is inside, by the part's face planes in f64: exact inside the part (the nearest
+/// face plane's foot) and outside over a face (the foot lies on the part). Outside near an edge
+/// or a corner, parry's projection (GJK in f32, whose tolerance grows with the part's size: a
+/// point 1e-3 of a block outside a slab 50 blocks wide it can call inside).
+fn project(part: &SharedShape, p: Vector3) -> (Vector3, bool) {
+    let f64v = |v: Vector| Vector3::new(v.x as f64, v.y as f64, v.z as f64);
+    let parry = |p: Vector3| {
+        let proj = part.project_local_point(v32(p), false);
+        (f64v(proj.point), proj.is_inside)
+    };
+    let Some(poly) = part.as_convex_polyhedron() else { return parry(p) };
+    let (points, around) = (poly.points(), poly.vertices_adj_to_face());
+    let planes: Vec<(Vector3, f64)> = poly
+        .faces()
+        .iter()
+        .map(|f| {
+            let n = f64v(f.normal);
+            (n, n.dot(&f64v(points[around[f.first_vertex_or_edge as usize] as usize])))
+        })
+        .collect();
+    let Some(&(n, d)) = planes.iter().max_by(|x, y| (x.0.dot(&p) - x.1).total_cmp(&(y.0.dot(&p) - y.1))) else {
+        return parry(p);
+    };
+    let depth = n.dot(&p) - d;
+    let foot = p - n * depth;
+    if depth <= 0.0 {
+        return (foot, true);
+    }
+    let on_part = planes.iter().all(|(m, e)| m.dot(&foot) - e <= ON_PLANE);
+    if on_part { (foot, false) } else { (parry(p).0, false) }
+}
+
+/// How far outside a face plane (shape units) a face's foot point may lie and still be on the
+/// part (the planes' f32 round-off).
+const ON_PLANE: f64 = 1e-6;
