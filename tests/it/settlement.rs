@@ -136,6 +136,32 @@ fn bad_movements_are_one_clear_error_each() {
     assert_eq!(Movement::parse("left:1,2,3:0,0,5").unwrap().rotation, [0.0, 0.0, 5.0]);
 }
 
+/// Invariant: a path or a setting beyond its limit is one error naming the limit, before any
+/// run (a movement of -1e30 m once overflowed the engines' step count): a support moves at most
+/// 10 model sizes and turns at most 180°, a path has at most a million increments and halvings
+/// within a double's 52 bits, and the engines' run at most 1e7 steps.
+#[test]
+fn a_path_beyond_its_limits_is_one_clear_error() {
+    let analysis = run(&voussoir::model::builtin("arch?n=9&t=0.15").unwrap(), &AnalysisSettings::default());
+    let size = analysis.assembly.scale;
+    let go = |m: Movement, s: SettleSettings| settle(&analysis, &[m], &s).unwrap_err();
+    let mv = |t: [f64; 3], r: [f64; 3]| Movement { block: "springer_left".into(), translation: t, rotation: r };
+    let quasi = SettleSettings { engines: false, ..Default::default() };
+    for far in [-1e30, -1e12, -10.5 * size] {
+        let e = go(mv([far, 0.0, 0.0], [0.0; 3]), quasi.clone());
+        assert!(matches!(e, SettleError::TooFar { limit, .. } if (limit - 10.0 * size).abs() < 1e-12 * size), "{e}");
+    }
+    let e = go(mv([0.0; 3], [0.0, 190.0, 0.0]), quasi.clone());
+    assert!(matches!(e, SettleError::TooFar { limit: 180.0, .. }), "{e}");
+    let many = SettleSettings { increments: 1_000_001, ..quasi.clone() };
+    assert!(matches!(go(mv([-0.01, 0.0, 0.0], [0.0; 3]), many), SettleError::Setting(_)));
+    let halvings = SettleSettings { refine: 53, ..quasi.clone() };
+    assert!(matches!(go(mv([-0.01, 0.0, 0.0], [0.0; 3]), halvings), SettleError::Setting(_)));
+    let fine = SettleSettings { engines: true, dt: 1e-9, ..Default::default() };
+    let e = go(mv([-0.01, 0.0, 0.0], [0.0; 3]), fine);
+    assert!(matches!(e, SettleError::TooManySteps { steps, .. } if steps > 1e7), "{e}");
+}
+
 /// A lintel on two piers, the right one settling by d: the lintel turns about the left pier's
 /// inner edge and rests on the right pier by its end, tan θ = d / (distance from that edge to the
 /// end), and stands (μ 0.84 against a slope of 2.3°).
