@@ -26,7 +26,7 @@ pub enum Reached {
 /// The targets by name, as `fuzz/Cargo.toml` lists them (the replay test walks them; each
 /// fuzz binary runs one).
 #[allow(dead_code)]
-pub const TARGETS: [&str; 6] = ["scene_json", "compas", "obj", "stl", "mesh", "perturbed"];
+pub const TARGETS: [&str; 7] = ["scene_json", "compas", "obj", "stl", "mesh", "perturbed", "motion"];
 
 /// Runs the body of `target` on `data`.
 pub fn run(target: &str, data: &[u8]) -> Reached {
@@ -36,6 +36,7 @@ pub fn run(target: &str, data: &[u8]) -> Reached {
         "stl" => scene_file("fuzz.stl", data),
         "mesh" => mesh(data),
         "perturbed" => perturbed(data),
+        "motion" => motion(data),
         other => panic!("no fuzz target '{other}'"),
     }
 }
@@ -90,6 +91,64 @@ pub fn mesh(data: &[u8]) -> Reached {
             voussoir::interfaces::detect(&a);
             Reached::Detected
         }
+    }
+}
+
+/// A built-in design, then from the bytes either a support movement — any support or none by
+/// that name, translations and rotations from 0 to ±1e30, NaN and ∞, increments, halvings and
+/// the engines' dt at and beyond their limits — through `settle`'s checks and its quasi-static
+/// run, or a short drop test in either engine with dt, duration and an initial speed from
+/// sensible to absurd. A path or setting beyond its limits must be one error; one within them
+/// runs (bounded: at most 20 increments, 0.25 s of motion).
+pub fn motion(data: &[u8]) -> Reached {
+    use voussoir::dynamics::{DropSettings, Engine, drop_test};
+    use voussoir::model::Movement;
+    use voussoir::studies::settlement::{SettleSettings, settle};
+    let mut bytes = Bytes(data);
+    let scene = base_scene(bytes.byte());
+    let analysis = match analyze(&scene, &AnalysisSettings::default()) {
+        Err(e) => return Reached::Rejected(e.to_string()),
+        Ok(a) => a,
+    };
+    let size = analysis.assembly.scale;
+    let value = |bytes: &mut Bytes| {
+        let v = [0.0, 1e-6, 0.01, 0.05, 0.3, 20.0, 1e12, 1e30, f64::NAN, f64::INFINITY][usize::from(bytes.byte() % 10)];
+        if bytes.byte() % 2 == 0 { v * size } else { -v * size }
+    };
+    let outcome = if bytes.byte() % 2 == 0 {
+        let supports: Vec<String> =
+            analysis.assembly.blocks.iter().filter(|b| b.support).map(|b| b.name.clone()).collect();
+        let block = match bytes.byte() % 8 {
+            0 => "no such block".to_owned(),
+            _ => supports.get(bytes.index(supports.len())).cloned().unwrap_or_default(),
+        };
+        let translation = [value(&mut bytes), value(&mut bytes), value(&mut bytes)];
+        let rotation = [0.0, 0.0, [0.0, 5.0, 90.0, 200.0][usize::from(bytes.byte() % 4)]];
+        let settings = SettleSettings {
+            increments: [1, 5, 20, 0, 2_000_000][usize::from(bytes.byte() % 5)],
+            refine: [0, 3, 53][usize::from(bytes.byte() % 3)],
+            // The engines only where their dt is beyond the limit (one error, no run).
+            engines: bytes.byte() % 4 == 0,
+            dt: 1e-12,
+            ..Default::default()
+        };
+        let settings = if settings.engines { settings } else { SettleSettings { dt: 1.0 / 240.0, ..settings } };
+        settle(&analysis, &[Movement { block, translation, rotation }], &settings)
+            .map(|_| ())
+            .map_err(|e| e.to_string())
+    } else {
+        let settings = DropSettings {
+            engine: if bytes.byte() % 2 == 0 { Engine::Exact } else { Engine::Rapier },
+            dt: [1.0 / 240.0, 1.0 / 60.0, 0.0, -1.0, 1e-12, f64::NAN][usize::from(bytes.byte() % 6)],
+            duration: [0.05, 0.25, 0.0, 1e9, f64::INFINITY][usize::from(bytes.byte() % 5)],
+            perturbation: [0.0, 0.05, 0.5, -1.0, f64::NAN][usize::from(bytes.byte() % 5)],
+            ..Default::default()
+        };
+        drop_test(&analysis.assembly, &settings).map(|_| ()).map_err(|e| e.to_string())
+    };
+    match outcome {
+        Err(e) => Reached::Rejected(e),
+        Ok(()) => Reached::Assessed,
     }
 }
 
