@@ -85,6 +85,10 @@ pub struct DropOptions {
     /// no other block) or exact (its convex parts wherever the hull is larger).
     #[arg(long, value_parser = Choice::<ColliderForm>::new(), default_value_t = DropSettings::default().colliders)]
     pub colliders: ColliderForm,
+    /// Drop test: no floor under a design with supports and no ground (by default one block
+    /// size below its lowest point, so what falls lands and rests in view).
+    #[arg(long)]
+    pub no_floor: bool,
 }
 
 impl DropOptions {
@@ -100,6 +104,7 @@ impl DropOptions {
             dt: self.dt,
             friction,
             colliders: self.colliders,
+            floor: !self.no_floor,
             ..Default::default()
         }
     }

@@ -9,7 +9,7 @@
 //! parts along its face planes, V-HACD beyond 16). The volume error of either is reported.
 //! Solver contacts deeper than 1 % of the median block size are dropped (rapier's manifolds
 //! between many-sided hulls can carry points reported far too deep). Supports and the
-//! ground (a box under z = 0) are fixed. Restitution 0, sleeping off, friction μ combined with
+//! ground (a box under z = 0; with a floor, under [`floor_level`]) are fixed. Restitution 0, sleeping off, friction μ combined with
 //! an explicit rule, rapier's length unit set to the median block size (its slop and
 //! prediction distances are absolute otherwise). rapier computes in f32: coordinates are taken
 //! relative to the model's centre in x and y.
@@ -155,6 +155,23 @@ impl Stepper {
             Self::Exact(w) => w.kinetic_energy(i),
         }
     }
+}
+
+/// The height (m) of the plane z = const the blocks land on: the design's own ground (z = 0),
+/// or with [`DropSettings::floor`] and supports, one median block size below the lowest point
+/// of the design — under the supports, so that nothing touches it at the start (a free block
+/// standing on nothing beside a support must still fall), and close enough that a collapse
+/// lands at about the foundations' level; none without supports.
+pub fn floor_level(assembly: &Assembly, settings: &DropSettings) -> Option<f64> {
+    if assembly.ground {
+        return Some(0.0);
+    }
+    if !settings.floor || !assembly.blocks.iter().any(|b| b.support) {
+        return None;
+    }
+    let lowest = assembly.blocks.iter().map(|b| b.aabb.min.z).fold(f64::INFINITY, f64::min);
+    let size = assembly.median_block_size().unwrap_or(0.0);
+    Some(lowest - size).filter(|z| z.is_finite())
 }
 
 /// Runs the drop test of `assembly` (see the module docs).

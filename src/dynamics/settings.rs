@@ -230,6 +230,9 @@ pub struct DropSettings {
     /// Initial horizontal speed given to every free block (+x), as a fraction of √(g·size) of
     /// the block (0: no perturbation).
     pub perturbation: f64,
+    /// A floor to land on ([`crate::dynamics::floor_level`]) for a design with supports and no
+    /// ground of its own: what falls comes to rest in view instead of falling forever.
+    pub floor: bool,
     /// A block whose convex hull exceeds its volume by at most this fraction collides as its
     /// hull. Beyond it — a curved voussoir, a notched block — it still collides as its hull
     /// when the hull reaches into no other block (the excess is where nothing is); otherwise
@@ -271,6 +274,7 @@ impl Default for DropSettings {
             friction: None,
             strength: None,
             perturbation: 0.0,
+            floor: true,
             hull_tolerance: 0.02,
             colliders: ColliderForm::Fitted,
             // Below the depth that let the Armadillo burst, far above a standing stack's sinking.

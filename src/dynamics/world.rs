@@ -54,11 +54,10 @@ impl Simulation {
             })
             .collect();
         apply_dead_loads(&mut world, assembly, &bodies);
-        if assembly.ground {
-            insert_ground(&mut world, (10.0 * all.diagonal()).max(1.0), unit, mu);
-        }
+        let ground = super::floor_level(assembly, settings)
+            .map(|level| insert_ground(&mut world, (10.0 * all.diagonal()).max(1.0), unit, mu, level));
         let start = bodies.iter().map(|&h| (world.bodies[h].translation(), *world.bodies[h].rotation())).collect();
-        let deep = DeepContacts { depth: (settings.max_contact_depth * unit) as f32 };
+        let deep = DeepContacts { depth: (settings.max_contact_depth * unit) as f32, ground };
         let paths = paths.iter().map(|p| (*p, 0.0)).collect();
         Self { world, bodies, offset, start, max_volume_error, initial_overlap, deep, paths }
     }
@@ -140,10 +139,16 @@ impl Simulation {
 /// corrective impulses burst a vault open in the first step.
 struct DeepContacts {
     depth: f32,
+    /// The ground's collider: a block landing on it at speed overlaps it deeper than a joint's
+    /// spurious contacts, and must still meet it.
+    ground: Option<ColliderHandle>,
 }
 
 impl PhysicsHooks for DeepContacts {
     fn modify_solver_contacts(&self, context: &mut ContactModificationContext) {
+        if self.ground.is_some_and(|g| g == context.collider1 || g == context.collider2) {
+            return;
+        }
         if let Some(m) = context.rigid_mut() {
             m.solver_contacts.retain(|c| c.dist > -self.depth);
         }
@@ -210,13 +215,13 @@ fn apply_dead_loads(world: &mut PhysicsWorld, assembly: &Assembly, bodies: &[Rig
 }
 
 /// A fixed ground slab, `half` out each way and a block size thick, its top at z = 0.
-fn insert_ground(world: &mut PhysicsWorld, half: f64, unit: f64, mu: f32) {
+fn insert_ground(world: &mut PhysicsWorld, half: f64, unit: f64, mu: f32, level: f64) -> ColliderHandle {
     let depth = (0.5 * unit) as f32;
-    let ground = RigidBodyBuilder::fixed().translation(Vector::new(0.0, 0.0, -depth));
+    let ground = RigidBodyBuilder::fixed().translation(Vector::new(0.0, 0.0, level as f32 - depth));
     let collider = ColliderBuilder::cuboid(half as f32, half as f32, depth)
         .friction(mu)
         .friction_combine_rule(CoefficientCombineRule::Min)
         .restitution(0.0)
         .contact_skin(0.0);
-    world.insert(ground, collider);
+    world.insert(ground, collider).1
 }

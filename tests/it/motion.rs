@@ -233,3 +233,33 @@ proptest! {
         prop_assert!(e.error < 1e-6, "{e:?}");
     }
 }
+
+/// Invariant: a design with supports and no ground gets a floor one median block size below its
+/// lowest point: a thin arch (t/R 0.08) collapses onto it and is at rest within 3 s, no block
+/// below the floor by more than 1 % of a block; without the floor its voussoirs are still
+/// falling at the end, as they would for ever. Both engines land on it.
+#[test]
+fn a_collapse_lands_on_the_floor_under_the_supports() {
+    let scene = voussoir::model::builtin("arch?n=15&t=0.08").unwrap();
+    let asm = assembly(&scene);
+    let settings = exact(3.0);
+    let level = voussoir::dynamics::floor_level(&asm, &settings).expect("a floor under the supports");
+    let lowest = asm.blocks.iter().map(|b| b.aabb.min.z).fold(f64::INFINITY, f64::min);
+    let size = asm.median_block_size().unwrap();
+    assert!((level - (lowest - size)).abs() < 1e-12, "floor at {level}");
+    for engine in [Engine::Exact, Engine::Rapier] {
+        let mut run = DropRun::new(&asm, &DropSettings { engine, ..settings.clone() }).unwrap();
+        run.advance(run.total_steps());
+        let r = run.result();
+        assert!(!r.stands && r.at_rest, "{engine}: {r:?}");
+        for (i, block) in asm.blocks.iter().enumerate() {
+            let (x, q) = run.pose(i);
+            let q = nalgebra::UnitQuaternion::from_quaternion(nalgebra::Quaternion::new(q[0], q[1], q[2], q[3]));
+            let c = block.mass.centroid;
+            let bottom = block.mesh.vertices.iter().map(|p| (x + q * (p - c)).z).fold(f64::INFINITY, f64::min);
+            assert!(bottom > level - 0.01 * size, "{engine}: {} reaches {bottom} below the floor {level}", block.name);
+        }
+    }
+    let unfloored = drop_test(&asm, &DropSettings { floor: false, ..settings }).unwrap();
+    assert!(!unfloored.at_rest, "{unfloored:?}");
+}

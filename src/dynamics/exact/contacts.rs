@@ -8,8 +8,9 @@
 //!   interface's diameter the faces no longer overlap, and once the faces have turned more than
 //!   60° apart or overlap by more than a fifth of the median block size they are not these
 //!   faces' contact any more: the contact is released.
-//! - Ground contacts: every vertex of a free block against the plane z = 0 (when the scene has
-//!   a ground), so a block falling onto it lands.
+//! - Ground contacts: every vertex of a free block against the plane the blocks land on (the
+//!   scene's ground z = 0, or the floor under its supports: [`crate::dynamics::floor_level`]),
+//!   so a block falling onto it lands.
 
 use super::bodies::Body;
 use crate::geometry::{Point3, Vector3};
@@ -95,7 +96,13 @@ pub(super) struct Geometry {
 
 /// All contacts of a scene, in a fixed order: interfaces (detection's order, vertices in
 /// polygon order), then ground vertices by block and vertex.
-pub(super) fn build(assembly: &Assembly, interfaces: &[Interface], sides: &[Side], poses: Poses) -> Vec<Contact> {
+pub(super) fn build(
+    assembly: &Assembly,
+    interfaces: &[Interface],
+    sides: &[Side],
+    poses: Poses,
+    floor: Option<f64>,
+) -> Vec<Contact> {
     let bodies = poses.bodies;
     let side = |b: Side0| match b {
         Side0::Block(id) => sides[id.0],
@@ -133,7 +140,7 @@ pub(super) fn build(assembly: &Assembly, interfaces: &[Interface], sides: &[Side
             });
         }
     }
-    if assembly.ground {
+    if let Some(level) = floor {
         for (k, body) in bodies.iter().enumerate() {
             for (vertex, p) in assembly.blocks[body.block].mesh.vertices.iter().enumerate() {
                 out.push(Contact {
@@ -141,7 +148,7 @@ pub(super) fn build(assembly: &Assembly, interfaces: &[Interface], sides: &[Side
                     b: Side::Free(k),
                     origin: Origin::Ground { vertex },
                     pair: None,
-                    ra: Vector3::new(p.x, p.y, 0.0),
+                    ra: Vector3::new(p.x, p.y, level),
                     rb: p - body.start,
                     frame: [Vector3::z(), Vector3::x(), Vector3::y()],
                     reach: f64::INFINITY,
@@ -177,9 +184,9 @@ impl Contact {
             Some(a) => self.frame.map(|d| a.q * d),
             None => self.frame,
         };
-        // On the ground, a's point is b's vertex projected onto the plane.
+        // On the ground, a's point is b's vertex projected onto the plane (at ra's height).
         let pa = match self.origin {
-            Origin::Ground { .. } => Point3::new(pb.x, pb.y, 0.0),
+            Origin::Ground { .. } => Point3::new(pb.x, pb.y, self.ra.z),
             Origin::Interface { .. } | Origin::Touch { .. } => at(self.a, &self.ra),
         };
         let d = pb - pa;

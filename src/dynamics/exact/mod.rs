@@ -31,8 +31,8 @@
 //!
 //! ## Contacts ([`contacts`])
 //! The interface polygons' vertices (the statics' force points), as pairs of material points
-//! on the two blocks, normal turning with block a; and, with a ground, every vertex of a free
-//! block against z = 0. Released when the faces slip apart by more than the interface's
+//! on the two blocks, normal turning with block a; and every vertex of a free block against
+//! the ground or the floor ([`crate::dynamics::floor_level`]). Released when the faces slip apart by more than the interface's
 //! diameter, turned apart by 60°, or pass each other by a fifth of a block. Contacts that close
 //! under large motion come from the blocks' exact convex parts ([`touches`]). Every tolerance
 //! of a contact (its envelope, how deep is too deep) is a fraction of its own smaller block,
@@ -205,7 +205,9 @@ impl World {
             .collect();
         let interfaces = crate::interfaces::detect(assembly);
         let strength = settings.strength.or(assembly.material.strength);
-        let contacts = contacts::build(assembly, &interfaces, &sides, Poses { bodies: &bodies, movers: &movers });
+        let floor = crate::dynamics::floor_level(assembly, settings);
+        let contacts =
+            contacts::build(assembly, &interfaces, &sides, Poses { bodies: &bodies, movers: &movers }, floor);
         let size = assembly.median_block_size().unwrap_or(1.0).max(f64::MIN_POSITIVE);
         let solids = touches::Solids::new(&assembly.blocks);
         let weight: f64 = bodies.iter().map(|b| b.mass * g).sum();
