@@ -113,9 +113,9 @@ pub fn motion(data: &[u8]) -> Reached {
     let size = analysis.assembly.scale;
     let value = |bytes: &mut Bytes| {
         let v = [0.0, 1e-6, 0.01, 0.05, 0.3, 20.0, 1e12, 1e30, f64::NAN, f64::INFINITY][usize::from(bytes.byte() % 10)];
-        if bytes.byte() % 2 == 0 { v * size } else { -v * size }
+        if bytes.byte().is_multiple_of(2) { v * size } else { -v * size }
     };
-    let outcome = if bytes.byte() % 2 == 0 {
+    let outcome = if bytes.byte().is_multiple_of(2) {
         let supports: Vec<String> =
             analysis.assembly.blocks.iter().filter(|b| b.support).map(|b| b.name.clone()).collect();
         let block = match bytes.byte() % 8 {
@@ -128,7 +128,7 @@ pub fn motion(data: &[u8]) -> Reached {
             increments: [1, 5, 20, 0, 2_000_000][usize::from(bytes.byte() % 5)],
             refine: [0, 3, 53][usize::from(bytes.byte() % 3)],
             // The engines only where their dt is beyond the limit (one error, no run).
-            engines: bytes.byte() % 4 == 0,
+            engines: bytes.byte().is_multiple_of(4),
             dt: 1e-12,
             ..Default::default()
         };
@@ -138,7 +138,7 @@ pub fn motion(data: &[u8]) -> Reached {
             .map_err(|e| e.to_string())
     } else {
         let settings = DropSettings {
-            engine: if bytes.byte() % 2 == 0 { Engine::Exact } else { Engine::Rapier },
+            engine: if bytes.byte().is_multiple_of(2) { Engine::Exact } else { Engine::Rapier },
             dt: [1.0 / 240.0, 1.0 / 60.0, 0.0, -1.0, 1e-12, f64::NAN][usize::from(bytes.byte() % 6)],
             duration: [0.05, 0.25, 0.0, 1e9, f64::INFINITY][usize::from(bytes.byte() % 5)],
             perturbation: [0.0, 0.05, 0.5, -1.0, f64::NAN][usize::from(bytes.byte() % 5)],
