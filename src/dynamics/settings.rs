@@ -230,7 +230,7 @@ pub struct DropSettings {
     /// Initial horizontal speed given to every free block (+x), as a fraction of √(g·size) of
     /// the block (0: no perturbation).
     pub perturbation: f64,
-    /// A floor to land on ([`crate::dynamics::floor_level`]) for a design with supports and no
+    /// A floor to land on ([`crate::dynamics::scene::floor_level`]) for a design with supports and no
     /// ground of its own: what falls comes to rest in view instead of falling forever.
     pub floor: bool,
     /// A block whose convex hull exceeds its volume by at most this fraction collides as its

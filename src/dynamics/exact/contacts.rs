@@ -9,7 +9,7 @@
 //!   60° apart or overlap by more than a fifth of the median block size they are not these
 //!   faces' contact any more: the contact is released.
 //! - Ground contacts: every vertex of a free block against the plane the blocks land on (the
-//!   scene's ground z = 0, or the floor under its supports: [`crate::dynamics::floor_level`]),
+//!   scene's ground z = 0, or the floor under its supports: [`crate::dynamics::scene::floor_level`]),
 //!   so a block falling onto it lands.
 
 use super::bodies::Body;

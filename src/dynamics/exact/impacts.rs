@@ -32,7 +32,7 @@ const OPEN: f64 = 1e-5;
 
 impl World {
     /// Steps component `comp` over the step, split at its first impact when
-    /// [`crate::dynamics::ExactSettings::split_impacts`] asks for it, and advances its bodies.
+    /// [`crate::dynamics::settings::ExactSettings::split_impacts`] asks for it, and advances its bodies.
     pub(super) fn step_timed(&mut self, comp: &[usize], near: &[Active]) {
         let h = self.ctx.h;
         let Some((tau, closing)) = self.impact_time(comp, near) else {

@@ -32,7 +32,7 @@
 //! ## Contacts ([`contacts`])
 //! The interface polygons' vertices (the statics' force points), as pairs of material points
 //! on the two blocks, normal turning with block a; and every vertex of a free block against
-//! the ground or the floor ([`crate::dynamics::floor_level`]). Released when the faces slip apart by more than the interface's
+//! the ground or the floor ([`crate::dynamics::scene::floor_level`]). Released when the faces slip apart by more than the interface's
 //! diameter, turned apart by 60°, or pass each other by a fifth of a block. Contacts that close
 //! under large motion come from the blocks' exact convex parts ([`touches`]). Every tolerance
 //! of a contact (its envelope, how deep is too deep) is a fraction of its own smaller block,
@@ -64,8 +64,9 @@ mod projection;
 mod step;
 mod touches;
 
+use crate::dynamics::scene::SupportPath;
 use crate::dynamics::settings::Coulomb;
-use crate::dynamics::{DropSettings, SupportPath};
+use crate::dynamics::settings::DropSettings;
 use crate::geometry::{Point3, Vector3};
 use crate::model::{Assembly, FrictionModel};
 use crate::statics::{Accuracy, SolverStatus, WarmStart};
@@ -205,7 +206,7 @@ impl World {
             .collect();
         let interfaces = crate::interfaces::detect(assembly);
         let strength = settings.strength.or(assembly.material.strength);
-        let floor = crate::dynamics::floor_level(assembly, settings);
+        let floor = crate::dynamics::scene::floor_level(assembly, settings);
         let contacts =
             contacts::build(assembly, &interfaces, &sides, Poses { bodies: &bodies, movers: &movers }, floor);
         let size = assembly.median_block_size().unwrap_or(1.0).max(f64::MIN_POSITIVE);

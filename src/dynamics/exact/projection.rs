@@ -2,7 +2,7 @@
 //! velocity level (a closed contact stops closing); rotations about a hinge and round-off let
 //! the faces drift into each other by O(dt² ω² r) per step. Pushing them apart through the
 //! velocities (a penalty or a recovery speed) would feed kinetic energy from nothing, so
-//! instead, once a contact overlaps by more than [`crate::dynamics::ExactSettings::projection`]
+//! instead, once a contact overlaps by more than [`crate::dynamics::settings::ExactSettings::projection`]
 //! of its scale, the component's blocks are moved apart by the least mass-weighted
 //! displacement Δ that leaves every contact unpenetrated:
 //!

@@ -2,8 +2,8 @@
 //! convex hull, cut back to the joint plane where two hulls overlap at a joint, or — for a
 //! non-convex block whose hull reaches into another block — its exact convex parts.
 
-use super::DropSettings;
-use super::settings::ColliderForm;
+use crate::dynamics::settings::ColliderForm;
+use crate::dynamics::settings::DropSettings;
 use crate::geometry::cut::{SplitResult, split};
 use crate::geometry::{Mesh, Plane, Point3};
 use crate::interfaces::Body;

@@ -2,7 +2,8 @@
 //! assembly as rigid bodies, stepped.
 
 use super::colliders::{Colliders, v32};
-use super::{DropSettings, SupportPath};
+use crate::dynamics::scene::SupportPath;
+use crate::dynamics::settings::DropSettings;
 use crate::geometry::{Point3, Vector3};
 use crate::model::Assembly;
 use rapier3d::math::{Matrix, Vector};
@@ -54,7 +55,7 @@ impl Simulation {
             })
             .collect();
         apply_dead_loads(&mut world, assembly, &bodies);
-        let ground = super::floor_level(assembly, settings)
+        let ground = crate::dynamics::scene::floor_level(assembly, settings)
             .map(|level| insert_ground(&mut world, (10.0 * all.diagonal()).max(1.0), unit, mu, level));
         let start = bodies.iter().map(|&h| (world.bodies[h].translation(), *world.bodies[h].rotation())).collect();
         let deep = DeepContacts { depth: (settings.max_contact_depth * unit) as f32, ground };
