@@ -19,6 +19,8 @@ mod compas_formats;
 mod crushing;
 mod cut_history;
 mod diagram_png;
+#[cfg(unix)]
+mod doc_examples;
 mod drop_real_vault;
 mod drop_test;
 #[cfg(feature = "ecs")]
