@@ -57,8 +57,45 @@ fn write_stdout(args: std::fmt::Arguments) {
 /// The default scene of `voussoir` without arguments (embedded, so it runs from anywhere).
 pub const DEFAULT_SCENE: &str = include_str!("../../assets/default.json");
 
+/// One example per command, as `voussoir <command> --help` shows it (and `voussoir --help` all
+/// of them): each runs from the repository's root (tests/it/cli.rs runs them, but `view`).
+pub const EXAMPLES: [(&str, &str); 12] = [
+    ("analyze", r#"voussoir analyze "builtin:arch?n=15&t=0.15" --json report.json"#),
+    ("drop", r#"voussoir drop "builtin:arch?n=15&t=0.15" --engine exact --duration 1"#),
+    ("robustness", r#"voussoir robustness "builtin:arch?n=15&t=0.15" --plot polar.png --mechanism mechanism.png"#),
+    (
+        "settle",
+        r#"voussoir settle "builtin:arch?n=15&t=0.15" --move springer_left:-0.15,0,0 --move springer_right:0.15,0,0 --quasi-static"#,
+    ),
+    ("sequence", "voussoir sequence assets/cases/fig6_dmsc_sequence.json --search"),
+    ("sweep", "voussoir sweep slope --iterations 6"),
+    ("cut", r#"voussoir cut "builtin:stack?n=2" --plane 0,0,1.5,0,0,1 -o cut.json"#),
+    ("decompose", "voussoir decompose assets/shapes/solid_arch.json --blocks 11 -o arch.json"),
+    ("repair", "voussoir repair assets/cases/fig4a_m_cut.json -o repaired.json"),
+    ("infill", r#"voussoir infill "builtin:arch?n=15&t=0.07" -o light.json"#),
+    ("export", "voussoir export assets/cases/fig6_dmsc.json --mode friction --png fig6.png --gltf fig6.glb"),
+    ("view", "voussoir view assets/cases/fig6_dmsc.json --mode friction"),
+];
+
+/// The `Example:` section of one command's help.
+fn example(command: &str) -> String {
+    let (_, line) = EXAMPLES.iter().find(|(c, _)| *c == command).expect("every command has an example");
+    format!("Example:\n  {line}")
+}
+
+/// The `Examples:` section of `voussoir --help`: one line per command.
+fn examples() -> String {
+    let lines: Vec<String> = EXAMPLES.iter().map(|(_, line)| format!("  {line}")).collect();
+    format!("Examples (from the repository's root; each command's --help shows its own):\n{}", lines.join("\n"))
+}
+
 #[derive(Parser, Debug)]
-#[command(name = "voussoir", version, about = "Do these blocks stand by compression and friction alone?")]
+#[command(
+    name = "voussoir",
+    version,
+    about = "Do these blocks stand by compression and friction alone?",
+    after_long_help = examples()
+)]
 pub struct Cli {
     #[command(subcommand)]
     pub command: Option<Command>,
@@ -67,36 +104,48 @@ pub struct Cli {
 #[derive(Subcommand, Debug)]
 pub enum Command {
     /// Detect interfaces, solve the equilibrium, print the verdict (and write a JSON report).
+    #[command(after_help = example("analyze"))]
     Analyze(AnalyzeArgs),
     /// Statics and the rapier drop test side by side (= `analyze --dynamic`).
+    #[command(after_help = example("drop"))]
     Drop(AnalyzeArgs),
     /// How safely it stands: the load factor of the live loads (or of a horizontal
     /// acceleration, or its worst direction) and the collapse mechanism.
+    #[command(after_help = example("robustness"))]
     Robustness(RobustnessArgs),
     /// The design on supports that move (`--move`): followed until it collapses,
     /// quasi-statically and in both engines; the movement at collapse, hinges, thrust.
+    #[command(after_help = example("settle"))]
     Settle(SettleArgs),
     /// Check every step of an assembly order (static, and with --dynamic the drop test).
+    #[command(after_help = example("sequence"))]
     Sequence(SequenceArgs),
     /// Static and drop-test thresholds of a parametric family, by bisection.
+    #[command(after_help = example("sweep"))]
     Sweep(SweepArgs),
     /// Add a plane or pattern cut to the scene's cut history and write the design (never over
     /// the input).
+    #[command(after_help = example("cut"))]
     Cut(CutArgs),
     /// Cut a source shape into courses (horizontal, or through an axis for arches) with
     /// staggered head joints; `--optimize` then repairs it. Writes the design.
+    #[command(after_help = example("decompose"))]
     Decompose(DecomposeArgs),
     /// Move and turn the design's cuts until it stands, then stands most safely; write the
     /// repaired design (or say why no placement helps, and which support would).
+    #[command(after_help = example("repair"))]
     Repair(RepairArgs),
     /// Choose per-block densities within bounds (a print's infill) that make the design stand:
     /// the lightest, or the most robust; write the design (or the mechanism no mass can stop).
+    #[command(after_help = example("infill"))]
     Infill(InfillArgs),
     /// Export the analysed design without a window: glTF binary with the blocks and the
     /// interface polygons coloured by a diagram mode.
+    #[command(after_help = example("export"))]
     Export(ExportArgs),
     /// The interactive 3D viewer (built with `--features viewer`): diagrams, live cut editing,
     /// drop test and sequence stepper side by side.
+    #[command(after_help = example("view"))]
     View(ViewArgs),
 }
 

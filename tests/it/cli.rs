@@ -769,3 +769,59 @@ fn infill_writes_the_lightest_standing_design() {
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("--density-range") && err.contains("LO,HI"), "{err}");
 }
+
+/// The `Example:` line of a command's help, split into arguments as a shell does.
+fn help_example(command: &mut clap::Command) -> Vec<String> {
+    let help = command.render_help().to_string();
+    let mut lines = help.lines().skip_while(|l| *l != "Example:");
+    let line =
+        lines.nth(1).unwrap_or_else(|| panic!("`{}` --help has an Example section:\n{help}", command.get_name()));
+    shlex::split(line.trim()).expect("the example is quoted as a shell reads it")
+}
+
+/// Every command's `--help` ends with one example that parses as that command, and
+/// `voussoir --help` lists them all.
+#[test]
+fn every_command_shows_an_example_that_parses() {
+    use clap::CommandFactory;
+    let mut cli = voussoir::cli::Cli::command();
+    let long_help = cli.render_long_help().to_string();
+    // clap's own `help` subcommand aside.
+    let names: Vec<String> = cli.get_subcommands().map(|c| c.get_name().to_string()).filter(|n| n != "help").collect();
+    assert_eq!(names.len(), voussoir::cli::EXAMPLES.len(), "one example per command");
+    for name in &names {
+        let args = help_example(cli.find_subcommand_mut(name).expect("the command"));
+        assert_eq!(args[0], "voussoir");
+        let matches = voussoir::cli::Cli::command()
+            .try_get_matches_from(&args)
+            .unwrap_or_else(|e| panic!("`{}` does not parse: {e}", args.join(" ")));
+        assert_eq!(matches.subcommand_name(), Some(name.as_str()), "{args:?}");
+        let line = voussoir::cli::EXAMPLES.iter().find(|(c, _)| c == name).unwrap().1;
+        assert!(long_help.lines().any(|l| l.trim() == line), "voussoir --help lists `{line}`");
+    }
+}
+
+/// Each command's example does what it shows: run from a scratch folder that sees the
+/// repository's assets/, it ends with a verdict (exit 0 or 1), never an input error. `view`
+/// opens a window: its example only parses (above).
+#[cfg(unix)]
+#[test]
+fn every_commands_example_runs() {
+    let dir = tmp("help-examples");
+    std::fs::create_dir_all(&dir).unwrap();
+    let assets = dir.join("assets");
+    if !assets.exists() {
+        std::os::unix::fs::symlink(PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("assets"), &assets).unwrap();
+    }
+    for (name, line) in voussoir::cli::EXAMPLES.iter().filter(|(c, _)| *c != "view") {
+        let args = shlex::split(line).unwrap();
+        let out = Command::new(env!("CARGO_BIN_EXE_voussoir")).args(&args[1..]).current_dir(&dir).output().unwrap();
+        let code = out.status.code();
+        assert!(
+            matches!(code, Some(0 | 1)),
+            "{name}: `{line}` exits {code:?}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        assert!(!out.stdout.is_empty(), "{name}: `{line}` prints its answer");
+    }
+}
