@@ -1,11 +1,11 @@
 //! `voussoir decompose SHAPE (--blocks N | --max-size L) [--strategy courses|thrust|pattern
 //! --apex x,y,z] -o OUT.json`: a running bond extruded to an apex with `pattern`
-//! ([`crate::synthesis::pattern`]), or
+//! ([`synthesis::pattern`](mod@crate::synthesis::pattern)), or
 //! a cut history for a source shape by courses ([`crate::synthesis::generate`]) — horizontal
 //! beds, or beds through an axis with `--center`/`--axis` (arches, vaults) — with staggered
 //! head joints, the beds turned normal to the thrust with `--strategy thrust`
-//! ([`crate::synthesis::thrust`]); prints the design's verdict and with `--optimize` repairs it
-//! ([`crate::synthesis::repair`]). Writes the
+//! ([`synthesis::thrust`](mod@crate::synthesis::thrust)); prints the design's verdict and with `--optimize` repairs it
+//! ([`synthesis::repair`](mod@crate::synthesis::repair)). Writes the
 //! design atomically, never over the input. Exit codes: 0 it stands, 1 it does not, 2 bad input.
 
 use super::choice::Choice;
@@ -64,7 +64,7 @@ pub struct DecomposeArgs {
     pub output: PathBuf,
 }
 
-/// A generation strategy ([`crate::synthesis::generate`], [`crate::synthesis::thrust`]).
+/// A generation strategy ([`crate::synthesis::generate`], [`synthesis::thrust`](mod@crate::synthesis::thrust)).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum Strategy {
     Courses,

@@ -1,7 +1,7 @@
 //! `voussoir infill DESIGN -o OUT.json`: per-block densities within bounds that make the design
 //! stand — the lightest ([`InfillObjective::Stand`]) or those carrying the largest horizontal
 //! load (`--objective robust`) — written into the design by piece name
-//! ([`crate::synthesis::infill`]). When no density within the bounds holds it, says so and
+//! ([`synthesis::infill`](mod@crate::synthesis::infill)). When no density within the bounds holds it, says so and
 //! prints the mechanism every admissible mass drives. Exit codes: 0 the infilled design
 //! stands, 1 no density holds it (or a solver failed), 2 bad input.
 

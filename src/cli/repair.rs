@@ -1,5 +1,5 @@
 //! `voussoir repair DESIGN -o OUT.json`: moves and turns the design's cuts (all, or `--cuts`)
-//! until it stands and then stands most safely ([`crate::synthesis::repair`]); prints before and
+//! until it stands and then stands most safely ([`synthesis::repair`](mod@crate::synthesis::repair)); prints before and
 //! after, writes the repaired design (atomically, never over the input) and on request a JSON
 //! report. When no placement helps, it says so and names the failing interfaces and a support
 //! that holds the design. Exit codes: 0 the result stands, 1 it does not, 2 bad input.

@@ -1,4 +1,4 @@
-//! The repair plugin: a [`RunRepair`] request runs [`crate::synthesis::repair`] on the current
+//! The repair plugin: a [`RunRepair`] request runs [`crate::synthesis::repair()`] on the current
 //! design off the main thread (bevy's async compute pool, so the app keeps drawing); when it
 //! ends, [`RepairStatus`] holds the report and the cuts the repair changed move from where
 //! they were to where it put them over [`ANIMATION_FRAMES`] updates — one `MoveCut` edit per

@@ -79,7 +79,7 @@ impl Interface {
     }
 
     /// The interface with its contact polygon shrunk by `delta` (m) from every edge — chipped
-    /// or rounded arrises ([`crate::geometry::overlap::shrink`]): one interface per piece that
+    /// or rounded arrises (`geometry::overlap::shrink`): one interface per piece that
     /// remains (same bodies, frame and faces), none when nothing does.
     pub fn shrunk(&self, delta: f64) -> Vec<Interface> {
         let f = &self.frame;

@@ -234,7 +234,7 @@ pub struct NodeTables {
 }
 
 /// The scene of a compas Assembly from its nodes' tables: blocks in node-key order, each
-/// block's vertices and faces in key order ([`key_order`]); `path` names the source in errors.
+/// block's vertices and faces in key order (`key_order`); `path` names the source in errors.
 pub fn scene_from_nodes(path: &Path, mut nodes: Vec<NodeTables>) -> Result<Scene, IoError> {
     nodes.sort_by(|a, b| key_order(&a.key, &b.key));
     let mut blocks = Vec::with_capacity(nodes.len());

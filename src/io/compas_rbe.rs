@@ -2,7 +2,7 @@
 //! `face[f] = [vertex keys]`) and `assembly.vertex[key].is_support` marks the fixed blocks. Block
 //! names are the keys (as the assembly's). compas_rbe stores some supports as a single open
 //! polygon (genevault's footings, simple_arch's ground) — the face the blocks stand on; such a
-//! support becomes a slab below it ([`super::compas::support_slab`]).
+//! support becomes a slab below it (0.02 × the model size thick: `compas::with_slab_supports`).
 
 use super::IoError;
 use super::compas::{mesh_from_value, sorted_keys, with_slab_supports};

@@ -52,7 +52,7 @@ pub type Wrench = [f64; 6];
 
 /// The loads of one block, resolved: the dead and the live wrench about its centroid, and of
 /// each the part that scales with the block's mass (the acceleration fields: N per kg, at the
-/// centroid), so that a design may change the mass ([`crate::synthesis::infill`]).
+/// centroid), so that a design may change the mass ([`synthesis::infill`](mod@crate::synthesis::infill)).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct BlockLoads {
     pub dead: Wrench,

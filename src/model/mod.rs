@@ -56,7 +56,7 @@ pub struct Block {
 
 /// A block's density, kg/m³: one for the whole block, or one per cell of its bounding box's
 /// k × k × k grid ([`crate::geometry::cells`]: x fastest, then y, then z; k³ values), which moves
-/// its centroid — an infill design's ([`crate::synthesis::infill`]).
+/// its centroid — an infill design's ([`synthesis::infill`](mod@crate::synthesis::infill)).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(untagged)]
 pub enum Density {
@@ -133,7 +133,7 @@ pub struct Scene {
     /// Pieces made supports after the cut history (by name), besides blocks marked `support`.
     pub supports: Vec<String>,
     /// Densities of pieces after the cut history (kg/m³, by name), overriding the source
-    /// shape's and the material's: what an infill design sets ([`crate::synthesis::infill`]).
+    /// shape's and the material's: what an infill design sets ([`synthesis::infill`](mod@crate::synthesis::infill)).
     pub densities: std::collections::BTreeMap<String, Density>,
     /// Bounds of pieces' densities for an infill design (kg/m³, `[low, high]` by name), over
     /// the infill's own range.
@@ -193,7 +193,7 @@ impl Scene {
 
     /// The model size every tolerance is relative to: the bounding-box diagonal of all finite
     /// vertices (1 when there are none; an assembly refuses such a model,
-    /// [`coordinates::extent`]).
+    /// `coordinates::extent`).
     pub fn scale(&self) -> f64 {
         let extent = coordinates::extent(&self.blocks);
         if extent > 0.0 { extent } else { 1.0 }

@@ -1,4 +1,4 @@
-//! The JSON report of `voussoir robustness`: the analysis report ([`super::report`]) with one
+//! The JSON report of `voussoir robustness`: the analysis report ([`super::json`]) with one
 //! more key, `robustness` (schema in the README, "How safe is it?"). Non-finite numbers (an
 //! unlimited load factor) become `null`.
 

@@ -1,5 +1,5 @@
 //! The text report of an analysis, as `voussoir analyze` prints it (the JSON report is
-//! [`super::report`]): the verdict first, then the graded numbers, the solver and timings, the
+//! [`super::json`]): the verdict first, then the graded numbers, the solver and timings, the
 //! worst interfaces; with a drop test, its verdict beside the statics' and whether they agree.
 
 use crate::dynamics::DropResult;

@@ -1,7 +1,7 @@
 //! The worst horizontal direction: λ* of a horizontal acceleration field (1 g, live, on every
 //! free block) over evenly spaced azimuths, then refined between the smallest one's neighbours.
 //! The scene's dead loads and self-weight stay; its live loads are replaced by the field.
-//! Directions run on two threads; the refinement beside the rest of the grid ([`Schedule`]).
+//! Directions run on two threads; the refinement beside the rest of the grid (`Schedule`).
 //!
 //! The refinement reads each solve's dual. The horizontal accelerations a = (a_x, a_y) that the
 //! design carries form a convex set K (forces are linear in the load), λ*(θ) is K's radial

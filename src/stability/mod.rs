@@ -1,12 +1,12 @@
 //! How safely a design stands: the load factor λ* of its live loads — the largest multiple of
 //! them that forces with no tension and friction within the model still carry on top of the
 //! dead load (self-weight and dead loads) — with the collapse mechanism it ends in, and for a
-//! horizontal acceleration the worst direction ([`sweep`]).
+//! horizontal acceleration the worst direction ([`directions`]).
 //!
 //! λ* is the optimum of an LP (pyramid8, box4) or SOCP (cone) on the same contact problem as
 //! the statics ([`crate::statics::component_load_factor`]); the mechanism is its dual:
 //! every free block's virtual translation (m) and rotation (rad, about its centroid), scaled so
-//! that the live load does unit work (1 N·m), and every interface classified ([`mechanism`]).
+//! that the live load does unit work (1 N·m), and every interface classified ([`JointState`]).
 //! A design that does not stand under its dead load keeps its graded answer (the analysis) and
 //! gets the mechanism of its failure, scaled so that the dead load does unit work.
 //!

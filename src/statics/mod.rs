@@ -7,7 +7,7 @@
 //! layout `[c_n⁺, c_u, c_v]` has no tension and no slack. When μ = 0 the strict layout has no
 //! friction columns (`[c_n⁺]` only); the relaxed one keeps them with capacity `0 + s`.
 //!
-//! ## Rows (the contact form of [`problem`]: module docs there)
+//! ## Rows (the contact form of `problem`: module docs there)
 //! 1. Equality, 6 per free block: Σ forces + weight = 0 (x, y, z) and Σ moments about the
 //!    block's volume centroid = 0 (x, y, z). A vertex force f acts on b as +f and on a as −f.
 //! 2. Per vertex: the sign rows `c_n⁺ ≥ 0` (left out in the strict layout with friction,
@@ -33,17 +33,17 @@
 //! blocks is solved on its own (components in parallel when there are several big ones).
 //!
 //! ## Solvers ([`Backend`])
-//! Every stage is one conic problem as plain data ([`problem::ContactProblem`]). By default
-//! it runs on [`backend`]'s structured solver, clarabel's interior-point algorithm with the
+//! Every stage is one conic problem as plain data (`problem::ContactProblem`). By default
+//! it runs on `backend`'s structured solver, clarabel's interior-point algorithm with the
 //! Newton system reduced to the equilibrium rows (`Backend::Structured`); `Backend::Clarabel`
 //! runs the same data on clarabel itself (`backend/clarabel.rs`, the one clarabel call), to
 //! cross-check.
 //!
 //! ## Layers (each module imports only those below it; none imports this front module)
-//! 1. [`problem`]: the shared vocabulary, a leaf — variables, friction models, cones, the
-//!    problem as plain data, [`Accuracy`](problem::Accuracy), [`SolverStatus`]; and
-//!    [`error`], [`components`] (connected components of free blocks).
-//! 2. [`backend`]: the solvers, over `problem` only; [`settings`], over `backend`'s
+//! 1. `problem`: the shared vocabulary, a leaf — variables, friction models, cones, the
+//!    problem as plain data, [`Accuracy`], [`SolverStatus`]; and
+//!    `error` ([`StaticsError`]), [`components`] (connected components of free blocks).
+//! 2. `backend`: the solvers, over `problem` only; `settings` ([`StaticsSettings`]), over `backend`'s
 //!    [`Backend`] and `problem`.
 //! 3. `assemble`: a component's rows and each stage's problem.
 //! 4. `stages`: a component's solve stage by stage, and the verdict rule; `load_factor`: a

@@ -73,7 +73,7 @@ pub struct SolverReport {
 
 /// The crushing check of a design that stands by compression and friction
 /// ([`super::StaticsSettings::strength`]; the rectangular stress block, module docs of
-/// [`super::problem`]).
+/// `statics::problem`).
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct CrushingReport {
     /// The material's compressive strength σ_c, Pa.

@@ -29,7 +29,7 @@ pub struct StaticsSettings {
     /// The assembly stands when, in every connected component, the minimum total tension and
     /// the minimum friction excess are both at most this fraction of the weight of the
     /// component's lightest block (so a light block that would fall off is not hidden by heavy
-    /// ones), or below [`super::stages::STAND_FLOOR`] of the component's weight (what the LPs
+    /// ones), or below `stages::STAND_FLOOR` (1e-8) of the component's weight (what the LPs
     /// resolve).
     pub stand_tolerance: f64,
     /// Interior-point feasibility and gap tolerance (clarabel's tol_feas, tol_gap_abs/rel); the

@@ -4,7 +4,7 @@
 use crate::model::Scene;
 use serde::Serialize;
 
-/// What a strategy makes ([`super::courses`], [`super::thrust`]).
+/// What a strategy makes ([`super::courses`], [`super::thrust`](mod@super::thrust)).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Generated {
     /// The shape with its new cut history.

@@ -1,5 +1,5 @@
 //! Designs that stand, found rather than drawn (issue #22). The seed paper's designer moves and
-//! turns cuts until the colours say it stands; [`repair`] does that search: a seeded particle
+//! turns cuts until the colours say it stands; [`repair`](mod@repair) does that search: a seeded particle
 //! swarm over the selected cuts' parameters ([`params`]: a plane's offset and two turns, a
 //! pattern's apex) for the lowest [`objective`] — first standing (minimum tension + friction
 //! excess → 0), then the largest horizontal load factor. When no placement of the cuts makes

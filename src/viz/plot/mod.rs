@@ -1,5 +1,5 @@
 //! Plots and offscreen pictures (plotters is touched only here), written as PNG or SVG by the
-//! file's extension: a threshold sweep's verdicts and margins ([`sweep`]), and the interface
+//! file's extension: a threshold sweep's verdicts and margins ([`threshold`]), and the interface
 //! diagrams of an analysis drawn without a window ([`diagram`]), a drop test's key frames
 //! ([`strip`]). Text uses the bundled DejaVu
 //! Sans Mono (assets/fonts, so no system fonts are needed). Writes are atomic.

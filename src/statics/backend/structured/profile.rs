@@ -6,7 +6,7 @@
 //! Each kernel's flops and bytes per call come from [`Dims`] ([`Kernel::cost`]): leading
 //! terms counted from the loops of the kernel (a multiply–add is two flops; a division or
 //! square root one), bytes as the arrays each call reads and writes once (f64, 8 bytes; the
-//! per-problem constants of [`super::shape::Shape`] are a few hundred bytes and not counted).
+//! per-problem constants of `shape::Shape` are a few hundred bytes and not counted).
 
 use std::cell::RefCell;
 use std::sync::atomic::{AtomicBool, Ordering};
