@@ -18,7 +18,9 @@ use thiserror::Error;
 /// Settings of [`analyze`]; defaults as documented on each part.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct AnalysisSettings {
+    /// Interface detection's tolerances (weld, coplanarity, angle, overlap), relative to the model size.
     pub tolerances: Tolerances,
+    /// The statics' friction model, solver backend and its tolerances.
     pub statics: StaticsSettings,
     /// Blocks that interpenetrate beyond the coplanarity tolerance
     /// ([`crate::interfaces::penetration`]) are an error ([`ModelError::Overlap`], naming the
@@ -29,10 +31,13 @@ pub struct AnalysisSettings {
 /// Why the pipeline could not run (bad input or settings, never solver trouble).
 #[derive(Debug, Error, Clone, PartialEq)]
 pub enum AnalysisError {
+    /// The scene does not make a valid assembly (mesh, coordinates, overlapping blocks).
     #[error(transparent)]
     Model(#[from] ModelError),
+    /// The statics refused the settings or the assembly (not solver trouble, which is a status).
     #[error(transparent)]
     Statics(#[from] StaticsError),
+    /// The cut history cannot be replayed on the scene's shapes.
     #[error(transparent)]
     Cut(#[from] crate::history::CutError),
 }
@@ -44,6 +49,7 @@ pub struct Timings {
     pub cut: f64,
     /// Validating the blocks and checking that they do not interpenetrate.
     pub validate: f64,
+    /// Detecting the contact interfaces between blocks (and the ground).
     pub detect: f64,
     /// Building the equilibrium problems (summed over components).
     pub assemble: f64,
@@ -59,22 +65,30 @@ pub struct Timings {
 pub struct Work {
     /// Plane splits computed / reused while replaying the cut history.
     pub pieces_cut: usize,
+    /// Plane splits taken from the cache instead of computed.
     pub pieces_reused: usize,
     /// Block pairs (and block–ground pairs) whose interfaces were detected / reused.
     pub pairs_detected: usize,
+    /// Block pairs whose interfaces were taken from the cache.
     pub pairs_reused: usize,
     /// Connected components solved / whose solution was reused.
     pub components_solved: usize,
+    /// Connected components whose statics was taken from the cache.
     pub components_reused: usize,
 }
 
 /// Everything the pipeline produced.
 #[derive(Clone, Debug)]
 pub struct Analysis {
+    /// The validated blocks (meshes, mass properties, supports) the statics ran on.
     pub assembly: Assembly,
+    /// The contact interfaces detected between them, in the order the statics' results use.
     pub interfaces: Vec<Interface>,
+    /// The graded verdict, the forces per interface and the solver's report.
     pub statics: StaticsResult,
+    /// Wall-clock seconds per stage.
     pub timings: Timings,
+    /// What this run computed and what it reused from the pipeline's caches.
     pub work: Work,
 }
 
@@ -96,6 +110,7 @@ pub fn analyze(scene: &Scene, settings: &AnalysisSettings) -> Result<Analysis, A
 }
 
 impl Pipeline {
+    /// A pipeline with empty caches (the first run computes everything).
     pub fn new() -> Self {
         Self::default()
     }

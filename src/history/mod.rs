@@ -26,34 +26,83 @@ use thiserror::Error;
 /// Why a history cannot be replayed.
 #[derive(Debug, Error, Clone, PartialEq)]
 pub enum CutError {
+    /// A plane cut's normal is zero, infinite or NaN.
     #[error("cut {index}: the normal {normal:?} is not a finite non-zero vector")]
-    BadNormal { index: usize, normal: [f64; 3] },
+    BadNormal {
+        /// The cut's position in the history, from 0.
+        index: usize,
+        /// The normal as given.
+        normal: [f64; 3],
+    },
+    /// A plane cut's point (or a pattern cut's apex) is not finite.
     #[error("cut {index}: the point {point:?} is not finite")]
-    BadPoint { index: usize, point: [f64; 3] },
+    BadPoint {
+        /// The cut's position in the history, from 0.
+        index: usize,
+        /// The point as given.
+        point: [f64; 3],
+    },
+    /// The scene's `removed` names a piece the history does not make.
     #[error("'{name}' is listed as removed but is not a piece of the design")]
-    UnknownRemoved { name: String },
+    UnknownRemoved {
+        /// The piece name as listed.
+        name: String,
+    },
+    /// The scene's `supports` names a piece the history does not make.
     #[error("'{name}' is listed as a support but is not a piece of the design")]
-    UnknownSupport { name: String },
+    UnknownSupport {
+        /// The piece name as listed.
+        name: String,
+    },
+    /// The scene's `densities` names a piece the history does not make.
     #[error("'{name}' is given a density but is not a piece of the design")]
-    UnknownDensity { name: String },
+    UnknownDensity {
+        /// The piece name as listed.
+        name: String,
+    },
+    /// A pattern cut's segment cannot make a plane with the apex (degenerate, through it).
     #[error("cut {index}, segment {segment}: {why}")]
-    BadSegment { index: usize, segment: usize, why: String },
+    BadSegment {
+        /// The cut's position in the history, from 0.
+        index: usize,
+        /// The segment's position in the cut, from 0.
+        segment: usize,
+        /// What is wrong with it, in words.
+        why: String,
+    },
+    /// A cut's `target` is no piece at that step of the history.
     #[error("cut {index} targets '{target}', which is not a piece at that step of the history")]
-    UnknownTarget { index: usize, target: String },
+    UnknownTarget {
+        /// The cut's position in the history, from 0.
+        index: usize,
+        /// The target name as given.
+        target: String,
+    },
+    /// A source shape's mesh is not a closed solid that can be cut.
     #[error("source shape '{block}' cannot be cut: {source}")]
     Source {
+        /// The source shape's name.
         block: String,
+        /// What is wrong with its mesh.
         #[source]
         source: crate::geometry::MeshError,
     },
     /// The sources' coordinates, extent or tolerances cannot be used (checked before any cut).
     #[error("the source shapes: {0}")]
     Model(#[from] crate::model::ModelError),
+    /// A cut leaves a piece too thin to analyse: move the plane.
     #[error(
         "cut {index} cuts a sliver of {fraction:e} of the volume of '{piece}': move the plane \
          (slivers make unstable blocks and ill-conditioned statics)"
     )]
-    Sliver { index: usize, piece: String, fraction: f64 },
+    Sliver {
+        /// The cut's position in the history, from 0.
+        index: usize,
+        /// The name of the piece it would make.
+        piece: String,
+        /// The piece's volume over the volume of the piece it was cut from.
+        fraction: f64,
+    },
 }
 
 /// What a replay computed and what it reused.
@@ -74,14 +123,17 @@ pub struct CutCache {
 }
 
 impl CutCache {
+    /// An empty cache.
     pub fn new() -> Self {
         Self::default()
     }
 
+    /// The number of plane splits kept.
     pub fn len(&self) -> usize {
         self.map.len()
     }
 
+    /// Whether no plane split is kept.
     pub fn is_empty(&self) -> bool {
         self.map.is_empty()
     }

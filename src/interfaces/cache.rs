@@ -16,7 +16,9 @@ pub struct DetectCache {
 /// What a cached detection computed and what it reused (block pairs, ground pairs included).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct DetectStats {
+    /// Block pairs whose interfaces were detected in this run.
     pub detected: usize,
+    /// Block pairs whose interfaces came from the cache unchanged.
     pub reused: usize,
 }
 

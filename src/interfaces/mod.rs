@@ -25,11 +25,14 @@ use serde::Serialize;
 /// One side of an interface: a block or the ground plane z = 0.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize)]
 pub enum Body {
+    /// A block of the assembly (a support or a free block).
     Block(BlockId),
+    /// The ground plane z = 0 (a fixed body, when the scene has `ground`).
     Ground,
 }
 
 impl Body {
+    /// The block, or `None` for the ground.
     pub fn block(self) -> Option<BlockId> {
         match self {
             Body::Block(b) => Some(b),
@@ -68,12 +71,14 @@ pub struct Interface {
     pub holes: Vec<Vec<Point3>>,
     /// Origin at the area centroid; (u, v, n) right-handed, n from a into b.
     pub frame: Frame,
+    /// Area of the contact polygon less its holes (m²).
     pub area: f64,
     /// Face indices in a's and b's meshes (None for the ground).
     pub faces: (Option<usize>, Option<usize>),
 }
 
 impl Interface {
+    /// The area centroid of the contact polygon (the frame's origin).
     pub fn centroid(&self) -> Point3 {
         self.frame.origin
     }

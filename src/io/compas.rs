@@ -21,14 +21,19 @@ pub fn is_compas(value: &Value) -> bool {
 /// An interface as stored by compas, for comparison.
 #[derive(Clone, Debug)]
 pub struct StoredInterface {
+    /// The graph node (block) key of the edge's first end.
     pub u: String,
+    /// The graph node key of its second end.
     pub v: String,
+    /// The contact polygon's points, m.
     pub points: Vec<Point3>,
     /// xaxis × yaxis of the stored frame.
     pub normal: Vector3,
     /// Per point `[c_np, c_nn, c_u, c_v]` along (n, n, xaxis, yaxis), when stored.
     pub forces: Option<Vec<[f64; 4]>>,
+    /// The stored frame's first in-plane axis.
     pub xaxis: Vector3,
+    /// The stored frame's second in-plane axis.
     pub yaxis: Vector3,
 }
 
@@ -227,9 +232,13 @@ mod typed {
 /// the JSON has). The typed parse reads these from the file; the Python package from the
 /// compas object itself.
 pub struct NodeTables {
+    /// The graph node's key: the block's name.
     pub key: String,
+    /// Whether the node is marked `is_support`.
     pub support: bool,
+    /// The block mesh's vertices: key and coordinates (m).
     pub vertices: Vec<(String, [f64; 3])>,
+    /// The block mesh's faces: key and vertex keys, counter-clockwise seen from outside.
     pub faces: Vec<(String, Vec<String>)>,
 }
 

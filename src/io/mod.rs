@@ -19,28 +19,47 @@ use thiserror::Error;
 /// Why a file could not be read or written.
 #[derive(Debug, Error)]
 pub enum IoError {
+    /// The file cannot be read (missing, no permission).
     #[error("{path}: cannot read: {source}")]
     Read {
+        /// The file.
         path: PathBuf,
+        /// What the operating system said.
         #[source]
         source: std::io::Error,
     },
+    /// The file cannot be written (its folder missing, no permission, disk full).
     #[error("{path}: cannot write: {source}")]
     Write {
+        /// The file.
         path: PathBuf,
+        /// What the operating system said.
         #[source]
         source: std::io::Error,
     },
+    /// The file is not JSON.
     #[error("{path}: not valid JSON: {source}")]
     Json {
+        /// The file.
         path: PathBuf,
+        /// Where and why the JSON parser stopped.
         #[source]
         source: serde_json::Error,
     },
+    /// The file parses but does not describe a scene: the message names the place and the key.
     #[error("{path}: {message}")]
-    Format { path: PathBuf, message: String },
+    Format {
+        /// The file.
+        path: PathBuf,
+        /// What is wrong, and where in the file.
+        message: String,
+    },
+    /// The file's extension is none of the formats read.
     #[error("{path}: unknown file type (expected .json, .obj or .stl)")]
-    UnknownType { path: PathBuf },
+    UnknownType {
+        /// The file.
+        path: PathBuf,
+    },
 }
 
 impl IoError {

@@ -61,8 +61,11 @@ struct Report<'a> {
 /// What ran beside the statics, each reported when present.
 #[derive(Clone, Copy, Default)]
 pub struct Extras<'a> {
+    /// The drop test's result (`drop`, `analyze --dynamic`): the report's `dynamic` and `agree` keys.
     pub dynamic: Option<&'a DropResult>,
+    /// The kinematic check's result (`--kinematic`): the report's `kinematic` key.
     pub kinematic: Option<&'a Kinematic>,
+    /// The fabrication tolerance margins (`--tolerance`): the report's `tolerance` key.
     pub tolerance: Option<&'a Margins>,
 }
 

@@ -39,6 +39,7 @@ impl Default for DirectionSettings {
 }
 
 impl DirectionSettings {
+    /// Refuses fewer than 3 directions (no worst one can be bracketed).
     pub fn validate(&self) -> Result<(), RobustnessError> {
         if self.directions < 3 {
             return Err(RobustnessError::Settings(format!(
@@ -55,9 +56,11 @@ impl DirectionSettings {
 pub struct DirectionSweep {
     /// The evenly spaced azimuths (degrees) and their λ* (+∞ where unlimited).
     pub azimuths: Vec<f64>,
+    /// λ* at each azimuth, in the same order (+∞ where unlimited).
     pub load_factors: Vec<f64>,
     /// The refined worst direction (degrees) and its λ*.
     pub worst_azimuth: f64,
+    /// λ* at the refined worst direction.
     pub worst_load_factor: f64,
     /// The analysis at the worst direction (its mechanism).
     pub worst: Robustness,

@@ -33,8 +33,10 @@ use thiserror::Error;
 /// [`KinematicVerdict::Undecided`]).
 #[derive(Debug, Error, Clone, PartialEq)]
 pub enum KinematicError {
+    /// The statics refused the assembly or the settings.
     #[error(transparent)]
     Statics(#[from] statics::StaticsError),
+    /// A setting is out of range (the message names it).
     #[error("{0}")]
     Settings(String),
 }
@@ -55,6 +57,7 @@ pub enum KinematicVerdict {
 /// The kinematic check of a design.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Kinematic {
+    /// Stands, fails or undecided, over every component.
     pub verdict: KinematicVerdict,
     /// The statics' verdict on the same design (RBE).
     pub statics_stands: bool,
@@ -68,9 +71,11 @@ pub struct Kinematic {
     pub status: SolverStatus,
     /// Fixed-point rounds (the largest over components) and interior-point iterations (summed).
     pub rounds: u32,
+    /// Interior-point iterations, summed over rounds and components.
     pub iterations: u32,
     /// ‖M a − w − A f‖_∞ of the last rounds, N.
     pub residual: f64,
+    /// Seconds inside the solvers.
     pub solver_seconds: f64,
 }
 

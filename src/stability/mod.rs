@@ -38,10 +38,13 @@ use thiserror::Error;
 /// [`Safety::SolverFailed`]).
 #[derive(Debug, Error, Clone, PartialEq)]
 pub enum RobustnessError {
+    /// No free block carries a live load, so there is nothing to multiply.
     #[error("no live load on a free block: a load factor needs a live load (a point load or an acceleration)")]
     NoLiveLoad,
+    /// The statics refused the assembly or the settings.
     #[error(transparent)]
     Statics(#[from] StaticsError),
+    /// A setting is out of range (the message names it).
     #[error("{0}")]
     Settings(String),
 }
@@ -51,7 +54,10 @@ pub enum RobustnessError {
 #[serde(tag = "kind", rename_all = "snake_case")]
 pub enum Safety {
     /// Stands under the dead load and collapses at λ* × the live load (λ* ≥ 0).
-    Collapses { load_factor: f64 },
+    Collapses {
+        /// λ*, a multiple of the live load (for an acceleration field, in g).
+        load_factor: f64,
+    },
     /// Stands, and no multiple of the live load makes it collapse (the LP is unbounded).
     Unlimited,
     /// Does not stand under the dead load alone (λ = 0): the analysis's graded answer holds,
@@ -59,14 +65,23 @@ pub enum Safety {
     /// (negative when only taking live load away would; positive when the live load itself is
     /// needed), `None` when no multiple of the live load gives an equilibrium (or there is no
     /// live load, or a failing part carries none).
-    DoesNotStand { load_factor: Option<f64> },
+    DoesNotStand {
+        /// The largest λ that would hold it, as above.
+        load_factor: Option<f64>,
+    },
     /// A solver did not reach an answer.
-    SolverFailed { status: SolverStatus, residual: f64 },
+    SolverFailed {
+        /// How the solve ended.
+        status: SolverStatus,
+        /// ‖equilibrium residual‖_∞ where it stopped, N.
+        residual: f64,
+    },
 }
 
 /// The load factor of a design and its mechanism.
 #[derive(Clone, Debug, Serialize)]
 pub struct Robustness {
+    /// The answer: collapses at λ*, unlimited, does not stand, or solver trouble.
     pub safety: Safety,
     /// λ* (+∞ when unlimited, NaN when the design does not stand or a solve failed).
     pub load_factor: f64,
@@ -77,7 +92,10 @@ pub struct Robustness {
     pub status: SolverStatus,
     /// ‖equilibrium residual‖_∞ of the critical solve, N.
     pub residual: f64,
+    /// Interior-point iterations of the critical solve (both solvers' when clarabel solved it
+    /// again).
     pub iterations: u32,
+    /// Seconds inside the solvers, over every component.
     pub solver_seconds: f64,
 }
 
@@ -106,6 +124,7 @@ pub struct FactorCache {
     next: HashMap<u64, FactorOutcome>,
     /// Components solved and reused by the last run.
     pub solved: usize,
+    /// Components whose load factor the last run took from the cache.
     pub reused: usize,
 }
 

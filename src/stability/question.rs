@@ -33,8 +33,11 @@ impl Question {
 /// phrase naming the load.
 #[derive(Clone, Debug)]
 pub struct Answer {
+    /// The load factor and its mechanism.
     pub result: Robustness,
+    /// λ* per direction, when the question was the worst horizontal direction.
     pub sweep: Option<DirectionSweep>,
+    /// The load in words, as the text report names it (`1 g horizontal at 30°`, or the live loads named).
     pub load: String,
 }
 

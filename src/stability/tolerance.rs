@@ -38,6 +38,7 @@ impl Default for ToleranceSettings {
 }
 
 impl ToleranceSettings {
+    /// Refuses a precision outside (0, 1).
     pub fn validate(&self) -> Result<(), ToleranceError> {
         if !(self.precision > 0.0 && self.precision < 1.0) {
             return Err(ToleranceError::BadPrecision(self.precision));
@@ -49,12 +50,16 @@ impl ToleranceSettings {
 /// Why the margins cannot be computed.
 #[derive(Debug, Error, Clone, PartialEq)]
 pub enum ToleranceError {
+    /// The precision is not in (0, 1).
     #[error("tolerance precision {0} must be a number in (0, 1)")]
     BadPrecision(f64),
+    /// A shrink is negative or not finite.
     #[error("joint shrink {0} must be a finite number ≥ 0 (model units)")]
     BadShrink(f64),
+    /// The design does not stand as drawn (the reason, in words), so it has no margin.
     #[error("the design does not stand as drawn ({0}): it has no tolerance margin")]
     DoesNotStand(&'static str),
+    /// The statics refused the assembly or the settings.
     #[error(transparent)]
     Statics(#[from] StaticsError),
 }
@@ -62,8 +67,11 @@ pub enum ToleranceError {
 /// The interface that governs a margin: its index and the names of its two sides.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Governing {
+    /// The interface's index in the analysis's interfaces.
     pub interface: usize,
+    /// The name of its side a (a block, or `ground`).
     pub a: String,
+    /// The name of its side b.
     pub b: String,
 }
 
@@ -71,8 +79,11 @@ pub struct Governing {
 /// (tilt), and the interface that governs it.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Margin {
+    /// The margin: a shrink in model units (m), or a tilt in degrees.
     pub value: f64,
+    /// The margin over the typical block size (shrink) or over the friction angle atan μ (tilt).
     pub relative: f64,
+    /// The interface that needs the most tension or friction just past the margin (none when no joint governs).
     pub governing: Option<Governing>,
 }
 

@@ -18,8 +18,11 @@ use crate::statics::{JointState, Verdict};
 /// Linear RGB.
 pub type Rgb = [f32; 3];
 
+/// Nothing carried (a face without force), and friction without use.
 pub const GREY: Rgb = [0.55, 0.55, 0.55];
+/// Friction used up to the diagram's threshold.
 pub const YELLOW: Rgb = [1.0, 0.9, 0.1];
+/// Tension, and friction beyond the model's capacity.
 pub const RED: Rgb = [0.85, 0.05, 0.05];
 const BLUE_LIGHT: Rgb = [0.72, 0.82, 1.0];
 const BLUE_DEEP: Rgb = [0.02, 0.15, 0.75];
@@ -36,14 +39,21 @@ pub const fn srgb8(r: u8, g: u8, b: u8) -> Srgb {
 }
 
 // Verdicts on the viewer's dark panel: light shades.
+/// It stands: green.
 pub const STANDS: Srgb = [0.35, 0.85, 0.45];
+/// It needs tension (or does not stand otherwise): red.
 pub const FAILS: Srgb = [0.95, 0.3, 0.25];
+/// It needs friction beyond μ only: orange.
 pub const FRICTION_EXCEEDED: Srgb = [0.95, 0.5, 0.15];
+/// The solver could not tell: yellow.
 pub const UNRESOLVED: Srgb = [0.9, 0.8, 0.2];
+/// No verdict yet (nothing analysed): grey.
 pub const NO_VERDICT: Srgb = [0.7, 0.7, 0.7];
 
 // Verdicts on a plot's white: deep shades of the same hues, legible as text.
+/// It stands, on white: deep green.
 pub const STANDS_ON_WHITE: Srgb = srgb8(30, 120, 50);
+/// It fails, on white: deep red.
 pub const FAILS_ON_WHITE: Srgb = srgb8(190, 20, 20);
 
 /// A moved block in a motion picture (the viewer's motion pane, the mechanism PNG): violet,
@@ -53,6 +63,7 @@ pub const MOVED: Srgb = [0.60, 0.45, 0.88];
 /// Blocks by density (an infill design's): light sand at the lowest density shown, deep umber
 /// at the highest, linear between (linear RGB).
 pub const DENSITY_LOW: Rgb = [0.93, 0.86, 0.66];
+/// The highest density shown: deep umber.
 pub const DENSITY_HIGH: Rgb = [0.25, 0.10, 0.03];
 
 /// The colour of density `d` on the scale from `lo` to `hi` (the middle when they are equal).

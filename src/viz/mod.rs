@@ -59,7 +59,10 @@ pub enum DiagramMode {
     #[default]
     Compression,
     /// Grey / yellow up to `threshold` of the capacity / orange / red beyond μ.
-    Friction { threshold: f64 },
+    Friction {
+        /// The share of the friction capacity μN up to which a joint is yellow (0.5 by default).
+        threshold: f64,
+    },
     /// Force arrows (resultants, relative magnitude) over the compression colours.
     Vectors,
 }

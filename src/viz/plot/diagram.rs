@@ -20,11 +20,15 @@ use std::path::Path;
 
 /// What to draw and from where.
 pub struct DiagramPicture<'a> {
+    /// The analysed design: its blocks, interfaces and forces.
     pub analysis: &'a Analysis,
+    /// Which diagram colours the interfaces.
     pub mode: DiagramMode,
     /// View direction: azimuth from +x towards +y and elevation above the horizon, degrees.
     pub azimuth_deg: f64,
+    /// Elevation of the view above the horizon, degrees.
     pub elevation_deg: f64,
+    /// Picture size in pixels (width, height).
     pub size: (u32, u32),
     /// Fill the free blocks by density ([`colors::density`], lightest to densest) instead of
     /// translucent stone: an infill design.

@@ -16,16 +16,22 @@ use std::path::Path;
 
 /// A mechanism picture (same view as the diagrams).
 pub struct MechanismPicture<'a> {
+    /// The analysed design the mechanism moves.
     pub analysis: &'a Analysis,
+    /// Its load factor and collapse mechanism.
     pub robustness: &'a Robustness,
     /// What the live load was, for the panel (e.g. "1 g horizontal at 90°").
     pub load: String,
+    /// View azimuth from +x towards +y, degrees.
     pub azimuth_deg: f64,
+    /// View elevation above the horizon, degrees.
     pub elevation_deg: f64,
+    /// Picture size in pixels (width, height).
     pub size: (u32, u32),
 }
 
 impl<'a> MechanismPicture<'a> {
+    /// The diagrams' default view (azimuth −60°, elevation 25°) at 1280 × 900 pixels.
     pub fn new(analysis: &'a Analysis, robustness: &'a Robustness, load: String) -> Self {
         Self { analysis, robustness, load, azimuth_deg: -60.0, elevation_deg: 25.0, size: (1280, 900) }
     }
@@ -172,8 +178,11 @@ impl Drawing for MechanismPicture<'_> {
 
 /// The polar plot of λ*(azimuth).
 pub struct PolarPlot<'a> {
+    /// The plot's title (the design's name).
     pub title: String,
+    /// λ* per azimuth and the worst direction, marked.
     pub sweep: &'a DirectionSweep,
+    /// Plot size in pixels (width, height).
     pub size: (u32, u32),
 }
 

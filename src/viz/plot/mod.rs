@@ -24,12 +24,28 @@ use thiserror::Error;
 /// Why a plot could not be written.
 #[derive(Debug, Error)]
 pub enum PlotError {
+    /// The extension is neither .png nor .svg.
     #[error("{path}: plots are written as .png or .svg")]
-    Format { path: String },
+    Format {
+        /// The output path as given.
+        path: String,
+    },
+    /// plotters could not draw it.
     #[error("{path}: cannot draw the plot: {message}")]
-    Draw { path: String, message: String },
+    Draw {
+        /// The output path as given.
+        path: String,
+        /// plotters' message.
+        message: String,
+    },
+    /// The file cannot be written.
     #[error("{path}: cannot write: {message}")]
-    Write { path: String, message: String },
+    Write {
+        /// The output path as given.
+        path: String,
+        /// What the operating system said.
+        message: String,
+    },
 }
 
 /// DejaVu Sans Mono (bundled with its licence): the pictures' and the viewer's text (it has μ, ·, —).
@@ -52,6 +68,7 @@ pub(crate) fn rgb(c: crate::viz::colors::Srgb) -> RGBColor {
 
 /// Something drawable on any plotters backend.
 pub trait Drawing {
+    /// Draws onto `root`; a plotters error comes back as its message.
     fn draw<DB: DrawingBackend>(&self, root: DrawingArea<DB, Shift>) -> Result<(), String>;
 }
 

@@ -9,7 +9,9 @@ use std::path::Path;
 /// What the plot shows: each run's horizontal reaction on its first moved support (the thrust)
 /// against the movement, the collapses marked.
 pub struct ThrustPlot<'a> {
+    /// The plot's title (the design's name).
     pub title: String,
+    /// The runs to draw: their stages' reactions and movements, and each collapse.
     pub settlement: &'a Settlement,
 }
 

@@ -15,11 +15,15 @@ use std::path::Path;
 
 /// A key-frame strip of `trajectory` (same view as the diagrams).
 pub struct FrameStrip<'a> {
+    /// The design whose blocks move.
     pub assembly: &'a Assembly,
+    /// The recorded poses (per block, per frame) and their times.
     pub trajectory: &'a Trajectory,
     /// Key frames drawn, the first and the last recorded included.
     pub frames: usize,
+    /// View azimuth from +x towards +y, degrees.
     pub azimuth_deg: f64,
+    /// View elevation above the horizon, degrees.
     pub elevation_deg: f64,
     /// Pixels of one panel.
     pub panel: (u32, u32),

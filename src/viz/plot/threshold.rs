@@ -9,9 +9,13 @@ use std::path::Path;
 
 /// What a sweep plot shows.
 pub struct ThresholdPlot<'a> {
+    /// The plot's title (the family and its settings).
     pub title: String,
+    /// The swept parameter's name and unit, for the x axis.
     pub parameter: String,
+    /// The scanned parameters with both verdicts and margins.
     pub scan: &'a [ScanPoint],
+    /// The bisection's thresholds to mark, when the sweep found them.
     pub result: Option<&'a ThresholdStudy>,
 }
 
