@@ -57,6 +57,7 @@ pub mod history;
 pub mod interfaces;
 #[warn(missing_docs)]
 pub mod io;
+#[warn(missing_docs)]
 pub mod model;
 #[warn(missing_docs)]
 pub mod optimise;
@@ -66,6 +67,7 @@ pub mod pipeline;
 pub mod report;
 #[warn(missing_docs)]
 pub mod stability;
+#[warn(missing_docs)]
 pub mod statics;
 pub mod studies;
 pub mod synthesis;

@@ -12,32 +12,58 @@ use thiserror::Error;
 /// Why a scene cannot be analysed. Each variant names the block.
 #[derive(Debug, Error, Clone, PartialEq)]
 pub enum ModelError {
+    /// The scene has no blocks.
     #[error("the scene has no blocks")]
     NoBlocks,
+    /// A block's mesh is not a closed solid (or cannot be repaired into one).
     #[error("block '{block}': {source}")]
     Mesh {
+        /// The block's name.
         block: String,
+        /// What is wrong with its mesh.
         #[source]
         source: MeshError,
     },
+    /// Two blocks share a name.
     #[error("two blocks are called '{0}'; block names must be unique")]
     DuplicateName(String),
+    /// A block (its position in the scene, from 0) has an empty name.
     #[error("block #{0} has an empty name")]
     EmptyName(usize),
+    /// A block's density is not usable.
     #[error("block '{block}': density {density} is not a positive finite number (kg/m³)")]
-    BadDensity { block: String, density: f64 },
+    BadDensity {
+        /// The block's name.
+        block: String,
+        /// The density as given, kg/m³.
+        density: f64,
+    },
+    /// A block's cell densities do not fit its grid (not k³ values, or one not usable).
     #[error("block '{block}': {count} cell densities: {why}")]
-    BadCells { block: String, count: usize, why: &'static str },
+    BadCells {
+        /// The block's name.
+        block: String,
+        /// How many values were given.
+        count: usize,
+        /// What is wrong, in words.
+        why: &'static str,
+    },
+    /// μ is negative, infinite or NaN.
     #[error("friction coefficient {0} is not a finite number ≥ 0")]
     BadFriction(f64),
+    /// σ_c is not a finite positive number (Pa).
     #[error("compressive strength {0} is not a finite number > 0 (Pa)")]
     BadStrength(f64),
+    /// Gravity is not a finite vector (m/s²).
     #[error("gravity {0:?} is not a finite vector")]
     BadGravity([f64; 3]),
+    /// A relative tolerance is out of range.
     #[error(transparent)]
     BadTolerance(#[from] crate::geometry::ToleranceError),
+    /// The reference length the tolerances scale with is not a finite positive length (m).
     #[error("reference length {0} is not a positive finite number (m)")]
     BadReferenceLength(f64),
+    /// The model is too small for floating point (its bounding-box diagonal, in its unit).
     #[error(
         "the model is only {0:.2e} across (its bounding-box diagonal; at least 1e-15 keeps its areas, \
          volumes and moments within floating-point range): give the coordinates in a smaller unit \
@@ -47,27 +73,54 @@ pub enum ModelError {
     /// Two blocks interpenetrate (an error only with `AnalysisSettings::strict`); the deepest
     /// pair relative to its size, and how many other pairs overlap.
     #[error("{overlap}{}", others_note(.others))]
-    Overlap { overlap: Overlap, others: usize },
+    Overlap {
+        /// The deepest pair, relative to the thinner block.
+        overlap: Overlap,
+        /// How many other pairs overlap.
+        others: usize,
+    },
     /// A load (`index` in the scene's list) that cannot be applied.
     #[error("load #{index}: {message}")]
-    BadLoad { index: usize, message: String },
+    BadLoad {
+        /// The load's position in the scene's list, from 0.
+        index: usize,
+        /// Why it cannot be applied.
+        message: String,
+    },
 }
 
 /// Something the analysis let pass but the user should know, naming the file, block or pair.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Warning {
     /// A repair of a block's mesh made while validating it.
-    Repair { block: String, warning: MeshWarning },
+    Repair {
+        /// The block's name.
+        block: String,
+        /// What was repaired (weld, flipped faces, triangulated faces).
+        warning: MeshWarning,
+    },
     /// A key the scene file format does not know, ignored (metadata such as a `params` object,
     /// tool names or colours). `place` is where it was: `None` at the top level, else e.g.
     /// `block 'top'` or `cut 2`.
-    UnknownKey { file: PathBuf, place: Option<String>, key: String },
+    UnknownKey {
+        /// The scene file.
+        file: PathBuf,
+        /// Where the key was (`None` at the top level).
+        place: Option<String>,
+        /// The key as written.
+        key: String,
+    },
     /// Two blocks interpenetrate beyond the coplanarity tolerance: the statics see only their
     /// interfaces, not the overlap.
     Overlap(Overlap),
     /// A load (`index` in the scene's list) on a support block: ignored, a support takes any
     /// reaction.
-    LoadOnSupport { index: usize, block: String },
+    LoadOnSupport {
+        /// The load's position in the scene's list, from 0.
+        index: usize,
+        /// The support's name.
+        block: String,
+    },
 }
 
 impl Warning {
@@ -103,7 +156,9 @@ impl std::fmt::Display for Warning {
 /// them, m) and how that compares with the smaller block and the tolerance.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Overlap {
+    /// One block's name.
     pub a: String,
+    /// The other block's name.
     pub b: String,
     /// Penetration depth, m.
     pub depth: f64,
@@ -156,14 +211,19 @@ pub struct Face {
 /// A validated block.
 #[derive(Clone, Debug)]
 pub struct AssemblyBlock {
+    /// The block's (or piece's) name, unique in the assembly.
     pub name: String,
+    /// Its closed, consistently oriented mesh (welded and repaired), m.
     pub mesh: Mesh,
+    /// A fixed body: no equilibrium rows, takes any reaction.
     pub support: bool,
     /// kg/m³ (the block's own or the scene's).
     pub density: f64,
     /// Volume, volume centroid and inertia per unit density.
     pub mass: MassProperties,
+    /// Its planar faces with their planes, in the mesh's face order.
     pub faces: Vec<Face>,
+    /// Its axis-aligned bounding box, m.
     pub aabb: Aabb3,
     /// Volume / largest face area: a plate's thickness, a cube's edge (m).
     pub thickness: f64,
@@ -229,13 +289,19 @@ impl AssemblyBlock {
 /// A validated scene: what interface detection, statics and dynamics take.
 #[derive(Clone, Debug)]
 pub struct Assembly {
+    /// The scene's name.
     pub name: String,
+    /// The validated blocks; a [`BlockId`] indexes them.
     pub blocks: Vec<AssemblyBlock>,
+    /// Density, μ and compressive strength of the material.
     pub material: Material,
+    /// Gravity, m/s² (standard gravity along −z by default).
     pub gravity: Vector3,
+    /// Whether the ground plane z = 0 supports faces lying on it.
     pub ground: bool,
     /// Bounding-box diagonal of all blocks: the length every tolerance is relative to.
     pub scale: f64,
+    /// The interface tolerances in model units (the relative ones times [`Assembly::scale`]).
     pub tolerances: AbsTolerances,
     /// Loads besides self-weight, per block (zero on supports): [`super::loads`].
     pub loads: Vec<BlockLoads>,
@@ -317,10 +383,12 @@ impl Assembly {
         })
     }
 
+    /// The block `id` names.
     pub fn block(&self, id: BlockId) -> &AssemblyBlock {
         &self.blocks[id.0]
     }
 
+    /// The block called `name`, if any.
     pub fn find(&self, name: &str) -> Option<BlockId> {
         self.blocks.iter().position(|b| b.name == name).map(BlockId)
     }
@@ -351,6 +419,7 @@ impl Assembly {
         self.loads.iter().any(|l| l.live.iter().any(|&v| v != 0.0))
     }
 
+    /// The support blocks, in block order.
     pub fn supports(&self) -> impl Iterator<Item = BlockId> + '_ {
         self.blocks.iter().enumerate().filter(|(_, b)| b.support).map(|(i, _)| BlockId(i))
     }

@@ -21,12 +21,31 @@ use thiserror::Error;
 /// Why a built-in scene name cannot be built.
 #[derive(Debug, Error, Clone, PartialEq)]
 pub enum BuiltinError {
+    /// No built-in scene has that name.
     #[error("unknown built-in scene '{0}' (stack, stacks, harmonic, arch, wall, slope, dome)")]
     Unknown(String),
+    /// A parameter the scene does not take.
     #[error("built-in '{scene}': unknown parameter '{param}' (known: {known})")]
-    UnknownParam { scene: String, param: String, known: String },
+    UnknownParam {
+        /// The scene's name (`arch`, `stack`, …).
+        scene: String,
+        /// The parameter as written.
+        param: String,
+        /// The parameters the scene takes.
+        known: String,
+    },
+    /// A parameter's value is out of range or not a number.
     #[error("built-in '{scene}': parameter '{param}' = '{value}' is not valid: {why}")]
-    BadValue { scene: String, param: String, value: String, why: &'static str },
+    BadValue {
+        /// The scene's name.
+        scene: String,
+        /// The parameter.
+        param: String,
+        /// The value as written.
+        value: String,
+        /// What it must be.
+        why: &'static str,
+    },
 }
 
 struct Params {

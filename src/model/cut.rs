@@ -11,19 +11,30 @@ use serde::{Deserialize, Serialize};
 #[derive(Clone, Debug, PartialEq)]
 pub enum CutShape {
     /// The plane through `point` with normal `normal` (any length > 0).
-    Plane { point: [f64; 3], normal: [f64; 3] },
+    Plane {
+        /// A point of the plane, m.
+        point: [f64; 3],
+        /// Its normal (any length > 0); the `-` pieces are on the side it points away from.
+        normal: [f64; 3],
+    },
     /// A pattern of line segments (typically drawn on a face) extruded to one apex: segment
     /// `[p, q]` cuts with the plane through `apex`, `p` and `q`, but only the pieces that the
     /// cone from the apex through the segment meets. Segments are applied in order, so a
     /// segment drawn between two earlier ones cuts only the piece between them (brick bonds,
     /// voussoir courses). The interfaces are planar and converge on the apex.
-    Pattern { apex: [f64; 3], segments: Vec<[[f64; 3]; 2]> },
+    Pattern {
+        /// The point every cutting plane passes through, m.
+        apex: [f64; 3],
+        /// The segments `[p, q]`, m, in the order they cut.
+        segments: Vec<[[f64; 3]; 2]>,
+    },
 }
 
 /// One cut of the history.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(try_from = "RawCut", into = "RawCut")]
 pub struct Cut {
+    /// The plane, or the pattern and its apex.
     pub shape: CutShape,
     /// Only this piece (and, in a pattern, the pieces cut from it) is cut. Default: every piece
     /// the cut crosses, supports excepted.

@@ -13,7 +13,12 @@ pub enum Edit {
     /// Append a cut to the history.
     AddCut(Cut),
     /// Replace cut `index` of the history.
-    MoveCut { index: usize, cut: Cut },
+    MoveCut {
+        /// The cut's position in the history, from 0.
+        index: usize,
+        /// The cut that replaces it.
+        cut: Cut,
+    },
     /// Drop cut `index` of the history.
     RemoveCut(usize),
     /// Make a block or piece a support, or free it again.
@@ -35,22 +40,38 @@ pub enum Edit {
 /// Settings-level edits (they do not change the design itself).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum SettingsEdit {
+    /// Analyse with this friction model (pyramid8, cone, box4).
     SetFrictionModel(FrictionModel),
 }
 
 /// Why an edit cannot be applied.
 #[derive(Debug, Error, Clone, PartialEq)]
 pub enum EditError {
+    /// No cut at that position of the history.
     #[error("there is no cut {index} (the history has {len})")]
-    NoCut { index: usize, len: usize },
+    NoCut {
+        /// The position asked for.
+        index: usize,
+        /// How many cuts the history has.
+        len: usize,
+    },
+    /// The block or piece to restore is not among the removed ones.
     #[error("'{0}' is not removed")]
     NotRemoved(String),
+    /// A block to add has the name of one the design has.
     #[error("a block called '{0}' already exists")]
     Duplicate(String),
+    /// μ is negative, infinite or NaN.
     #[error("friction coefficient {0} must be a finite number ≥ 0")]
     BadFriction(f64),
+    /// No load at that position of the list.
     #[error("there is no load {index} (the design has {len})")]
-    NoLoad { index: usize, len: usize },
+    NoLoad {
+        /// The position asked for.
+        index: usize,
+        /// How many loads the design has.
+        len: usize,
+    },
 }
 
 /// Applies `edit` to `scene`. Names of pieces are checked when the design is resolved.

@@ -28,12 +28,27 @@ pub enum LoadKind {
 pub enum Load {
     /// A force (N) at a point (m) of the block named `block`. A block cut by the scene's
     /// history stands for the piece containing the point.
-    Point { block: String, point: Point3, force: Vector3, kind: LoadKind },
+    Point {
+        /// The block's (or source shape's) name.
+        block: String,
+        /// Where the force acts, m.
+        point: Point3,
+        /// The force, N.
+        force: Vector3,
+        /// Dead (always on) or live (multiplied by the load factor).
+        kind: LoadKind,
+    },
     /// A uniform acceleration (units of g) on every free block's mass at its centroid.
-    Acceleration { accel: Vector3, kind: LoadKind },
+    Acceleration {
+        /// The acceleration in units of g (the magnitude of the scene's gravity).
+        accel: Vector3,
+        /// Dead or live.
+        kind: LoadKind,
+    },
 }
 
 impl Load {
+    /// Whether the load is dead or live.
     pub fn kind(&self) -> LoadKind {
         match self {
             Load::Point { kind, .. } | Load::Acceleration { kind, .. } => *kind,
@@ -55,9 +70,13 @@ pub type Wrench = [f64; 6];
 /// centroid), so that a design may change the mass ([`synthesis::infill`](mod@crate::synthesis::infill)).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct BlockLoads {
+    /// The dead loads' wrench, acceleration fields included.
     pub dead: Wrench,
+    /// The live loads' wrench, acceleration fields included.
     pub live: Wrench,
+    /// The dead acceleration fields' force per kg of the block's mass, N/kg.
     pub dead_per_kg: [f64; 3],
+    /// The live acceleration fields' force per kg of the block's mass, N/kg.
     pub live_per_kg: [f64; 3],
 }
 

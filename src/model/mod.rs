@@ -46,7 +46,9 @@ pub struct BlockId(pub usize);
 /// One rigid block as given by the user.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Block {
+    /// The block's name, unique in the scene (cut pieces are named from it).
     pub name: String,
+    /// Its closed surface mesh, m; it may be non-convex.
     pub mesh: Mesh,
     /// Fixed body: no equilibrium rows, takes any reaction.
     pub support: bool,
@@ -60,7 +62,9 @@ pub struct Block {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(untagged)]
 pub enum Density {
+    /// One density for the whole block, kg/m³.
     Uniform(f64),
+    /// k³ densities, one per cell of the k × k × k grid, kg/m³.
     Cells(Vec<f64>),
 }
 
@@ -71,10 +75,12 @@ impl From<f64> for Density {
 }
 
 impl Block {
+    /// A free block of the scene's density.
     pub fn new(name: impl Into<String>, mesh: Mesh) -> Self {
         Self { name: name.into(), mesh, support: false, density: None }
     }
 
+    /// The block made a support (`true`) or free.
     pub fn support(mut self, yes: bool) -> Self {
         self.support = yes;
         self
@@ -118,8 +124,11 @@ pub const STANDARD_GRAVITY: f64 = 9.81;
 /// A design: blocks, material, gravity and supports.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Scene {
+    /// The design's name, as reports show it.
     pub name: String,
+    /// The source blocks (before the cut history).
     pub blocks: Vec<Block>,
+    /// Density, μ and compressive strength of the material.
     pub material: Material,
     /// m/s² ([`Scene::new`]: [`STANDARD_GRAVITY`] along −z).
     pub gravity: Vector3,
@@ -152,6 +161,7 @@ pub struct Scene {
 }
 
 impl Scene {
+    /// A scene of `blocks` in the default material, standard gravity, no ground, no cuts.
     pub fn new(name: impl Into<String>, blocks: Vec<Block>) -> Self {
         Self {
             name: name.into(),

@@ -55,7 +55,9 @@ impl StaticsCache {
 /// Components solved and reused by a cached analysis.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct SolveStats {
+    /// Components whose statics was solved in this run.
     pub solved: usize,
+    /// Components whose outcome was taken from the cache.
     pub reused: usize,
 }
 

@@ -40,10 +40,15 @@ use crate::model::loads::Wrench;
 /// its volume (m³), centroid (m) and bounds (kg/m³, 0 < lo ≤ hi).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct DensityCell {
+    /// The block's index in the component.
     pub block: usize,
+    /// Volume of the block or cell, m³.
     pub volume: f64,
+    /// Its centroid, m.
     pub centroid: Point3,
+    /// The lowest density allowed, kg/m³.
     pub lo: f64,
+    /// The highest density allowed, kg/m³.
     pub hi: f64,
 }
 
@@ -51,7 +56,9 @@ pub struct DensityCell {
 /// wrench (N, N·m about the centroid) of the rest.
 #[derive(Clone, Debug, PartialEq)]
 pub struct LiveCase {
+    /// Per block, the acceleration fields' force per kg of its mass, N/kg.
     pub per_kg: Vec<[f64; 3]>,
+    /// Per block, the wrench of the point loads (N, N·m about its centroid), independent of the mass.
     pub fixed: Vec<Wrench>,
 }
 
@@ -86,12 +93,18 @@ pub enum DensityGoal<'c> {
     /// The lightest densities that stand under the dead load.
     Lightest,
     /// The lightest that stand under the dead load and under each case at factor `lambda`.
-    Carries { lambda: f64, cases: &'c [LiveCase] },
+    Carries {
+        /// The factor on each live case (for an acceleration field, in g).
+        lambda: f64,
+        /// The live load cases, each carried on its own.
+        cases: &'c [LiveCase],
+    },
 }
 
 /// How a component's density problem ended.
 #[derive(Clone, Debug)]
 pub struct DensityOutcome {
+    /// How the density problem's solve ended.
     pub status: SolverStatus,
     /// Per cell, kg/m³; empty when no density within the bounds stands.
     pub densities: Vec<f64>,
@@ -102,7 +115,9 @@ pub struct DensityOutcome {
     pub excess: f64,
     /// ‖A x + Σ ρ_i c_i + p‖_∞ of the dead-load copy, N (NaN without a solution).
     pub residual: f64,
+    /// Interior-point iterations.
     pub iterations: u32,
+    /// Seconds inside the solver.
     pub solver_seconds: f64,
     /// The solver that ran the density problem (clarabel for several loadings side by side).
     pub backend: Backend,

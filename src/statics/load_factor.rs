@@ -43,6 +43,7 @@ pub type Motion = [f64; 6];
 /// How a component's load-factor problem ended.
 #[derive(Clone, Debug)]
 pub struct FactorOutcome {
+    /// How the load-factor solve ended.
     pub status: SolverStatus,
     /// λ*; +∞ when the live load can grow without bound (the LP is unbounded), NaN when the
     /// problem has no solution (no λ at all admits equilibrium, or solver trouble).
@@ -52,7 +53,9 @@ pub struct FactorOutcome {
     pub motions: Vec<Motion>,
     /// ‖A x + λ L + D‖_∞ of the solution, N.
     pub residual: f64,
+    /// Interior-point iterations.
     pub iterations: u32,
+    /// Seconds inside the solver.
     pub solver_seconds: f64,
 }
 

@@ -39,8 +39,11 @@ pub enum JointState {
 /// A moving block's motion: translation (m) and rotation about its centroid (rad), world axes.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct BlockMotion {
+    /// The block's name.
     pub block: String,
+    /// Its virtual translation, m (world axes).
     pub translation: [f64; 3],
+    /// Its virtual rotation about its centroid, rad (a rotation vector, world axes).
     pub rotation: [f64; 3],
 }
 
@@ -50,10 +53,15 @@ pub struct BlockMotion {
 pub struct InterfaceMotion {
     /// Index in the analysis's interface list.
     pub index: usize,
+    /// The name of side a (a block, or `ground`).
     pub a: String,
+    /// The name of side b.
     pub b: String,
+    /// Closed, hinging, opening or sliding.
     pub state: JointState,
+    /// The largest normal relative motion over its vertices, m.
     pub opening: f64,
+    /// The largest tangential relative motion over its vertices, m.
     pub sliding: f64,
 }
 

@@ -42,8 +42,11 @@ pub use crate::model::FrictionModel;
 /// Cones in row order.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Cone {
+    /// `n` equality rows (the block equilibria).
     Zero(usize),
+    /// `n` rows in the non-negative cone (signs, polyhedral friction).
     Nonnegative(usize),
+    /// One second-order cone of `n` rows (a friction cone: `n` = 3).
     SecondOrder(usize),
 }
 
@@ -51,16 +54,22 @@ pub enum Cone {
 /// A x + s = b, s ∈ cones.
 #[derive(Clone, Debug, Default)]
 pub struct ConicProblem {
+    /// The number of variables (columns).
     pub n: usize,
+    /// The diagonal of the quadratic objective P, one entry per column.
     pub p_diag: Vec<f64>,
+    /// The linear objective q, one entry per column.
     pub q: Vec<f64>,
     /// (row, column, value) of A.
     pub a: Vec<(usize, usize, f64)>,
+    /// The right-hand side b, one entry per row.
     pub b: Vec<f64>,
+    /// The cones the rows belong to, in row order.
     pub cones: Vec<Cone>,
 }
 
 impl ConicProblem {
+    /// The number of rows.
     pub fn m(&self) -> usize {
         self.b.len()
     }
@@ -80,13 +89,17 @@ pub enum Var {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum SolverStatus {
+    /// Solved to full accuracy.
     Solved,
     /// Solved to clarabel's reduced accuracy.
     AlmostSolved,
     /// Stopped at the iteration limit.
     MaxIterations,
+    /// The solver stopped making progress before the tolerances.
     InsufficientProgress,
+    /// The solver hit a numerical failure (a factorisation broke down).
     NumericalError,
+    /// The objective is unbounded (for a load factor: no multiple of the live load collapses it).
     Unbounded,
     /// No equilibrium exists at all (not even with tension).
     Infeasible,
@@ -107,9 +120,13 @@ impl SolverStatus {
 /// optimum needs only `gap_rel` of itself (the structured solver; clarabel keeps its own).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Accuracy {
+    /// Primal and dual feasibility tolerance (relative residuals).
     pub feas: f64,
+    /// Absolute duality-gap tolerance.
     pub gap_abs: f64,
+    /// Relative duality-gap tolerance.
     pub gap_rel: f64,
+    /// Whether the relative gap is against |objective| alone, not max(1, |objective|).
     pub pure_relative: bool,
 }
 
@@ -281,10 +298,15 @@ pub struct ContactProblem<'a> {
 /// bounds lo ≤ x ≤ hi.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct BlockColumn {
+    /// The block's index in the component (its six rows).
     pub block: usize,
+    /// Its entries in the block's six rows (force x, y, z, moment x, y, z).
     pub column: [f64; 6],
+    /// Quadratic weight of the variable in the objective (½ p x²).
     pub p: f64,
+    /// Linear weight of the variable in the objective (cost x).
     pub cost: f64,
+    /// Lower and upper bounds, when bounded.
     pub bounds: Option<(f64, f64)>,
 }
 
@@ -302,10 +324,15 @@ pub struct LoadColumn {
 /// interface origin), and its width across each (area / extent). Non-dimensional.
 #[derive(Clone, Debug, PartialEq)]
 pub struct StressBlock {
+    /// The interface's force points (indices into the problem's points).
     pub points: std::ops::Range<usize>,
+    /// Two orthogonal in-plane axes, in the interface's (u, v) coordinates.
     pub axes: [[f64; 2]; 2],
+    /// The polygon's lowest coordinate along each axis, from the interface origin.
     pub lo: [f64; 2],
+    /// The polygon's highest coordinate along each axis, from the interface origin.
     pub hi: [f64; 2],
+    /// The polygon's width across each axis: its area over its extent along it.
     pub width: [f64; 2],
 }
 

@@ -127,6 +127,7 @@ pub enum RateState {
 /// The rate problem's answer for one component.
 #[derive(Clone, Debug)]
 pub struct RateOutcome {
+    /// At rest, moving, unsettled or solver trouble.
     pub state: RateState,
     /// The last round's solver status.
     pub status: SolverStatus,
@@ -134,10 +135,13 @@ pub struct RateOutcome {
     pub accelerations: Vec<Motion>,
     /// The largest vertex acceleration, as a fraction of g.
     pub peak: f64,
+    /// Fixed-point rounds of the friction capacities.
     pub rounds: u32,
+    /// Interior-point iterations, summed over rounds.
     pub iterations: u32,
     /// ‖M a − w − A f‖_∞ of the last round, N.
     pub residual: f64,
+    /// Seconds inside the solver.
     pub solver_seconds: f64,
 }
 

@@ -15,10 +15,15 @@ use serde::Serialize;
 /// Force at one interface vertex (N), in the interface frame.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct VertexForce {
+    /// Where the vertex is, m.
     pub position: [f64; 3],
+    /// Compressive normal force c_n⁺, N.
     pub compression: f64,
+    /// Tensile normal force c_n⁻, N (zero when it stands).
     pub tension: f64,
+    /// Friction along the interface's u axis, N.
     pub friction_u: f64,
+    /// Friction along the interface's v axis, N.
     pub friction_v: f64,
     /// Friction beyond μ × compression at this vertex (the relaxed capacity used).
     pub friction_excess: f64,
@@ -29,19 +34,29 @@ pub struct VertexForce {
 pub struct InterfaceResult {
     /// Index in the interface list given to [`super::solve`].
     pub index: usize,
+    /// The name of side a (a block, or `ground`): the normal points from a into b.
     pub a: String,
+    /// The name of side b, which receives +f.
     pub b: String,
+    /// Area of the contact polygon, m².
     pub area: f64,
+    /// The unit normal n, from a into b.
     pub normal: [f64; 3],
+    /// The frame's first in-plane axis.
     pub u: [f64; 3],
+    /// The frame's second in-plane axis (u, v, n right-handed).
     pub v: [f64; 3],
+    /// The forces at each vertex of the contact polygon.
     pub vertices: Vec<VertexForce>,
     /// Net normal force Σ(c_n⁺ − c_n⁻), compression positive, N.
     pub normal_force: f64,
+    /// Total compression Σ c_n⁺, N.
     pub compression: f64,
+    /// Total tension Σ c_n⁻, N.
     pub tension: f64,
     /// Magnitude of the resultant friction force, N.
     pub friction: f64,
+    /// Total friction beyond μ × compression, N.
     pub friction_excess: f64,
     /// |friction resultant| / (μ × compression); > 1 means "exceeds". 0 with no friction,
     /// infinite when friction acts without compression ("no": below 1e-8 of the component's
@@ -84,34 +99,45 @@ pub struct CrushingReport {
     pub utilization: f64,
     /// The interface that needs it (index, and the names of its two sides).
     pub interface: usize,
+    /// The name of its side a.
     pub a: String,
+    /// The name of its side b.
     pub b: String,
 }
 
 /// The answer of [`super::solve`].
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct StaticsResult {
+    /// Stands, needs tension, needs friction, both, unsupported or unresolved.
     pub verdict: Verdict,
+    /// Whether it stands by compression and friction alone (and does not crush).
     pub stands: bool,
     /// Minimum total tension / total free weight.
     pub tension_ratio: f64,
     /// Minimum total friction excess / total free weight.
     pub friction_excess_ratio: f64,
+    /// The largest |friction resultant| / (μ × compression) over the interfaces (> 1: exceeded).
     pub max_friction_utilization: f64,
     /// Total free weight W, N.
     pub free_weight: f64,
+    /// μ the statics ran with.
     pub friction_coefficient: f64,
+    /// The friction model the statics ran with.
     pub friction_model: FrictionModel,
+    /// Connected components of free blocks, each solved on its own.
     pub components: usize,
+    /// Forces per interface, in the interfaces' order.
     pub interfaces: Vec<InterfaceResult>,
     /// With a compressive strength, on a design that stands by compression and friction.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub crushing: Option<CrushingReport>,
+    /// The solver's status, iterations and residual (the worst over components).
     pub solver: SolverReport,
     /// Seconds building the equilibrium problems and inside the interior-point solver that ran
     /// (structured by default), summed over components
     /// (CPU time: components may run on two threads).
     pub assemble_seconds: f64,
+    /// Seconds inside the interior-point solver, summed over components.
     pub solver_seconds: f64,
 }
 

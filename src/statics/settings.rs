@@ -109,6 +109,7 @@ impl StaticsSettings {
         Self { strength: self.strength.or(assembly.material.strength), ..self.clone() }
     }
 
+    /// Refuses a μ, a strength, a weight or a tolerance that is not a finite number in range.
     pub fn validate(&self) -> Result<(), StaticsError> {
         for (name, value) in [
             ("w_compression", self.w_compression),

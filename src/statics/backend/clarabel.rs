@@ -67,12 +67,19 @@ pub fn solve(cp: &ContactProblem, acc: Accuracy, max_iter: u32) -> QpOutcome {
 /// row (A x + s = b, s in the cones; z in the dual cones, P x + Aᵀ z + q = 0).
 #[derive(Clone, Debug)]
 pub struct ConicOutcome {
+    /// How the solve ended.
     pub status: SolverStatus,
+    /// The primal solution, one entry per column of the problem.
     pub x: Vec<f64>,
+    /// The duals, one per row (in the dual cones).
     pub z: Vec<f64>,
+    /// The objective's value at `x`.
     pub objective: f64,
+    /// Interior-point iterations.
     pub iterations: u32,
+    /// Seconds converting the problem to clarabel's matrices.
     pub convert_seconds: f64,
+    /// Seconds inside clarabel's solve.
     pub solver_seconds: f64,
 }
 

@@ -45,6 +45,7 @@ pub enum Kernel {
 }
 
 impl Kernel {
+    /// Every kernel, in the order of [`Kernel::index`].
     pub const ALL: [Kernel; 11] = [
         Kernel::Setup,
         Kernel::Measures,
@@ -122,13 +123,17 @@ impl Kernel {
 /// A structured solve's sizes, for [`Kernel::cost`].
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Dims {
+    /// Force points (interface vertices) of the problem.
     pub points: usize,
     /// Variables per point (C).
     pub per_point: usize,
     /// Inequality rows per point (the cone's three counted as rows).
     pub rows_per_point: usize,
+    /// Whether the friction cones are second-order (the cone model) rather than polyhedral.
     pub soc: bool,
+    /// Interfaces (contacts) of the problem.
     pub contacts: usize,
+    /// Free blocks (6 equality rows each).
     pub blocks: usize,
     /// Equality rows (S's order).
     pub m_e: usize,
@@ -143,12 +148,16 @@ pub struct Dims {
 /// Accumulated time and calls per kernel, and the last solve's sizes.
 #[derive(Clone, Debug, Default)]
 pub struct Profile {
+    /// Accumulated wall-clock time per kernel, in the order of [`Kernel::ALL`].
     pub time: [Duration; 11],
+    /// Calls per kernel, in the same order.
     pub calls: [u64; 11],
+    /// The last solve's sizes.
     pub dims: Dims,
 }
 
 impl Profile {
+    /// Kernel `k`'s accumulated time and number of calls.
     pub fn of(&self, k: Kernel) -> (Duration, u64) {
         (self.time[k.index()], self.calls[k.index()])
     }
