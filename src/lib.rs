@@ -50,6 +50,7 @@ pub mod cli;
 pub mod dynamics;
 #[cfg(feature = "ecs")]
 pub mod ecs;
+#[warn(missing_docs)]
 pub mod geometry;
 #[warn(missing_docs)]
 pub mod history;

@@ -20,7 +20,12 @@ use std::collections::{BTreeMap, HashMap};
 pub enum SplitResult {
     /// The plane crosses the solid: pieces on the negative and positive sides (each side may
     /// have several disconnected pieces, e.g. a U cut across both legs).
-    Pair { negative: Vec<Mesh>, positive: Vec<Mesh> },
+    Pair {
+        /// The pieces on the side the normal points away from.
+        negative: Vec<Mesh>,
+        /// The pieces on the side it points to.
+        positive: Vec<Mesh>,
+    },
     /// Everything is on the negative side (or on the plane).
     Negative,
     /// Everything is on the positive side (or on the plane).

@@ -12,7 +12,9 @@ use nalgebra::Matrix3;
 /// Volume, volume centroid and inertia tensor about the centroid (per unit density).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct MassProperties {
+    /// Volume, m³.
     pub volume: f64,
+    /// Volume centroid, m.
     pub centroid: Point3,
     /// Inertia tensor about the centroid, world axes, for density 1 (kg·m² per kg/m³).
     pub inertia: Matrix3<f64>,

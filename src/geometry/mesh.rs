@@ -7,14 +7,18 @@ use serde::{Deserialize, Serialize};
 /// [`repair`](super::repair) they are planar, the mesh is closed, manifold and outward oriented.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Mesh {
+    /// Vertex positions, m.
     pub vertices: Vec<Point3>,
+    /// Faces as vertex indices, counter-clockwise seen from outside.
     pub faces: Vec<Vec<usize>>,
 }
 
 /// Axis-aligned bounding box.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Aabb3 {
+    /// The lowest corner (smallest x, y and z).
     pub min: Point3,
+    /// The highest corner.
     pub max: Point3,
 }
 
@@ -27,6 +31,7 @@ impl Aabb3 {
         }
     }
 
+    /// The smallest box holding `points` (empty without points).
     pub fn from_points<'a>(points: impl IntoIterator<Item = &'a Point3>) -> Self {
         let mut b = Self::empty();
         for p in points {
@@ -35,16 +40,19 @@ impl Aabb3 {
         b
     }
 
+    /// Grows the box to hold `p`.
     pub fn extend(&mut self, p: &Point3) {
         self.min = self.min.inf(p);
         self.max = self.max.sup(p);
     }
 
+    /// Grows the box to hold `other`.
     pub fn merge(&mut self, other: &Aabb3) {
         self.min = self.min.inf(&other.min);
         self.max = self.max.sup(&other.max);
     }
 
+    /// Whether the box holds no point.
     pub fn is_empty(&self) -> bool {
         self.min.x > self.max.x
     }
@@ -54,21 +62,25 @@ impl Aabb3 {
         if self.is_empty() { 0.0 } else { (self.max - self.min).norm() }
     }
 
+    /// The box's centre.
     pub fn center(&self) -> Point3 {
         nalgebra::center(&self.min, &self.max)
     }
 
+    /// The box grown by `margin` on every side.
     pub fn loosened(&self, margin: f64) -> Self {
         let m = Vector3::repeat(margin);
         Self { min: self.min - m, max: self.max + m }
     }
 
+    /// Whether the boxes overlap or touch.
     pub fn intersects(&self, other: &Aabb3) -> bool {
         (0..3).all(|k| self.min[k] <= other.max[k] && other.min[k] <= self.max[k])
     }
 }
 
 impl Mesh {
+    /// The mesh of these vertices and faces, as given (not checked or repaired).
     pub fn new(vertices: Vec<Point3>, faces: Vec<Vec<usize>>) -> Self {
         Self { vertices, faces }
     }
@@ -169,6 +181,7 @@ impl Mesh {
         Self { vertices, faces }
     }
 
+    /// The bounding box of the vertices.
     pub fn aabb(&self) -> Aabb3 {
         Aabb3::from_points(&self.vertices)
     }
@@ -204,6 +217,7 @@ impl Mesh {
         h.finish()
     }
 
+    /// The positions of face `f`'s vertices, in its order.
     pub fn face_points(&self, f: usize) -> impl Iterator<Item = Point3> + '_ {
         self.faces[f].iter().map(|&i| self.vertices[i])
     }

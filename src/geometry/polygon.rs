@@ -48,11 +48,14 @@ pub fn centroid(points: &[Point3]) -> Point3 {
 /// An oriented plane `n · x = d` with unit normal `n`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Plane {
+    /// The unit normal n.
     pub normal: Vector3,
+    /// d: the signed distance of the plane from the origin along n, m.
     pub offset: f64,
 }
 
 impl Plane {
+    /// The plane through `p` with normal `n` (any length > 0).
     pub fn from_point_normal(p: &Point3, n: &Vector3) -> Self {
         let normal = n.normalize();
         Self { normal, offset: normal.dot(&p.coords) }
@@ -67,9 +70,13 @@ impl Plane {
 /// A right-handed orthonormal frame (u, v, n) at an origin: `u × v = n`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Frame {
+    /// The frame's origin, m.
     pub origin: Point3,
+    /// The first in-plane unit axis.
     pub u: Vector3,
+    /// The second in-plane unit axis (n × u).
     pub v: Vector3,
+    /// The unit normal.
     pub n: Vector3,
 }
 
@@ -90,11 +97,13 @@ impl Frame {
         Self { origin, u, v, n }
     }
 
+    /// `p`'s in-plane coordinates (along u, v) from the origin; its height along n is dropped.
     pub fn to_2d(&self, p: &Point3) -> [f64; 2] {
         let d = p - self.origin;
         [d.dot(&self.u), d.dot(&self.v)]
     }
 
+    /// The point of the plane at in-plane coordinates `q` (along u, v).
     pub fn to_3d(&self, q: [f64; 2]) -> Point3 {
         self.origin + self.u * q[0] + self.v * q[1]
     }

@@ -43,6 +43,7 @@ impl RepairCache {
         self.current.len()
     }
 
+    /// Whether no mesh is kept.
     pub fn is_empty(&self) -> bool {
         self.current.is_empty()
     }

@@ -13,8 +13,11 @@ use thiserror::Error;
 #[derive(Debug, Error, Clone, Copy, PartialEq)]
 #[error("tolerance '{name}' is {value}; it must be a finite number {range}")]
 pub struct ToleranceError {
+    /// The tolerance's name (`weld`, `coplanar`, …).
     pub name: &'static str,
+    /// Its value as given.
     pub value: f64,
+    /// The range it must be in, in words.
     pub range: &'static str,
 }
 
@@ -75,15 +78,23 @@ impl Default for Tolerances {
 /// Tolerances resolved to absolute values for one model of size `scale`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct AbsTolerances {
+    /// The model size every tolerance is relative to, m.
     pub scale: f64,
+    /// Vertices closer than this are merged, m.
     pub weld: f64,
+    /// A face leaving its best-fit plane by more than this is triangulated, m.
     pub planarity: f64,
+    /// Faces within this of each other's plane are coplanar, m.
     pub coplanar: f64,
+    /// The coplanar reach as a fraction of the thinner block's thickness (dimensionless).
     pub coplanar_thickness: f64,
     /// cos of the angle tolerance: faces are opposite when `n_a · n_b <= -cos_angle`.
     pub cos_angle: f64,
+    /// An interface's least area as a fraction of the smaller face's (dimensionless).
     pub min_area_rel: f64,
+    /// An interface's least area, m².
     pub min_area_abs: f64,
+    /// A block's least volume as a fraction of its bounding-box diagonal cubed (dimensionless).
     pub min_volume_rel: f64,
 }
 

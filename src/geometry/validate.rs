@@ -14,45 +14,148 @@ use thiserror::Error;
 /// Why a mesh cannot be used as a block.
 #[derive(Debug, Error, Clone, PartialEq)]
 pub enum MeshError {
+    /// The mesh has no vertices or no faces.
     #[error("the mesh is empty ({vertices} vertices, {faces} faces); a block needs a closed surface")]
-    Empty { vertices: usize, faces: usize },
+    Empty {
+        /// Its vertex count.
+        vertices: usize,
+        /// Its face count.
+        faces: usize,
+    },
+    /// A coordinate is infinite or NaN.
     #[error("vertex {vertex} has a non-finite coordinate {coords:?}")]
-    NonFinite { vertex: usize, coords: [f64; 3] },
+    NonFinite {
+        /// The vertex's index.
+        vertex: usize,
+        /// Its coordinates as given.
+        coords: [f64; 3],
+    },
+    /// A coordinate is beyond the range where the tolerances still resolve.
     #[error("vertex {vertex} at {coords:?} is out of range: coordinates are limited to ±{limit:e} (m)")]
-    OutOfRange { vertex: usize, coords: [f64; 3], limit: f64 },
+    OutOfRange {
+        /// The vertex's index.
+        vertex: usize,
+        /// Its coordinates, m.
+        coords: [f64; 3],
+        /// The largest magnitude allowed, m.
+        limit: f64,
+    },
     #[error(
         "vertex {vertex} at {coords:?} lies {} m beyond the rest of the model along {axis}, more than \
          {} times the rest's size ({} m): every tolerance is relative to the model size, so it would \
          set them for every block (a corrupt or misplaced coordinate?)",
         super::format::significant(*.gap), super::format::significant(*.limit), super::format::significant(*.size)
     )]
-    FarOutside { vertex: usize, coords: [f64; 3], axis: char, gap: f64, size: f64, limit: f64 },
+    /// A vertex is cut off from the rest of the model by a gap many times its size (a corrupt coordinate).
+    FarOutside {
+        /// The vertex's index.
+        vertex: usize,
+        /// Its coordinates, m.
+        coords: [f64; 3],
+        /// The axis of the gap (`x`, `y` or `z`).
+        axis: char,
+        /// The gap, m.
+        gap: f64,
+        /// The size of the rest of the model along that axis, m.
+        size: f64,
+        /// The largest gap allowed, as a multiple of that size.
+        limit: f64,
+    },
     #[error(
         "its vertices ({vertices}) all lie at one point {coords:?}: a block needs a volume (a degenerate or corrupt mesh)"
     )]
-    Point { vertices: usize, coords: [f64; 3] },
+    /// All vertices coincide: no volume.
+    Point {
+        /// The vertex count.
+        vertices: usize,
+        /// The one point, m.
+        coords: [f64; 3],
+    },
+    /// A face refers to a vertex that does not exist.
     #[error("face {face} refers to vertex {index}, but there are only {count} vertices")]
-    BadIndex { face: usize, index: usize, count: usize },
+    BadIndex {
+        /// The face's index.
+        face: usize,
+        /// The vertex index it gives.
+        index: usize,
+        /// The vertex count.
+        count: usize,
+    },
+    /// A face has fewer than 3 vertices.
     #[error("face {face} has {count} vertices; a face needs at least 3")]
-    TooFewVertices { face: usize, count: usize },
+    TooFewVertices {
+        /// The face's index.
+        face: usize,
+        /// Its vertex count.
+        count: usize,
+    },
+    /// An edge has no neighbouring face: the surface has a hole.
     #[error("the mesh is not closed: edge ({a}, {b}) of face {face} has no neighbouring face (a hole in the surface)")]
-    Open { face: usize, a: usize, b: usize },
+    Open {
+        /// The face's index.
+        face: usize,
+        /// The edge's first vertex.
+        a: usize,
+        /// The edge's second vertex.
+        b: usize,
+    },
+    /// An edge is shared by more than two faces.
     #[error("the mesh is not manifold: edge ({a}, {b}) is shared by {count} faces (first: face {face})")]
-    NonManifold { face: usize, a: usize, b: usize, count: usize },
+    NonManifold {
+        /// The first face's index.
+        face: usize,
+        /// The edge's first vertex.
+        a: usize,
+        /// The edge's second vertex.
+        b: usize,
+        /// How many faces share it.
+        count: usize,
+    },
+    /// Two faces cannot be oriented consistently (a one-sided surface).
     #[error("faces {face} and {other} cannot be oriented consistently (a one-sided surface, e.g. a Möbius strip)")]
-    NonOrientable { face: usize, other: usize },
+    NonOrientable {
+        /// One face's index.
+        face: usize,
+        /// The other face's index.
+        other: usize,
+    },
+    /// The enclosed volume is zero or negligible for the block's size.
     #[error("the enclosed volume {volume:e} is zero or too small for the block's size (flat or degenerate mesh)")]
-    ZeroVolume { volume: f64 },
+    ZeroVolume {
+        /// The volume, m³.
+        volume: f64,
+    },
 }
 
 /// A repair that changed the mesh.
 #[derive(Debug, Clone, PartialEq)]
 pub enum MeshWarning {
-    Welded { merged: usize },
-    DroppedFace { face: usize, why: &'static str },
-    FlippedFaces { count: usize },
+    /// Vertices closer than the weld tolerance were merged.
+    Welded {
+        /// How many vertices were merged away.
+        merged: usize,
+    },
+    /// A degenerate face was left out.
+    DroppedFace {
+        /// The face's index.
+        face: usize,
+        /// Why (zero area, repeated vertices).
+        why: &'static str,
+    },
+    /// Faces turned to agree with their neighbours' orientation.
+    FlippedFaces {
+        /// How many were flipped.
+        count: usize,
+    },
+    /// The whole surface was turned inside out so that its normals point outwards.
     InvertedOrientation,
-    Triangulated { face: usize, deviation: f64 },
+    /// A non-planar face was split into triangles.
+    Triangulated {
+        /// The face's index.
+        face: usize,
+        /// Its largest distance from its best-fit plane, m.
+        deviation: f64,
+    },
 }
 
 impl std::fmt::Display for MeshWarning {
@@ -76,8 +179,11 @@ impl std::fmt::Display for MeshWarning {
 /// A valid mesh and what was changed to get it.
 #[derive(Debug, Clone)]
 pub struct Repaired {
+    /// The closed, manifold, outward-oriented mesh with planar faces.
     pub mesh: Mesh,
+    /// Its volume, centroid and inertia per unit density.
     pub mass: MassProperties,
+    /// Each repair made, in order.
     pub warnings: Vec<MeshWarning>,
 }
 
