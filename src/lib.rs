@@ -71,6 +71,7 @@ pub mod stability;
 #[warn(missing_docs)]
 pub mod statics;
 pub mod studies;
+#[warn(missing_docs)]
 pub mod synthesis;
 #[cfg(feature = "viewer")]
 pub mod viewer;

@@ -25,10 +25,13 @@ use crate::model::{Block, Cut, Scene};
 /// The direction field the courses cross.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Field {
+    /// Horizontal beds (walls, piers, lettering): courses across a vertical load path.
     Vertical,
     /// Beds through the line `center + s·axis` (unit axis any length > 0).
     Radial {
+        /// A point of the axis, m.
         center: [f64; 3],
+        /// The axis's direction.
         axis: [f64; 3],
     },
 }

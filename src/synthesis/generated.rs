@@ -11,7 +11,9 @@ pub struct Generated {
     pub design: Scene,
     /// The largest block dimension used, m, the number of courses and of free pieces.
     pub max_size: f64,
+    /// The number of courses.
     pub courses: usize,
+    /// The number of free pieces made.
     pub pieces: usize,
     /// Strategy *thrust*: how the bed joints settled.
     pub rounds: Option<ThrustRounds>,
@@ -24,6 +26,7 @@ pub struct ThrustRounds {
     pub rounds: usize,
     /// The largest turn of the last round, degrees; settled when below the settle angle.
     pub last_turn_degrees: f64,
+    /// Whether the last round turned no bed by more than the settle angle.
     pub settled: bool,
     /// The largest angle between a bed and the field's joint it came from, degrees.
     pub largest_turn_degrees: f64,

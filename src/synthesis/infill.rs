@@ -50,6 +50,7 @@ pub struct InfillSettings {
     /// `None`: each block from a quarter of its density to its density (a print from 25 %
     /// infill to solid).
     pub range: Option<(f64, f64)>,
+    /// The lightest densities that stand, or the ones that carry the largest horizontal load.
     pub objective: InfillObjective,
     /// Cells per axis of each block's bounding box, each with its own density (1: one density
     /// per block; 2: octants, which move the block's centroid).
@@ -57,6 +58,7 @@ pub struct InfillSettings {
     /// Robust, on a scene without live loads: evenly spaced horizontal azimuths the design
     /// must carry together, or the one `azimuth` (degrees from +x towards +y).
     pub directions: usize,
+    /// Robust: the one azimuth to carry (degrees from +x towards +y), instead of `directions`.
     pub azimuth: Option<f64>,
     /// Robust: λ to this fraction of itself.
     pub precision: f64,
@@ -76,6 +78,7 @@ const UNLIMITED: f64 = 16.0;
 const MAX_CELLS: usize = 6;
 
 impl InfillSettings {
+    /// Refuses bounds, cells, directions, an azimuth or a precision out of range.
     pub fn validate(&self) -> Result<(), DesignError> {
         let bad = |why: String| Err(DesignError::Settings(why));
         if let Some((lo, hi)) = self.range
@@ -111,18 +114,29 @@ pub enum InfillOutcome {
     /// admissible mass.
     Impossible,
     /// A solver did not reach an answer.
-    SolverFailed { status: SolverStatus, residual: f64 },
+    SolverFailed {
+        /// How the solve ended.
+        status: SolverStatus,
+        /// ‖equilibrium residual‖_∞ where it stopped, N.
+        residual: f64,
+    },
 }
 
 /// One free block's (mean) density before and after and its bounds, kg/m³; with cells, each
 /// cell's after (x fastest, then y, then z; [`crate::geometry::cells`]).
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct BlockDensity {
+    /// The block's name.
     pub block: String,
+    /// Its (mean) density before, kg/m³.
     pub before: f64,
+    /// Its (mean) density after, kg/m³.
     pub after: f64,
+    /// Its lowest density allowed, kg/m³.
     pub lo: f64,
+    /// Its highest density allowed, kg/m³.
     pub hi: f64,
+    /// With cells: each cell's density after, kg/m³ (empty otherwise).
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub cells: Vec<f64>,
 }
@@ -130,13 +144,17 @@ pub struct BlockDensity {
 /// What [`infill`] found.
 #[derive(Clone, Debug, Serialize)]
 pub struct InfillReport {
+    /// Stands, impossible, or solver trouble.
     pub outcome: InfillOutcome,
+    /// What the densities were chosen for.
     pub objective: InfillObjective,
     /// The free blocks, in block order (after = before where no density was found).
     pub blocks: Vec<BlockDensity>,
     /// The free blocks' mass before and after, kg.
     pub mass_before: f64,
+    /// The free blocks' mass after, kg.
     pub mass_after: f64,
+    /// The design's verdict before the infill.
     pub verdict_before: Verdict,
     /// The verdict of the written design, analysed again (None when nothing was written).
     pub verdict_after: Option<Verdict>,
@@ -145,14 +163,17 @@ pub struct InfillReport {
     /// Impossible: the mechanism, normalised so that its least dead-load work over the bounds
     /// is 1 N·m; and that least work before normalisation, as a fraction of the weight.
     pub mechanism: Option<Mechanism>,
+    /// Impossible: the mechanism's least dead-load work before normalisation, / the free weight.
     pub least_work: f64,
     /// Density problems solved.
     pub solves: usize,
+    /// Wall-clock seconds of the whole infill.
     pub seconds: f64,
     /// The infilled design (the input with `densities` set), when one was found, and its
     /// analysis.
     #[serde(skip)]
     pub design: Option<Scene>,
+    /// The infilled design's analysis, when one was written.
     #[serde(skip)]
     pub analysis: Option<Analysis>,
 }

@@ -37,14 +37,29 @@ use thiserror::Error;
 /// a [`RepairOutcome`], not an error).
 #[derive(Debug, Error, Clone, PartialEq)]
 pub enum DesignError {
+    /// The design cannot be analysed (its scene, cuts or settings).
     #[error(transparent)]
     Analysis(#[from] AnalysisError),
+    /// A cut index beyond the history.
     #[error("cut {index}: there are only {count} cuts in the design's history")]
-    UnknownCut { index: usize, count: usize },
+    UnknownCut {
+        /// The index asked for.
+        index: usize,
+        /// How many cuts the history has.
+        count: usize,
+    },
+    /// A cut cannot be moved as asked (the reason).
     #[error("cut {index}: {why}")]
-    BadCut { index: usize, why: String },
+    BadCut {
+        /// The cut's position in the history.
+        index: usize,
+        /// Why, in words.
+        why: String,
+    },
+    /// A setting is out of range (the message names it).
     #[error("{0}")]
     Settings(String),
+    /// argmin's particle swarm stopped with an error (its message).
     #[error("the optimiser stopped: {0}")]
     Optimiser(String),
 }
@@ -67,7 +82,9 @@ pub struct RepairSettings {
     pub directions: usize,
     /// Particles and iterations of the swarm; the seed of its random numbers.
     pub particles: usize,
+    /// Iterations of the swarm.
     pub iterations: u64,
+    /// The seed of the swarm's random numbers (the same seed gives the same design).
     pub seed: u64,
     /// When the search over every selected cut leaves the design failing: more searches over
     /// only the cuts that hold its failing interfaces, at most this many.
@@ -92,6 +109,7 @@ impl Default for RepairSettings {
 }
 
 impl RepairSettings {
+    /// Refuses a turn, an apex move, a piece fraction or swarm sizes out of range.
     pub fn validate(&self) -> Result<(), DesignError> {
         let bad = |what: String| Err(DesignError::Settings(what));
         if !(0.0..=90.0).contains(&self.max_turn_degrees) {

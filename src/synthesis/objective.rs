@@ -30,12 +30,15 @@ pub const INVALID: f64 = 1e6;
 /// One design's score and what it is made of.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Score {
+    /// The design's verdict (`None` when it cannot be cut as asked).
     pub verdict: Option<Verdict>,
     /// Minimum tension and friction excess, fractions of the free weight.
     pub tension_ratio: f64,
+    /// Minimum friction excess, a fraction of the free weight.
     pub friction_excess_ratio: f64,
     /// The smallest horizontal load factor over the azimuths (when it stands and it was asked).
     pub load_factor: Option<f64>,
+    /// The number of free pieces.
     pub pieces: usize,
     /// Why the design cannot be cut as asked.
     pub invalid: Option<String>,
@@ -44,6 +47,7 @@ pub struct Score {
 }
 
 impl Score {
+    /// Whether the design stands.
     pub fn stands(&self) -> bool {
         self.verdict == Some(Verdict::Stands)
     }

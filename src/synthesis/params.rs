@@ -82,6 +82,7 @@ impl CutParameters {
         PER_CUT * self.cuts.len()
     }
 
+    /// Whether there are no cuts to move.
     pub fn is_empty(&self) -> bool {
         self.cuts.is_empty()
     }

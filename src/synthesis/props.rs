@@ -20,6 +20,7 @@ pub struct SupportProposal {
     pub top: [f64; 3],
     /// Its square side and height, m.
     pub side: f64,
+    /// Its height, m: from the floor (the ground, else the design's lowest point) up to its top.
     pub height: f64,
     /// The support as a block of the design (named "support").
     #[serde(skip)]

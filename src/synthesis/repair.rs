@@ -24,7 +24,10 @@ pub enum RepairOutcome {
     /// It did not stand and now does.
     Repaired,
     /// It stood already; `improved` when the load factor grew.
-    AlreadyStood { improved: bool },
+    AlreadyStood {
+        /// Whether the load factor grew.
+        improved: bool,
+    },
     /// No placement of the selected cuts found makes it stand.
     NotRepaired,
     /// The design has no cut to move (e.g. one solid piece).
@@ -34,36 +37,49 @@ pub enum RepairOutcome {
 /// One interface of the best design that still needs tension or more friction.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct FailingInterface {
+    /// The name of the interface's side a.
     pub a: String,
+    /// The name of its side b.
     pub b: String,
     /// Tension and friction excess at it, fractions of the free weight.
     pub tension: f64,
+    /// Friction excess at it, a fraction of the free weight.
     pub friction_excess: f64,
 }
 
 /// A cut the repair moved.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct CutChange {
+    /// The cut's position in the history, from 0.
     pub index: usize,
+    /// The cut as given.
     pub before: Cut,
+    /// The cut as repaired (through the centre of the joints it makes).
     pub after: Cut,
 }
 
 /// Before and after, and how the search went.
 #[derive(Clone, Debug, Serialize)]
 pub struct RepairReport {
+    /// Repaired, already stood, not repaired, or nothing to move.
     pub outcome: RepairOutcome,
+    /// The design as given: verdict, graded numbers, pieces.
     pub before: Score,
+    /// The repaired design's.
     pub after: Score,
     /// The worst-direction load factor of the design before and after (full sweep, when it
     /// stands).
     pub load_factor_before: Option<f64>,
+    /// The repaired design's worst-direction load factor, when it stands.
     pub load_factor_after: Option<f64>,
+    /// The cuts moved, each before and after.
     pub changed: Vec<CutChange>,
     /// The best search cost after each evaluation (the score less the closeness bonus of a
     /// standing design; non-increasing; the first is the design as given).
     pub history: Vec<f64>,
+    /// Designs evaluated (analyses run, cached pieces reused).
     pub evaluations: usize,
+    /// Wall-clock seconds of the search.
     pub seconds: f64,
     /// Where the best design still fails.
     pub failing: Vec<FailingInterface>,

@@ -42,6 +42,7 @@ impl Default for ThrustSettings {
 }
 
 impl ThrustSettings {
+    /// Refuses zero rounds or angles out of range.
     pub fn validate(&self) -> Result<(), DesignError> {
         let bad = |what: String| Err(DesignError::Settings(what));
         if self.rounds == 0 {
