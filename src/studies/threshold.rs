@@ -15,22 +15,47 @@ use thiserror::Error;
 #[derive(Clone, Debug, PartialEq)]
 pub enum Family {
     /// Semicircular arch of `n` voussoirs; parameter t/R.
-    Arch { n: usize },
+    Arch {
+        /// The number of voussoirs.
+        n: usize,
+    },
     /// A block on a slope with friction `mu`; parameter the angle, degrees.
-    Slope { mu: f64 },
+    Slope {
+        /// The friction coefficient μ.
+        mu: f64,
+    },
     /// Harmonic stack of `n` blocks; parameter the overhang fraction s.
-    Harmonic { n: usize },
+    Harmonic {
+        /// The number of blocks.
+        n: usize,
+    },
     /// `scene` with gravity tilted about y; parameter the tilt, degrees.
-    Tilt { scene: Box<Scene> },
+    Tilt {
+        /// The design to tilt.
+        scene: Box<Scene>,
+    },
 }
 
 /// Why a sweep cannot run.
 #[derive(Debug, Error, Clone, PartialEq)]
 pub enum ThresholdError {
+    /// The family's design cannot be built or analysed (the message says why).
     #[error("sweep: {0}")]
     Design(String),
+    /// The range does not bracket a test's threshold: both ends give the same verdict.
     #[error("sweep: the {test} says '{at_lo}' at {lo} and '{at_hi}' at {hi}: the range does not bracket its threshold")]
-    NotBracketed { test: &'static str, lo: f64, hi: f64, at_lo: &'static str, at_hi: &'static str },
+    NotBracketed {
+        /// Which test (`statics`, `drop test`).
+        test: &'static str,
+        /// The range's low end.
+        lo: f64,
+        /// Its high end.
+        hi: f64,
+        /// The verdict at the low end.
+        at_lo: &'static str,
+        /// The verdict at the high end.
+        at_hi: &'static str,
+    },
 }
 
 impl Family {
@@ -59,11 +84,14 @@ impl Family {
 /// One threshold: the last parameter that stands and the first that does not (bracket).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct Threshold {
+    /// The last parameter at which it stands.
     pub stands_at: f64,
+    /// The first parameter at which it does not.
     pub fails_at: f64,
 }
 
 impl Threshold {
+    /// The bracket's middle: the threshold's estimate.
     pub fn mid(&self) -> f64 {
         0.5 * (self.stands_at + self.fails_at)
     }
@@ -72,11 +100,15 @@ impl Threshold {
 /// Both thresholds and their gap (drop test minus statics, in the parameter's unit).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct ThresholdStudy {
+    /// The statics' threshold.
     pub statics: Threshold,
     /// The drop test's engine.
     pub engine: Engine,
+    /// The drop test's threshold.
     pub dynamic: Threshold,
+    /// Drop-test threshold minus the statics', in the parameter's unit.
     pub gap: f64,
+    /// Designs analysed (statics and drop tests).
     pub evaluations: usize,
 }
 
@@ -160,11 +192,15 @@ pub fn compare_engines(
 /// Both answers at one parameter value of a family.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct ScanPoint {
+    /// The parameter value.
     pub parameter: f64,
+    /// Whether the statics say it stands.
     pub statics_stands: bool,
     /// The graded static answer: minimum tension plus friction excess, relative to W.
     pub static_margin: f64,
+    /// The largest friction use over the interfaces (> 1: exceeded).
     pub max_friction_utilization: f64,
+    /// Whether the drop test says it stands.
     pub drop_stands: bool,
     /// Largest drift or rotation of a block relative to its tolerance (> 1 falls).
     pub drop_motion: f64,

@@ -25,18 +25,25 @@ use thiserror::Error;
 /// Why a sequence cannot be checked.
 #[derive(Debug, Error, Clone, PartialEq)]
 pub enum SequenceError {
+    /// The order names a block the design does not have.
     #[error("order: '{0}' is not a block of the design")]
     Unknown(String),
+    /// The order names a block twice.
     #[error("order: '{0}' is listed twice")]
     Repeated(String),
+    /// The order names a support (supports are in place from the start).
     #[error("order: '{0}' is a support (supports are in place from the start)")]
     Support(String),
+    /// The order leaves out a free block.
     #[error("order: the free block '{0}' is missing")]
     Missing(String),
+    /// A step's blocks cannot be analysed.
     #[error(transparent)]
     Analysis(#[from] AnalysisError),
+    /// A step's drop test cannot run (the message says why).
     #[error("drop test: {0}")]
     Drop(String),
+    /// A step's kinematic check cannot run (the message says why).
     #[error("kinematic check: {0}")]
     Kinematic(String),
 }
@@ -61,18 +68,25 @@ impl StepChecks {
 /// One step: the block placed and the verdicts of the blocks placed so far.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Step {
+    /// The block placed at this step.
     pub placed: String,
+    /// Whether the blocks placed so far stand (with the props in place).
     pub stands: bool,
+    /// The statics' verdict on the blocks placed so far.
     pub verdict: crate::statics::Verdict,
+    /// Minimum tension, a fraction of the placed blocks' weight.
     pub tension_ratio: f64,
+    /// Minimum friction excess, a fraction of the placed blocks' weight.
     pub friction_excess_ratio: f64,
     /// Interfaces needing tension or more friction at this step, `a | b`.
     pub offending: Vec<String>,
     /// Blocks propped (fixed) at this step.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub props: Vec<String>,
+    /// With `--dynamic`: the drop test of the blocks placed so far.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub dynamic: Option<DropResult>,
+    /// With `--kinematic`: the kinematic check of the blocks placed so far.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub kinematic: Option<Kinematic>,
 }
@@ -99,8 +113,11 @@ impl Step {
 /// `until` it is released; `until` = the number of steps when it never can be).
 #[derive(Clone, Debug, PartialEq, Eq, Serialize)]
 pub struct TemporarySupport {
+    /// The propped block's name.
     pub block: String,
+    /// The step at which it is propped, from 0.
     pub from: usize,
+    /// The step at which it is released.
     pub until: usize,
 }
 
@@ -113,7 +130,9 @@ impl TemporarySupport {
 /// The check of one order.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct SequenceReport {
+    /// The order checked: the free blocks' names.
     pub order: Vec<String>,
+    /// Each step's verdicts, in order.
     pub steps: Vec<Step>,
     /// Index (from 0) of the first step that does not stand (with the props, if any).
     pub first_failure: Option<usize>,
