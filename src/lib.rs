@@ -42,6 +42,7 @@
 //! centroid; an interface a→b has its normal pointing from a into b and b receives +f.
 
 // Every public item documented (`missing_docs`), module by module as each is finished.
+#[warn(missing_docs)]
 pub mod cli;
 // The dynamics' module docs link their private parts (engines, contacts, settings), which the
 // public docs cannot resolve; until those docs name them in plain text, rustdoc is told here

@@ -11,6 +11,7 @@ use crate::report::{self, text as text_report};
 use clap::{Args, FromArgMatches};
 use std::path::PathBuf;
 
+/// The options of `voussoir analyze` (and `drop`, which turns the drop test on).
 #[derive(Args, Debug, Clone, PartialEq)]
 pub struct AnalyzeArgs {
     /// Scene file (.json voussoir or compas Assembly, .obj, .stl) or `builtin:NAME?k=v&...`
@@ -28,10 +29,13 @@ pub struct AnalyzeArgs {
     /// when it is a BlockModel, else an Assembly).
     #[arg(long, value_enum, value_parser = super::choice::Choice::<CompasFormat>::new(), requires = "compas_out")]
     pub compas_format: Option<CompasFormat>,
+    /// The solver's friction model, μ, backend and interface tolerances.
     #[command(flatten)]
     pub solver: SolverOptions,
+    /// Point loads and acceleration fields added to the scene's.
     #[command(flatten)]
     pub loads: LoadOptions,
+    /// Supports, ground and density given on the command line.
     #[command(flatten)]
     pub scene_options: SceneOptions,
     /// How many of the worst interfaces to list.
@@ -57,6 +61,7 @@ pub struct AnalyzeArgs {
     /// that governs (bisection on the statics).
     #[arg(long)]
     pub tolerance: bool,
+    /// The drop test's engine, duration and time step.
     #[command(flatten)]
     pub drop: DropOptions,
 }
@@ -64,7 +69,9 @@ pub struct AnalyzeArgs {
 /// Which compas JSON `--compas-out` writes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
 pub enum CompasFormat {
+    /// A compas_assembly `Assembly` (compas_cra reads it too).
     Assembly,
+    /// A compas_dem `BlockModel`.
     BlockModel,
 }
 
@@ -111,6 +118,7 @@ fn write_motion(
     Ok(())
 }
 
+/// Runs `analyze`: prints the report and returns the exit code (0 stands, 1 does not).
 pub fn run(args: &AnalyzeArgs) -> Result<i32, BadInput> {
     check_outputs(args)?;
     let mut scene = load(args.scene.as_deref())?;

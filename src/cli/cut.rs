@@ -8,6 +8,7 @@ use clap::Args;
 use std::collections::HashSet;
 use std::path::PathBuf;
 
+/// The options of `voussoir cut`.
 #[derive(Args, Debug, Clone, PartialEq)]
 pub struct CutArgs {
     /// Scene file or `builtin:…` (its blocks become the source shapes when it has no history).
@@ -32,6 +33,7 @@ pub struct CutArgs {
     pub output: PathBuf,
 }
 
+/// Runs `cut`: writes the design with the cut appended; exit code 0.
 pub fn run(args: &CutArgs) -> Result<i32, BadInput> {
     let mut scene = load(Some(&args.scene))?;
     let cut = the_cut(args)?;

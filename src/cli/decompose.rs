@@ -21,10 +21,12 @@ use clap::Args;
 use clap::ValueEnum;
 use std::path::PathBuf;
 
+/// The options of `voussoir decompose`.
 #[derive(Args, Debug, Clone, PartialEq)]
 pub struct DecomposeArgs {
     /// The source shape (any scene or mesh file the readers accept, without a cut history).
     pub scene: String,
+    /// The solver options the coursed design is analysed with.
     #[command(flatten)]
     pub solver: SolverOptions,
     /// About this many blocks (along the arc for `--center`).
@@ -67,11 +69,15 @@ pub struct DecomposeArgs {
 /// A generation strategy ([`crate::synthesis::generate`], [`synthesis::thrust`](mod@crate::synthesis::thrust)).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum Strategy {
+    /// Bed joints across the load path, head joints staggered.
     Courses,
+    /// The courses' beds turned normal to the thrust crossing them.
     Thrust,
+    /// A running bond on the surface, every joint a plane through `--apex`.
     Pattern,
 }
 
+/// Runs `decompose`: writes the coursed design; exit code 0 when it stands, 1 when not.
 pub fn run(args: &DecomposeArgs) -> Result<i32, BadInput> {
     refuse_overwrite(Some(&args.scene), &args.output, "-o")?;
     let name = scene_name(Some(&args.scene)).to_string();

@@ -6,6 +6,7 @@ use super::{BadInput, load, refuse_overwrite, write_output};
 use clap::Args;
 use std::path::PathBuf;
 
+/// The options of `voussoir export`.
 #[derive(Args, Debug, Clone, PartialEq)]
 pub struct ExportArgs {
     /// Scene file or `builtin:…`.
@@ -16,12 +17,15 @@ pub struct ExportArgs {
     /// Render the diagram offscreen to a picture here (.png or .svg; atomically).
     #[arg(long)]
     pub png: Option<PathBuf>,
+    /// The diagram mode and its threshold.
     #[command(flatten)]
     pub diagram: DiagramOptions,
+    /// The solver options the design is analysed with.
     #[command(flatten)]
     pub solver: SolverOptions,
 }
 
+/// Runs `export`: writes the glTF and the picture asked for; exit code 0.
 pub fn run(args: &ExportArgs) -> Result<i32, BadInput> {
     let mode = args.diagram.mode()?;
     let scene = load(Some(&args.scene))?;

@@ -15,10 +15,12 @@ use crate::viz::plot::diagram::{DiagramPicture, write_diagram};
 use clap::Args;
 use std::path::PathBuf;
 
+/// The options of `voussoir infill`.
 #[derive(Args, Debug, Clone, PartialEq)]
 pub struct InfillArgs {
     /// The design: a scene file (with or without a cut history), or `builtin:…`.
     pub scene: String,
+    /// The solver options the design is analysed with.
     #[command(flatten)]
     pub solver: SolverOptions,
     /// Every free block's density bounds, kg/m³ (e.g. `150,600`); default: from a quarter of
@@ -37,6 +39,7 @@ pub struct InfillArgs {
     /// every one of `--directions` evenly spaced azimuths.
     #[arg(long)]
     pub azimuth: Option<f64>,
+    /// Robust: evenly spaced horizontal azimuths the design must carry together.
     #[arg(long, default_value_t = InfillSettings::default().directions)]
     pub directions: usize,
     /// The infilled design (scene JSON with `densities`, written atomically).
@@ -51,12 +54,16 @@ pub struct InfillArgs {
     pub plot: Option<PathBuf>,
 }
 
+/// What `--objective` asks for.
 #[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Objective {
+    /// The lightest densities that stand.
     Stand,
+    /// The densities that carry the largest horizontal load.
     Robust,
 }
 
+/// Runs `infill`: writes the infilled design; exit code 0 when it stands, 1 when impossible.
 pub fn run(args: &InfillArgs) -> Result<i32, BadInput> {
     for out in std::iter::once(&args.output).chain(&args.json).chain(&args.plot) {
         refuse_overwrite(Some(&args.scene), out, "output")?;

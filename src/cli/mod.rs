@@ -96,11 +96,14 @@ fn examples() -> String {
     about = "Do these blocks stand by compression and friction alone?",
     after_long_help = examples()
 )]
+/// The command line: a command, or none (the default scene's analysis).
 pub struct Cli {
+    /// The command to run; without one, `analyze` of the embedded default scene.
     #[command(subcommand)]
     pub command: Option<Command>,
 }
 
+/// The commands.
 #[derive(Subcommand, Debug)]
 pub enum Command {
     /// Detect interfaces, solve the equilibrium, print the verdict (and write a JSON report).

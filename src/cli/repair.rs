@@ -12,10 +12,12 @@ use crate::synthesis::{self, RepairOutcome, RepairReport, RepairSettings, Score}
 use clap::Args;
 use std::path::PathBuf;
 
+/// The options of `voussoir repair`.
 #[derive(Args, Debug, Clone, PartialEq)]
 pub struct RepairArgs {
     /// The design: a scene file with a cut history, or `builtin:…`.
     pub scene: String,
+    /// The solver options every evaluation uses.
     #[command(flatten)]
     pub solver: SolverOptions,
     /// The cuts that may move, by index in the history (e.g. `0,2`); default: all.
@@ -33,6 +35,7 @@ pub struct RepairArgs {
     /// Particles and iterations of the swarm.
     #[arg(long, default_value_t = RepairSettings::default().particles)]
     pub particles: usize,
+    /// Iterations of the particle swarm.
     #[arg(long, default_value_t = RepairSettings::default().iterations)]
     pub iterations: u64,
     /// The repaired design (scene JSON with its cut history, written atomically).
@@ -43,6 +46,7 @@ pub struct RepairArgs {
     pub json: Option<PathBuf>,
 }
 
+/// Runs `repair`: writes the best design; exit code 0 when it stands, 1 when not.
 pub fn run(args: &RepairArgs) -> Result<i32, BadInput> {
     for out in std::iter::once(&args.output).chain(&args.json) {
         refuse_overwrite(Some(&args.scene), out, "output")?;

@@ -14,13 +14,16 @@ use crate::viz::plot::{MechanismPicture, PolarPlot, write_mechanism, write_polar
 use clap::Args;
 use std::path::PathBuf;
 
+/// The options of `voussoir robustness`.
 #[derive(Args, Debug, Clone, PartialEq)]
 pub struct RobustnessArgs {
     /// Scene file (.json voussoir or compas Assembly, .obj, .stl) or `builtin:NAME?k=v&...`.
     /// Default: the embedded default scene.
     pub scene: Option<String>,
+    /// The solver options the design is analysed with.
     #[command(flatten)]
     pub solver: SolverOptions,
+    /// Point loads and acceleration fields added to the scene's.
     #[command(flatten)]
     pub loads: LoadOptions,
     /// The live load is a horizontal 1 g acceleration along this azimuth (degrees from +x
@@ -47,6 +50,7 @@ pub struct RobustnessArgs {
     pub chip: Option<f64>,
 }
 
+/// Runs `robustness`: prints λ* and the mechanism; exit code 0 when it stands under its dead load.
 pub fn run(args: &RobustnessArgs) -> Result<i32, BadInput> {
     for out in [&args.json, &args.plot, &args.mechanism].into_iter().flatten() {
         refuse_overwrite(args.scene.as_deref(), out, "output")?;

@@ -9,6 +9,7 @@ use crate::studies::sequence::{OrderSpec, SearchSettings, StepChecks, check, che
 use clap::Args;
 use std::path::PathBuf;
 
+/// The options of `voussoir sequence`.
 #[derive(Args, Debug, Clone, PartialEq)]
 pub struct SequenceArgs {
     /// Scene file or `builtin:…`.
@@ -31,6 +32,7 @@ pub struct SequenceArgs {
         SearchSettings::CHECKS_PER_BLOCK,
         SearchSettings::BASE_CHECKS
     ))]
+    /// `--search`: prefixes it may check before giving up (default per block, printed by `--help`).
     pub max_checks: Option<usize>,
     /// Also drop-test every step.
     #[arg(long)]
@@ -39,8 +41,10 @@ pub struct SequenceArgs {
     /// equilibrium arise?).
     #[arg(long)]
     pub kinematic: bool,
+    /// The solver options every step is analysed with.
     #[command(flatten)]
     pub solver: SolverOptions,
+    /// The drop test's engine, duration and time step, with `--dynamic`.
     #[command(flatten)]
     pub drop: DropOptions,
     /// Write the report as JSON here (atomically).
@@ -57,6 +61,7 @@ fn order_spec(text: &str) -> Result<OrderSpec, std::convert::Infallible> {
     })
 }
 
+/// Runs `sequence`: prints each step; exit code 0 when every step stands without props.
 pub fn run(args: &SequenceArgs) -> Result<i32, BadInput> {
     if let Some(out) = &args.json {
         refuse_overwrite(Some(&args.scene), out, "--json")?;

@@ -14,10 +14,12 @@ use clap::Args;
 use std::path::PathBuf;
 use std::time::Instant;
 
+/// The options of `voussoir settle`.
 #[derive(Args, Debug, Clone, PartialEq)]
 pub struct SettleArgs {
     /// Scene file or `builtin:NAME?k=v&...`. Default: the embedded default scene.
     pub scene: Option<String>,
+    /// The solver options (friction model, μ, tolerances).
     #[command(flatten)]
     pub solver: SolverOptions,
     /// A support's whole path: NAME:dx,dy,dz (model units) or NAME:dx,dy,dz:rx,ry,rz (a
@@ -53,6 +55,7 @@ pub struct SettleArgs {
 /// Seconds the whole path takes in `--frames`' animation.
 const PATH_SECONDS: f64 = 5.0;
 
+/// Runs `settle`: prints each run's outcome; exit code 0 when it stands to the end of the path.
 pub fn run(args: &SettleArgs) -> Result<i32, BadInput> {
     for out in [&args.json, &args.plot, &args.frames, &args.strip].into_iter().flatten() {
         refuse_overwrite(args.scene.as_deref(), out, "output")?;

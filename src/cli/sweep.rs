@@ -15,6 +15,7 @@ pub const ARCH_VOUSSOIRS: usize = 15;
 /// Blocks of the swept harmonic stack unless `--n` says otherwise.
 pub const HARMONIC_BLOCKS: usize = 6;
 
+/// The options of `voussoir sweep`.
 #[derive(Args, Debug, Clone, PartialEq)]
 pub struct SweepArgs {
     /// arch (t/R), slope (degrees), harmonic (overhang fraction) or tilt (ground tilt in
@@ -30,6 +31,7 @@ pub struct SweepArgs {
     /// Bisection steps per threshold (each halves the bracket).
     #[arg(long, default_value_t = 10)]
     pub iterations: usize,
+    /// Voussoirs (arch) or blocks (harmonic).
     #[arg(long, help = format!("Voussoirs (arch) or blocks (harmonic), default {ARCH_VOUSSOIRS} / {HARMONIC_BLOCKS}"))]
     pub n: Option<usize>,
     // The slope's default μ is the default material's, printed from it.
@@ -37,10 +39,12 @@ pub struct SweepArgs {
         "Friction coefficient of the slope family (default {:.4}, the default material's)",
         Material::default().friction
     ))]
+    /// The slope family's friction coefficient.
     pub mu: Option<f64>,
     /// The scene the tilt family tilts (file or builtin:…).
     #[arg(long)]
     pub scene: Option<String>,
+    /// The drop test's engine, duration and time step.
     #[command(flatten)]
     pub drop: DropOptions,
     /// Find the drop-test threshold with both engines (rapier and exact; the statics' once),
@@ -64,9 +68,13 @@ pub struct SweepArgs {
 /// range swept unless `--lo`/`--hi` say otherwise, the plot's axis label.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum FamilyName {
+    /// Semicircular arch; parameter t/R.
     Arch,
+    /// A block on a slope; parameter the angle, degrees.
     Slope,
+    /// Harmonic stack; parameter the overhang fraction.
     Harmonic,
+    /// `--scene` on a tilting base; parameter the tilt, degrees.
     Tilt,
 }
 
@@ -110,6 +118,7 @@ impl std::fmt::Display for FamilyName {
     }
 }
 
+/// Runs `sweep`: prints both thresholds; exit code 0.
 pub fn run(args: &SweepArgs) -> Result<i32, BadInput> {
     for (out, option) in [(&args.json, "--json"), (&args.plot, "--plot")] {
         if let Some(out) = out {

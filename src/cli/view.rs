@@ -6,14 +6,18 @@ use super::options::{DiagramOptions, SceneOptions, SolverOptions};
 use clap::Args;
 use std::path::PathBuf;
 
+/// The options of `voussoir view`.
 #[derive(Args, Debug, Clone, PartialEq)]
 pub struct ViewArgs {
     /// Scene file or `builtin:…` (default: the embedded default scene).
     pub scene: Option<String>,
+    /// The diagram mode and its threshold.
     #[command(flatten)]
     pub diagram: DiagramOptions,
+    /// The solver options the design is analysed with.
     #[command(flatten)]
     pub solver: SolverOptions,
+    /// Supports, ground and density given on the command line.
     #[command(flatten)]
     pub scene_options: SceneOptions,
     /// Draw the blocks opaque (default translucent, so that the interfaces show).
@@ -41,6 +45,7 @@ fn window_size(text: &str) -> Result<(u32, u32), String> {
         .ok_or_else(|| "expected WIDTHxHEIGHT, e.g. 1280x800, at least 200x150".to_string())
 }
 
+/// Without the viewer feature: says how to build it; exit code 2.
 #[cfg(not(feature = "viewer"))]
 pub fn run(_: &ViewArgs) -> Result<i32, BadInput> {
     Err(BadInput(
@@ -60,6 +65,7 @@ pub fn missing_display(var: impl Fn(&str) -> Option<std::ffi::OsString>) -> Opti
     })
 }
 
+/// Runs `view`: opens the window (or writes `--screenshot`); exit code 0, 2 without a display.
 #[cfg(feature = "viewer")]
 pub fn run(args: &ViewArgs) -> Result<i32, BadInput> {
     use super::{load, refuse_overwrite, scene_name};
