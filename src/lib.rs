@@ -50,6 +50,7 @@ pub mod cli;
 #[allow(rustdoc::private_intra_doc_links)]
 pub mod dynamics;
 #[cfg(feature = "ecs")]
+#[warn(missing_docs)]
 pub mod ecs;
 #[warn(missing_docs)]
 pub mod geometry;

@@ -38,7 +38,9 @@ pub struct CompareDropTests(pub DropSettings);
 /// quaternion [w, x, y, z]).
 #[derive(Component, Clone, Copy, Debug, PartialEq)]
 pub struct BlockPose {
+    /// Its mass centre, m.
     pub centroid: Point3,
+    /// Its rotation since the start, a unit quaternion [w, x, y, z].
     pub rotation: [f64; 4],
 }
 
@@ -49,13 +51,16 @@ pub struct ComparedPose(pub BlockPose);
 /// One engine's drop test: running, or its outcome.
 #[derive(Default)]
 pub struct DropLane {
+    /// The run under way (stepped a little every frame), until it finishes.
     pub running: Option<DropRun>,
+    /// The finished run's verdict and motion.
     pub result: Option<DropResult>,
     /// Whether this lane's verdict equals the statics' (when both exist).
     pub agree: Option<bool>,
 }
 
 impl DropLane {
+    /// The lane's engine (rapier or exact).
     pub fn engine(&self) -> Engine {
         match (&self.running, &self.result) {
             (Some(run), _) => run.engine(),
@@ -77,9 +82,11 @@ impl DropLane {
 /// The drop tests under way or done: one lane, or two when the engines are compared.
 #[derive(Resource, Default)]
 pub struct DropStatus {
+    /// One lane per engine tested.
     pub lanes: Vec<DropLane>,
     /// Block names in the order of the runs' assembly.
     names: Vec<String>,
+    /// Why the drop test could not start, when it could not.
     pub error: Option<String>,
 }
 
@@ -89,6 +96,7 @@ impl DropStatus {
         self.lanes.first()
     }
 
+    /// Whether any lane is still running.
     pub fn running(&self) -> bool {
         self.lanes.iter().any(|l| l.running.is_some())
     }
@@ -103,6 +111,7 @@ impl DropStatus {
         !self.lanes.is_empty() && self.lanes.iter().all(|l| l.result.is_some())
     }
 
+    /// Drops every lane and error (an edit makes them stale).
     pub fn clear(&mut self) {
         *self = Self::default();
     }

@@ -27,13 +27,16 @@ pub enum KinematicRequest {
     /// Not run (the default: a check costs two QPs per round on every supported component).
     #[default]
     Off,
+    /// Run after every analysis, with these settings.
     On(KinematicSettings),
 }
 
 /// The last kinematic check, or why there is none.
 #[derive(Resource, Clone, Debug, Default)]
 pub struct KinematicStatus {
+    /// The last check's answer.
     pub result: Option<Kinematic>,
+    /// Why it could not run, when it could not.
     pub error: Option<String>,
 }
 

@@ -77,8 +77,11 @@ impl Plugin for DesignPlugin {
 /// The stages of an update, run in this order.
 #[derive(SystemSet, Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum VoussoirSet {
+    /// Edits are applied (messages to the design).
     Edit,
+    /// The pipeline runs on the edited design.
     Analyze,
+    /// The results are written to the entities and the status resources.
     Write,
 }
 
@@ -117,7 +120,9 @@ impl Default for Settings {
 /// The pipeline with its memory, and whether the design changed since it last ran.
 #[derive(Resource, Default)]
 pub struct PipelineState {
+    /// The analysis pipeline with its caches (recuts and re-solves only what an edit touched).
     pub pipeline: Pipeline,
+    /// Whether the design changed since the pipeline last ran.
     pub dirty: bool,
     /// The last run's results (`None` before the first or after an error).
     pub analysis: Option<crate::pipeline::Analysis>,
@@ -128,11 +133,17 @@ pub struct PipelineState {
 /// The scene's verdict and timings (after the last run), or why it could not run.
 #[derive(Resource, Default, Clone, Debug, PartialEq)]
 pub struct SceneStatus {
+    /// The statics' verdict (`None` before the first run or after an error).
     pub verdict: Option<Verdict>,
+    /// Whether it stands by compression and friction alone.
     pub stands: bool,
+    /// Minimum tension, a fraction of the free weight.
     pub tension_ratio: f64,
+    /// Minimum friction excess, a fraction of the free weight.
     pub friction_excess_ratio: f64,
+    /// The largest friction use over the interfaces (> 1: exceeded).
     pub max_friction_utilization: f64,
+    /// The last run's wall-clock seconds per stage.
     pub timings: Timings,
     /// The last run's work (what was recomputed and what reused).
     pub work: Work,
@@ -143,10 +154,15 @@ pub struct SceneStatus {
 /// Work summed over every run since the app started.
 #[derive(Resource, Default, Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Counters {
+    /// Pipeline runs.
     pub runs: usize,
+    /// Plane splits computed (not taken from the cache).
     pub pieces_recut: usize,
+    /// Block pairs whose interfaces were detected again.
     pub interfaces_redetected: usize,
+    /// Components whose statics was solved again.
     pub components_resolved: usize,
+    /// Components whose statics came from the cache.
     pub components_reused: usize,
 }
 
@@ -169,15 +185,20 @@ pub struct Support;
 /// Mass (kg), mass centre (m) and mean density (kg/m³).
 #[derive(Component, Clone, Copy, Debug, PartialEq)]
 pub struct MassCentre {
+    /// Mass, kg.
     pub mass: f64,
+    /// Mass centre, m.
     pub centroid: Point3,
+    /// Mean density, kg/m³.
     pub density: f64,
 }
 
 /// An interface entity: the two bodies it links (`None` = the ground).
 #[derive(Component, Clone, Copy, Debug, PartialEq, Eq)]
 pub struct InterfaceOf {
+    /// The block entity on side a (the normal points from a into b).
     pub a: Option<Entity>,
+    /// The block entity on side b.
     pub b: Option<Entity>,
 }
 

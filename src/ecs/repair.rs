@@ -36,18 +36,22 @@ pub struct RepairStatus {
     running: Option<Task<Result<RepairReport, DesignError>>>,
     /// The design the running repair started from.
     started_from: Option<crate::model::Scene>,
+    /// The last finished repair's report.
     pub report: Option<RepairReport>,
     animation: Option<Animation>,
+    /// Why the last repair could not run, when it could not.
     pub error: Option<String>,
     /// Repairs finished, their cuts in place (a viewer adopts the design when this grows).
     pub finished: u64,
 }
 
 impl RepairStatus {
+    /// Whether a repair is searching (off the main thread).
     pub fn running(&self) -> bool {
         self.running.is_some()
     }
 
+    /// Whether the repaired cuts are gliding into place.
     pub fn animating(&self) -> bool {
         self.animation.is_some()
     }

@@ -40,12 +40,15 @@ pub enum RobustnessRequest {
 /// The last load factor, or why there is none.
 #[derive(Resource, Clone, Debug, Default)]
 pub struct RobustnessStatus {
+    /// The last load factor and mechanism.
     pub result: Option<Robustness>,
     /// The worst direction (degrees), when a sweep ran.
     pub worst_azimuth: Option<f64>,
     /// Component load factors solved and reused by the last run.
     pub solved: usize,
+    /// Component load factors the last run took from the cache.
     pub reused: usize,
+    /// Why the load factor could not be computed, when it could not.
     pub error: Option<String>,
 }
 
@@ -63,7 +66,9 @@ impl RobustnessStatus {
 /// A moving block's virtual motion in the mechanism: translation (m) and rotation (rad).
 #[derive(Component, Clone, Copy, Debug, PartialEq)]
 pub struct MechanismMotion {
+    /// Virtual translation, m.
     pub translation: [f64; 3],
+    /// Virtual rotation about the centroid, rad (a rotation vector).
     pub rotation: [f64; 3],
 }
 

@@ -10,6 +10,7 @@ use crate::studies::sequence::{OrderSpec, SequenceReport, Step, StepChecks, chec
 use bevy::app::{App, Plugin, Update};
 use bevy::ecs::prelude::*;
 
+/// Assembly sequences in the app: [`StartSequence`] checks an order, [`StepSequence`] steps through it.
 pub struct SequencePlugin;
 
 impl Plugin for SequencePlugin {
@@ -41,10 +42,13 @@ pub struct Placed;
 /// The checked order and the step shown.
 #[derive(Resource, Default, Debug)]
 pub struct SequenceStatus {
+    /// The checked order's steps.
     pub report: Option<SequenceReport>,
+    /// The step shown, from 0.
     pub current: usize,
     /// The full analysis of the step shown (blocks placed so far, forces included).
     pub analysis: Option<Analysis>,
+    /// Why the order could not be checked, when it could not.
     pub error: Option<String>,
 }
 

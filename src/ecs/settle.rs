@@ -40,13 +40,16 @@ pub struct SettleStatus {
     running: Option<JoinHandle<Result<Settlement, String>>>,
     /// Block names in the order of the analysed assembly.
     names: Vec<String>,
+    /// The finished settlement's runs.
     pub result: Option<Settlement>,
+    /// Why it could not run, when it could not.
     pub error: Option<String>,
     /// Playback clock, s (0 … [`PLAY_SECONDS`]).
     pub clock: f64,
 }
 
 impl SettleStatus {
+    /// Whether a settlement is running (on its own thread).
     pub fn running(&self) -> bool {
         self.running.is_some()
     }
@@ -66,6 +69,7 @@ impl SettleStatus {
         self.result.is_some() && self.clock >= PLAY_SECONDS
     }
 
+    /// Forgets the run, its result and the playback (an edit makes them stale).
     pub fn clear(&mut self) {
         *self = Self::default();
     }
