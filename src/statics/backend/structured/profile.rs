@@ -45,7 +45,7 @@ pub enum Kernel {
 }
 
 impl Kernel {
-    /// Every kernel, in the order of [`Kernel::index`].
+    /// Every kernel, in the order their times and calls are kept in a [`Profile`].
     pub const ALL: [Kernel; 11] = [
         Kernel::Setup,
         Kernel::Measures,
