@@ -133,6 +133,13 @@ pub struct ExactSettings {
     /// and its closing speed), so the impact acts at its time, not at a step's end: impacts
     /// second order in dt.
     pub split_impacts: bool,
+    /// A component at rest stays at rest where an equilibrium within Coulomb's coupled sets
+    /// holds it (the static theorem's pick), even where the exact sets also admit a motion
+    /// from rest with no force on it (a flat arch's halves sliding down their vertical joints,
+    /// a bar between two posts). Off, the first step from rest is the kinematic check's rate
+    /// problem (Gauss's principle: that free motion); the settlement's runs turn it on, since
+    /// they follow a design that stands by its statics.
+    pub rest_when_admissible: bool,
     /// Vertices within this fraction of the median block size of the ground, or reaching it
     /// within two steps, are ground contacts of the step.
     pub envelope: f64,
@@ -172,6 +179,7 @@ impl Default for ExactSettings {
             // Far above a hinge's O(dt² ω² r) drift per step, far below the landing test's 1e-3.
             projection: 1e-4,
             split_impacts: true,
+            rest_when_admissible: false,
             envelope: 0.02,
             warm_start: true,
             accelerate_rounds: true,

@@ -13,8 +13,22 @@
 //!   that Coulomb's sets carry ([`crate::dynamics::Selection::Coulomb`]), as the statics'
 //!   strict QP does.
 //! - **Exact engine** and **rapier**: the supports moved slowly in real time (at `speed` ×
-//!   √(g × block size)); collapse is the first block faster than `collapse_speed` ×
-//!   √(g × block size).
+//!   √(g × block size); the exact engine's supports start from rest and reach it in
+//!   √(block size / g), since rigid blocks cannot take a sudden start); collapse is the first
+//!   block faster than `collapse_speed` × √(g × block size). In rapier, the collapse is dated
+//!   back to where the blocks left the supports' pace. In the exact engine it is judged as the
+//!   quasi-static run judges its increments: fast blocks that an equilibrium still holds where
+//!   the engine has them are following the supports (a flat arch's halves turn ever faster as
+//!   their crown nears the hinges' level) and the run goes on; a collapse is dated to the first
+//!   step from which, stopped, they no longer stay at rest.
+//!
+//! Which mechanism a step takes where several are admissible: a component at rest stays at rest
+//! when an equilibrium within Coulomb's sets holds it (the static theorem's pick; a flat arch
+//! could also slide down its vertical joints with no force on them:
+//! [`ExactSettings::rest_when_admissible`], on in all of the exact engine's runs here). A moving component takes
+//! the exact engine's step: the velocities closest to its momentum (in the kinetic metric) that
+//! the contacts admit, with the friction of the Tresca rounds' fixed point, started from the
+//! equilibrium's forces.
 //!
 //! Each run records stages: the fraction of the path, the movement (m: the largest translation
 //! of a support, and its fraction of the model size), the reaction on each moved support (N,
@@ -268,7 +282,7 @@ pub fn settle_with_progress(
     let paths = resolve(assembly, movements)?;
     let path = PathScale::new(assembly, &paths);
     if settings.engines {
-        let steps = engine_steps(assembly, &path, settings);
+        let steps = engine_steps(assembly, &path, settings) + ramp_steps(assembly, settings);
         if steps > MAX_ENGINE_STEPS {
             return Err(SettleError::TooManySteps { steps, limit: MAX_ENGINE_STEPS });
         }
@@ -409,7 +423,7 @@ fn engine_settings(settings: &SettleSettings, engine: Engine) -> DropSettings {
         friction: settings.friction,
         strength: settings.strength,
         perturbation: 0.0,
-        exact: ExactSettings { backend: settings.backend, ..Default::default() },
+        exact: ExactSettings { backend: settings.backend, rest_when_admissible: true, ..Default::default() },
         ..Default::default()
     }
 }
@@ -727,7 +741,9 @@ fn in_engine(
     let assembly = &analysis.assembly;
     let drop = engine_settings(settings, engine);
     let unit = speed_unit(assembly);
-    let steps = (engine_steps(assembly, scale, settings) as usize).max(1);
+    let ramp = if engine == Engine::Exact { ramp_steps(assembly, settings) } else { 0.0 };
+    let pace = Pace::new(engine_steps(assembly, scale, settings), ramp);
+    let steps = pace.steps();
     let every = (steps / settings.increments).max(1);
     let mut run = Run::new(engine.name(), engine);
     let mut stepper = Stepper::with_paths(assembly, &drop, paths);
@@ -735,17 +751,32 @@ fn in_engine(
         run.frame(w, 0.0);
     }
     let mut speeds = Vec::with_capacity(steps);
+    // The exact engine's last stage whose configuration an equilibrium holds, and its step.
+    let mut holding = match &stepper {
+        Stepper::Exact(w) => Some(((**w).clone(), 0)),
+        Stepper::Rapier(_) => None,
+    };
     for k in 1..=steps {
-        stepper.step_supports(1.0 / steps as f64);
+        stepper.step_supports(pace.covered(k) - pace.covered(k - 1));
         run.steps += 1;
         if let Stepper::Exact(w) = &stepper
             && let Some(status) = failure(w)
         {
-            return unresolved(run, k as f64 / steps as f64, status);
+            return unresolved(run, pace.covered(k), status);
         }
         speeds.push(stepper.fastest(assembly));
-        if speeds[k - 1] > settings.collapse_speed * unit {
-            let fraction = departure(&speeds) as f64 / steps as f64;
+        // Fast blocks an equilibrium still holds where they are follow the supports' pace at a
+        // turn of the geometry (a flat arch near its end); the exact engine runs on.
+        let still_held = |stepper: &Stepper, steps: &mut usize| match stepper {
+            Stepper::Exact(w) => increment(&mut (**w).clone(), 0.0, steps),
+            Stepper::Rapier(_) => false,
+        };
+        if speeds[k - 1] > settings.collapse_speed * unit && !still_held(&stepper, &mut run.steps) {
+            let left = match holding.take() {
+                Some((held, from)) => first_unheld(held, (from, k), &pace, &mut run.steps),
+                None => departure(&speeds),
+            };
+            let fraction = pace.covered(left);
             let movement = fraction * scale.movement;
             run.outcome = Outcome::Collapses { fraction, movement, relative: movement / assembly.scale };
             if let Stepper::Exact(w) = &stepper {
@@ -755,10 +786,14 @@ fn in_engine(
             return run;
         }
         if k % every == 0 {
-            let fraction = k as f64 / steps as f64;
+            let fraction = pace.covered(k);
             progress(fraction);
             let s = match &stepper {
                 Stepper::Exact(w) => {
+                    let mut stopped = (**w).clone();
+                    if increment(&mut stopped, 0.0, &mut run.steps) {
+                        holding = Some(((**w).clone(), k));
+                    }
                     run.frame(w, fraction);
                     stage(assembly, &analysis.interfaces, w, fraction, scale)
                 }
@@ -779,6 +814,32 @@ fn in_engine(
     run
 }
 
+/// The exact engine's collapse: the first step after `bracket.0` (whose configuration `held`,
+/// an equilibrium holds) at which the blocks, stopped where the engine has them, no longer stay
+/// at rest — found by bisection up to `bracket.1` (the step past the collapse speed, returned
+/// when every step before it holds: a fall carried by the blocks' momentum). It is the
+/// engine's own path judged as the quasi-static run judges its increments: where the pace of
+/// the blocks grows with the geometry (a flat arch's halves turn ever faster as their crown
+/// contact nears the hinges' level) no rule on speeds tells it from a fall.
+fn first_unheld(mut held: World, bracket: (usize, usize), pace: &Pace, steps: &mut usize) -> usize {
+    let (mut lo, mut hi) = bracket;
+    while hi - lo > 1 {
+        let mid = lo + (hi - lo) / 2;
+        let mut w = held.clone();
+        for j in lo + 1..=mid {
+            w.step_supports(pace.covered(j) - pace.covered(j - 1));
+            *steps += 1;
+        }
+        let mut stopped = w.clone();
+        if increment(&mut stopped, 0.0, steps) {
+            (lo, held) = (mid, w);
+        } else {
+            hi = mid;
+        }
+    }
+    hi
+}
+
 /// Blocks faster than this multiple of their pace following the supports have left it.
 const DEPARTURE: f64 = 1.25;
 
@@ -796,6 +857,55 @@ fn speed_unit(assembly: &Assembly) -> f64 {
 fn engine_steps(assembly: &Assembly, scale: &PathScale, settings: &SettleSettings) -> f64 {
     let duration = scale.travel / (settings.speed * speed_unit(assembly));
     (duration / settings.dt).ceil()
+}
+
+/// The exact engine's runs start the supports from rest, reaching their speed in this many
+/// √(block size / g): a support that starts at full speed leaves rigid blocks behind in its
+/// first step (no finite force gives them its speed at once), and a flat arch whose halves must
+/// turn to follow it falls through the opened joints. rapier's soft contacts take such a start
+/// in their compliance; its runs keep the even pace.
+const RAMP: f64 = 1.0;
+
+/// The steps of dt in which the supports reach their speed ([`RAMP`]).
+fn ramp_steps(assembly: &Assembly, settings: &SettleSettings) -> f64 {
+    let g = assembly.gravity.norm().max(f64::MIN_POSITIVE);
+    let size = assembly.median_block_size().unwrap_or(1.0).max(f64::MIN_POSITIVE);
+    (std::env::var("RAMPX").ok().and_then(|s| s.parse::<f64>().ok()).unwrap_or(RAMP) * (size / g).sqrt() / settings.dt)
+        .ceil()
+}
+
+/// How the engines' runs cover the path: the speed rising linearly over `ramp` steps (none: 0)
+/// to the speed that covers the path in `plain` steps, then held.
+struct Pace {
+    plain: f64,
+    ramp: f64,
+}
+
+impl Pace {
+    fn new(plain: f64, ramp: f64) -> Self {
+        Self { plain: plain.max(1.0), ramp: ramp.max(0.0) }
+    }
+
+    /// Full-speed steps' worth of path covered after `k` steps.
+    fn distance(&self, k: f64) -> f64 {
+        if k < self.ramp { 0.5 * k * k / self.ramp } else { k - 0.5 * self.ramp }
+    }
+
+    /// The fraction of the path covered after `k` steps (the speed scaled a little so that the
+    /// last step is a whole one: a short last step would brake the supports).
+    fn covered(&self, k: usize) -> f64 {
+        (self.distance(k as f64) / self.distance(self.steps() as f64)).min(1.0)
+    }
+
+    /// The steps that cover the whole path.
+    fn steps(&self) -> usize {
+        let k = if self.plain <= 0.5 * self.ramp {
+            (2.0 * self.ramp * self.plain).sqrt()
+        } else {
+            self.plain + 0.5 * self.ramp
+        };
+        (k.ceil() as usize).max(1)
+    }
 }
 
 fn departure(speeds: &[f64]) -> usize {

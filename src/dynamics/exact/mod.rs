@@ -24,6 +24,12 @@
 //! - Positions: x += h v⁺, R ← exp(h ω⁺) R (symplectic Euler). Restitution 0 (masonry: plastic
 //!   impacts). A step in which an open contact closes is split at the impact's time
 //!   ([`impacts`]): the impact acts at its instant, second order in h.
+//! - With [`ExactSettings::rest_when_admissible`][crate::dynamics::settings::ExactSettings]
+//!   (the settlement's runs), a component at rest first takes the step with Coulomb's coupled
+//!   sets (the limit-analysis model): where that keeps it at rest, its forces are an equilibrium within the exact sets
+//!   too (nothing slips) and it stays — the static theorem's pick where the exact sets also
+//!   admit a motion (a flat arch whose halves could slide down their vertical joints with no
+//!   force on them stands, as its statics say); otherwise those forces start the rounds.
 //! - A component touching nothing falls freely: M v⁺ = M v + h w, no solve.
 //! - A component whose step leaves every vertex slower than `still` × g h is set at rest; one
 //!   at rest whose step leaves it at rest sleeps — the next steps would repeat the same problem

@@ -59,6 +59,16 @@ impl World {
             return;
         }
         let exact = self.ctx.coulomb == Coulomb::Exact;
+        if exact && self.settings.rest_when_admissible && comp.iter().all(|&k| self.bodies[k].at_rest()) {
+            match self.from_rest(comp, &local, &active) {
+                FromRest::Stays(sol) => return self.accept(comp, &active, sol, true),
+                FromRest::Moves(normal) => {
+                    let start = capacities(&normal, mu, self.settings.solver_tolerance);
+                    active.iter_mut().zip(start).for_each(|(a, c)| a.capacity = c);
+                }
+                FromRest::Failed => return self.stats.failed_steps += 1,
+            }
+        }
         let mut rounds = 0;
         let mut bound = BTreeSet::new();
         let mut anderson = Anderson::default();
@@ -164,6 +174,32 @@ impl World {
         };
         selection.select_forces(first, first_residual, open);
         (selection, ctx)
+    }
+
+    /// A component at rest: the step with Coulomb's coupled sets (friction bounded by μ f_n of
+    /// the same solve, the limit-analysis model). Where it keeps the blocks at rest its forces
+    /// are an equilibrium within the exact sets too (nothing slips, so its dilatancy never
+    /// acts), and rest is the answer: the static theorem's pick where the exact sets also admit
+    /// a motion (a flat arch whose halves could slide down their vertical joints with no force
+    /// on them stands, as its statics say). Otherwise its forces start the Tresca rounds.
+    fn from_rest(&mut self, comp: &[usize], local: &[usize], active: &[Active]) -> FromRest {
+        let ctx = problem::StepContext { coulomb: Coulomb::Relaxed, ..self.ctx };
+        let mut bound = BTreeSet::new();
+        let crush = self.ctx.strength.map(|sigma| Crush { bearings: &self.bearings, sigma, bound: &bound });
+        let p = problem::build(&ctx, &self.bodies, comp, local, &self.contacts, active, crush.as_ref());
+        let all = vec![true; active.len()];
+        let part = Part { comp, local, active, taking_part: &all, selection: false, ctx };
+        let Some(out) = self.solve(&p, part) else { return FromRest::Failed };
+        let sol = p.read(&ctx, &self.bodies, comp, active, &out.x);
+        if self.bind(active, &sol, &mut bound) {
+            // A joint the forces would crush: the rounds with its stress block decide.
+            return FromRest::Moves(sol.normal);
+        }
+        if self.peak_speed(comp, &sol) <= self.settings.still * self.ctx.units.g * self.ctx.h {
+            FromRest::Stays(sol)
+        } else {
+            FromRest::Moves(sol.normal)
+        }
     }
 
     /// With a strength: adds the closed joints whose forces in `sol` come near it to `bound`
@@ -334,6 +370,15 @@ impl World {
             }
         }
     }
+}
+
+/// What a component at rest does in its step ([`World::from_rest`]).
+enum FromRest {
+    /// An equilibrium holds it: this solve's forces.
+    Stays(Solution),
+    /// It moves; the relaxed solve's normal forces (non-dimensional) start the rounds.
+    Moves(Vec<f64>),
+    Failed,
 }
 
 /// Whether capacities `next` would give the round's answer again: each contact's capacity
