@@ -60,7 +60,7 @@ impl World {
         }
         let exact = self.ctx.coulomb == Coulomb::Exact;
         if exact && self.settings.rest_when_admissible && comp.iter().all(|&k| self.bodies[k].at_rest()) {
-            match self.from_rest(comp, &local, &active) {
+            match self.step_from_rest(comp, &local, &active) {
                 FromRest::Stays(sol) => return self.accept(comp, &active, sol, true),
                 FromRest::Moves(normal) => {
                     let start = capacities(&normal, mu, self.settings.solver_tolerance);
@@ -182,7 +182,7 @@ impl World {
     /// acts), and rest is the answer: the static theorem's pick where the exact sets also admit
     /// a motion (a flat arch whose halves could slide down their vertical joints with no force
     /// on them stands, as its statics say). Otherwise its forces start the Tresca rounds.
-    fn from_rest(&mut self, comp: &[usize], local: &[usize], active: &[Active]) -> FromRest {
+    fn step_from_rest(&mut self, comp: &[usize], local: &[usize], active: &[Active]) -> FromRest {
         let ctx = problem::StepContext { coulomb: Coulomb::Relaxed, ..self.ctx };
         let mut bound = BTreeSet::new();
         let crush = self.ctx.strength.map(|sigma| Crush { bearings: &self.bearings, sigma, bound: &bound });
@@ -372,7 +372,7 @@ impl World {
     }
 }
 
-/// What a component at rest does in its step ([`World::from_rest`]).
+/// What a component at rest does in its step ([`World::step_from_rest`]).
 enum FromRest {
     /// An equilibrium holds it: this solve's forces.
     Stays(Solution),
