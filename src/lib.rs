@@ -44,10 +44,6 @@
 // Every public item documented (`missing_docs`), module by module as each is finished.
 #[warn(missing_docs)]
 pub mod cli;
-// The dynamics' module docs link their private parts (engines, contacts, settings), which the
-// public docs cannot resolve; until those docs name them in plain text, rustdoc is told here
-// (src/dynamics is being restructured apart from this file).
-#[allow(rustdoc::private_intra_doc_links)]
 pub mod dynamics;
 #[cfg(feature = "ecs")]
 #[warn(missing_docs)]

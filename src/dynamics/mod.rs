@@ -2,8 +2,10 @@
 //! engine's yes/no beside the statics' graded answer) and the exact-contact engine ([`exact`],
 //! the statics' own contact model stepped in time) — behind one run ([`run`]) that tracks every
 //! free block against the fall criteria and gives the verdict. What the engines share sits in
-//! its own module ([`settings`], [`scene`]); neither engine reads this front module. Units SI,
+//! its own module (`settings`, [`scene`]); neither engine reads this front module. Units SI,
 //! z up.
+
+#![warn(missing_docs)]
 
 pub mod exact;
 pub mod rapier;

@@ -14,6 +14,7 @@ use std::time::Instant;
 /// Motion of one free block over the run.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct BlockMotion {
+    /// The block's name.
     pub name: String,
     /// Largest centroid displacement from the start, m.
     pub max_drift: f64,
@@ -30,15 +31,22 @@ pub struct BlockMotion {
 /// The drop test's outcome.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct DropResult {
+    /// The engine that ran it.
     pub engine: Engine,
+    /// Every free block stayed within the drift and rotation tolerances, and every solve
+    /// answered.
     pub stands: bool,
-    /// Largest drift ratio and rotation over the free blocks.
+    /// Largest drift over the free blocks, a fraction of the block's size.
     pub max_drift: f64,
+    /// Largest rotation over the free blocks, rad.
     pub max_rotation: f64,
     /// The block that moved most (relative to the tolerances), if any block is free.
     pub worst_block: Option<String>,
+    /// Simulated time, s.
     pub simulated_s: f64,
+    /// Wall time of the run, s.
     pub wall_s: f64,
+    /// Steps of dt taken.
     pub steps: usize,
     /// Largest relative volume error of a collider: a nearly convex block's hull or a
     /// non-convex block's convex decomposition (0 when all blocks are convex).
@@ -53,6 +61,7 @@ pub struct DropResult {
     /// times the median block size. A block beyond the tolerances that has come to rest
     /// settled (soft contacts, overlapping input); one still moving is falling.
     pub at_rest: bool,
+    /// Every free block's motion.
     pub blocks: Vec<BlockMotion>,
     /// The exact engine's account (solves, status, overlap, energy balance).
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -61,7 +70,9 @@ pub struct DropResult {
 
 /// The engine a drop test (or a settlement's engine run) runs on.
 pub enum Stepper {
+    /// rapier3d's soft contacts.
     Rapier(Box<Simulation>),
+    /// The exact-contact engine.
     Exact(Box<exact::World>),
 }
 
@@ -135,8 +146,11 @@ pub fn drop_test(assembly: &Assembly, settings: &DropSettings) -> Result<DropRes
 /// centroid (m) and rotation since the start ([w, x, y, z]).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Trajectory {
+    /// The engine that moved them.
     pub engine: Engine,
+    /// The frames' times, s.
     pub times: Vec<f64>,
+    /// Per frame, per block: its centroid (m) and its rotation since the start ([w, x, y, z]).
     pub poses: Vec<Vec<(crate::geometry::Point3, [f64; 4])>>,
 }
 
@@ -177,6 +191,7 @@ pub struct DropRun {
 }
 
 impl DropRun {
+    /// A drop test of `assembly` at its start (the settings checked first).
     pub fn new(assembly: &Assembly, settings: &DropSettings) -> Result<Self, DropError> {
         settings.validate()?;
         let start = Instant::now();
@@ -215,10 +230,12 @@ impl DropRun {
         })
     }
 
+    /// The steps the whole duration takes (fewer once it stops at a fall).
     pub fn total_steps(&self) -> usize {
         self.total
     }
 
+    /// The engine it runs on.
     pub fn engine(&self) -> Engine {
         self.settings.engine
     }
@@ -228,10 +245,12 @@ impl DropRun {
         self.settings.dt
     }
 
+    /// The steps taken so far.
     pub fn steps_done(&self) -> usize {
         self.steps
     }
 
+    /// Whether it has run its duration (or stopped at a fall).
     pub fn finished(&self) -> bool {
         self.steps >= self.total
     }

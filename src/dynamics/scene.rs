@@ -11,7 +11,9 @@ use crate::model::Assembly;
 pub struct SupportPath {
     /// Index of the support in the assembly.
     pub block: usize,
+    /// Its whole translation, m.
     pub translation: crate::geometry::Vector3,
+    /// Its whole rotation vector about its centroid, rad.
     pub rotation: crate::geometry::Vector3,
 }
 

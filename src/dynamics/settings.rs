@@ -105,6 +105,7 @@ pub enum Selection {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default)]
 pub struct ExactSettings {
+    /// How friction is bounded: exact Coulomb (rounds of solves) or Anitescu's relaxation.
     pub coulomb: Coulomb,
     /// The friction model of every contact point (the statics' three).
     pub friction_model: FrictionModel,
@@ -213,6 +214,7 @@ impl ExactSettings {
 /// How the drop test simulates.
 #[derive(Clone, Debug, PartialEq)]
 pub struct DropSettings {
+    /// The engine it runs on.
     pub engine: Engine,
     /// The exact-contact engine's settings (the rapier ones below do not apply to it).
     pub exact: ExactSettings,
@@ -299,19 +301,37 @@ impl Default for DropSettings {
 /// Invalid drop-test settings.
 #[derive(Debug, Error, Clone, PartialEq)]
 pub enum DropError {
+    /// A setting that must be a finite number > 0 is not.
     #[error("drop test setting {name} = {value} must be a finite number > 0")]
-    NotPositive { name: &'static str, value: f64 },
+    NotPositive {
+        /// The setting.
+        name: &'static str,
+        /// Its value.
+        value: f64,
+    },
+    /// A setting that must be a finite number ≥ 0 is not.
     #[error("drop test setting {name} = {value} must be a finite number ≥ 0")]
-    Negative { name: &'static str, value: f64 },
+    Negative {
+        /// The setting.
+        name: &'static str,
+        /// Its value.
+        value: f64,
+    },
+    /// An iteration or round limit is 0.
     #[error(
         "drop test: solver_iterations (and the exact engine's max_rounds, stall_rounds, max_iterations) must be at least 1"
     )]
     NoIterations,
+    /// The duration takes more steps than the limit.
     #[error("drop test: {steps} steps (duration / dt) is more than the limit of 10 000 000")]
-    TooManySteps { steps: f64 },
+    TooManySteps {
+        /// duration / dt.
+        steps: f64,
+    },
 }
 
 impl DropSettings {
+    /// Every setting checked: one clear error naming the first that is wrong.
     pub fn validate(&self) -> Result<(), DropError> {
         for (name, value) in [
             ("duration", self.duration),

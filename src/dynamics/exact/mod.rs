@@ -11,19 +11,19 @@
 //! - Signorini at velocity level: max(gap_p, 0)/h + n·(v⁺_b − v⁺_a)(p) ≥ 0 ⊥ γ_n,p ≥ 0: an
 //!   open contact may close within the step, a closed one stops closing. Nothing pushes an
 //!   overlap out through the velocities (that would create energy): overlaps beyond a setting
-//!   are projected out at the step's end without touching velocities ([`projection`]).
+//!   are projected out at the step's end without touching velocities (`projection`).
 //! - Friction: γ_t,p within the friction model's set (cone, pyramid8, box4) of capacity c_p,
 //!   opposing the slip; [`Coulomb::Exact`] takes c_p = μ γ_n,p by a fixed point within the step
 //!   (warm-started from the last step's normal forces; a round whose changed capacities bind
 //!   nowhere is the fixed point, else Anderson acceleration picks the next capacities:
-//!   [`anderson`]; rounds that stall or reach the limit keep their best round: [`best`]);
+//!   `anderson`; rounds that stall or reach the limit keep their best round: `best`);
 //!   [`Coulomb::Relaxed`] couples them in the
 //!   one solve (Anitescu's relaxation: sliding contacts separate at μ |v_t|).
 //! - Gauss's principle in impulses makes it one QP/SOCP: minimise ½ |M v⁺|²_{M⁻¹} + Σ_p (gap_p/h) γ_n,p
 //!   over the friction sets; v⁺ is unique (M positive definite) however redundant the contacts.
 //! - Positions: x += h v⁺, R ← exp(h ω⁺) R (symplectic Euler). Restitution 0 (masonry: plastic
 //!   impacts). A step in which an open contact closes is split at the impact's time
-//!   ([`impacts`]): the impact acts at its instant, second order in h.
+//!   (`impacts`): the impact acts at its instant, second order in h.
 //! - With [`ExactSettings::rest_when_admissible`][crate::dynamics::settings::ExactSettings]
 //!   (the settlement's runs), a component at rest first takes the step with Coulomb's coupled
 //!   sets (the limit-analysis model): where that keeps it at rest, its forces are an equilibrium within the exact sets
@@ -35,16 +35,16 @@
 //!   at rest whose step leaves it at rest sleeps — the next steps would repeat the same problem
 //!   and answer — until a moving block touches it.
 //!
-//! ## Contacts ([`contacts`])
+//! ## Contacts (`contacts`)
 //! The interface polygons' vertices (the statics' force points), as pairs of material points
 //! on the two blocks, normal turning with block a; and every vertex of a free block against
 //! the ground or the floor ([`crate::dynamics::scene::floor_level`]). Released when the faces slip apart by more than the interface's
 //! diameter, turned apart by 60°, or pass each other by a fifth of a block. Contacts that close
-//! under large motion come from the blocks' exact convex parts ([`touches`]). Every tolerance
+//! under large motion come from the blocks' exact convex parts (`touches`). Every tolerance
 //! of a contact (its envelope, how deep is too deep) is a fraction of its own smaller block,
 //! whatever the other blocks' sizes.
 //!
-//! ## Crushing ([`crushing`])
+//! ## Crushing (`crushing`)
 //! With a compressive strength (the material's, or [`DropSettings::strength`]), each interface's
 //! normal forces stay within its rectangular stress block (the statics' crushing cones); a joint
 //! at that bound yields and its faces close into each other.
@@ -55,7 +55,7 @@
 //! the loads = kinetic energy + the contacts' dissipation (friction, closing contacts) + the
 //! impacts' (½ Δvᵀ M Δv, plastic) — an identity of the scheme, so its error measures the solves.
 //!
-//! Units SI (m, kg, s, N), z up; solved non-dimensionally ([`bodies::Units`]). Same input,
+//! Units SI (m, kg, s, N), z up; solved non-dimensionally (`bodies::Units`). Same input,
 //! same trajectory (the same solves in the same order).
 
 mod anderson;
@@ -120,14 +120,18 @@ pub struct EnergyBalance {
 /// The exact engine's account of a run.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct ExactStats {
+    /// How friction was bounded: exact Coulomb by rounds, or Anitescu's relaxation.
     pub coulomb: Coulomb,
+    /// The friction set of every contact point (cone, pyramid8, box4).
     pub friction_model: FrictionModel,
-    /// Interior-point solves, their iterations, and the most rounds of a step.
+    /// Interior-point solves over the run.
     pub solves: u64,
+    /// Their interior-point iterations.
     pub iterations: u64,
     /// Of the solves, those clarabel did not run: on the structured solver, or in closed form
     /// (a force selection whose contacts all open).
     pub structured_solves: u64,
+    /// The most Tresca rounds any one step took.
     pub max_rounds: u32,
     /// Steps of a component whose capacities did not settle within the round limit.
     pub unsettled_steps: u64,
@@ -136,15 +140,18 @@ pub struct ExactStats {
     pub failed_steps: u64,
     /// Steps of a component skipped because it slept.
     pub sleeping_steps: u64,
-    /// Steps split at an impact's instant, and overlaps projected out (each one solve more).
+    /// Steps split at an impact's instant (each one solve more).
     pub split_steps: u64,
+    /// Overlaps projected out at a step's end (each one solve more).
     pub projections: u64,
-    /// The worst solve, and the largest momentum residual, N.
+    /// The worst solve's status.
     pub status: SolverStatus,
+    /// The largest momentum residual of a solve, N.
     pub residual: f64,
     /// The deepest overlap at a contact over the run, a fraction of the smaller of its two
     /// blocks' sizes.
     pub max_penetration: f64,
+    /// The run's energy account, J.
     pub energy: EnergyBalance,
 }
 
@@ -180,6 +187,7 @@ pub struct World {
 }
 
 impl World {
+    /// The engine at the assembly's start, every block at rest, no support moving.
     pub fn new(assembly: &Assembly, settings: &DropSettings) -> Self {
         Self::with_paths(assembly, settings, &[])
     }
@@ -196,7 +204,7 @@ impl World {
             let mut body = Body::new(i, b, assembly.gravity, assembly.loads[i].dead);
             if settings.perturbation > 0.0 {
                 body.v.x = settings.perturbation * (g * b.aabb.diagonal()).sqrt();
-                // A given speed is an instant's: the first step kicks by half ([`impacts`]). A
+                // A given speed is an instant's: the first step kicks by half (`impacts`). A
                 // block at rest takes a whole kick: its first step is the kinematic check's.
                 body.instant = true;
             }
@@ -552,6 +560,7 @@ impl World {
         self.free(i).map_or((Default::default(), Default::default()), |k| (self.bodies[k].v, self.bodies[k].w))
     }
 
+    /// Block `i`'s kinetic energy, J (0 for a support).
     pub fn kinetic_energy(&self, i: usize) -> f64 {
         self.free(i).map_or(0.0, |k| self.bodies[k].kinetic_energy())
     }

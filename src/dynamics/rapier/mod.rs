@@ -1,5 +1,5 @@
 //! The rapier3d engine of the drop test: the physics engine's yes/no beside the statics' graded
-//! answer. rapier is touched only in this module ([`world`], [`colliders`]).
+//! answer. rapier is touched only in this module (`world`, `colliders`).
 //!
 //! The assembly becomes rigid bodies at their volume centroids with the exact mass and inertia
 //! of [`crate::geometry::MassProperties`]. Blocks collide as their convex hulls; where two

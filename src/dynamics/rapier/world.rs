@@ -29,6 +29,7 @@ pub struct Simulation {
 }
 
 impl Simulation {
+    /// The rapier world of the assembly at its start, no support moving.
     pub fn new(assembly: &Assembly, settings: &DropSettings) -> Self {
         Self::with_paths(assembly, settings, &[])
     }
@@ -63,6 +64,7 @@ impl Simulation {
         Self { world, bodies, offset, start, max_volume_error, initial_overlap, deep, paths }
     }
 
+    /// One step of dt.
     pub fn step(&mut self) {
         self.world.step_with_events(&self.deep, &());
     }
@@ -130,6 +132,7 @@ impl Simulation {
         Vector3::new(total.x as f64, total.y as f64, total.z as f64) / dt
     }
 
+    /// Block `i`'s kinetic energy, J (rapier's, in f32).
     pub fn kinetic_energy(&self, i: usize) -> f64 {
         self.world.bodies[self.bodies[i]].kinetic_energy() as f64
     }
