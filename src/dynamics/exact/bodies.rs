@@ -132,6 +132,13 @@ impl Body {
     pub fn at_rest(&self) -> bool {
         self.v == Vector3::zeros() && self.w == Vector3::zeros()
     }
+
+    /// The load's power at velocity `v` and angular velocity `w` (W), or its work on a
+    /// displacement and a rotation vector (J).
+    pub fn load_power(&self, v: &Vector3, w: &Vector3) -> f64 {
+        let l = &self.load;
+        l[0] * v.x + l[1] * v.y + l[2] * v.z + l[3] * w.x + l[4] * w.y + l[5] * w.z
+    }
 }
 
 /// V(θ) = I + (1 − cos|θ|)/|θ|² [θ]× + (|θ| − sin|θ|)/|θ|³ [θ]×², by its series below 1e-4 rad.

@@ -14,11 +14,6 @@ use super::World;
 use super::problem::Active;
 use crate::geometry::Vector3;
 
-/// The loads' power at velocity v and angular velocity w, W.
-fn load_power(load: &[f64; 6], v: &Vector3, w: &Vector3) -> f64 {
-    load[0] * v.x + load[1] * v.y + load[2] * v.z + load[3] * w.x + load[4] * w.y + load[5] * w.z
-}
-
 /// A kick whose fastest vertex's change exceeds this many g × dt was an impulse.
 const SMOOTH: f64 = 2.0;
 
@@ -79,7 +74,7 @@ impl World {
             b.kick = [(b.v - v) / kick, (b.w - w) / kick];
             b.instant = false;
             if instant && !b.asleep {
-                self.stats.energy.correction += 0.5 * h * load_power(&b.load, &b.v, &b.w);
+                self.stats.energy.correction += 0.5 * h * b.load_power(&b.v, &b.w);
             }
         }
         self.advance(comp, h);
@@ -121,11 +116,11 @@ impl World {
             let (v, w) = (b.v, b.w);
             (b.v, b.w) = ((v + v0) * 0.5, (w + w0) * 0.5);
             // The account booked h × the loads' power at the step's end velocities.
-            let beyond = h * (load_power(&b.load, &b.v, &b.w) - load_power(&b.load, &v, &w));
+            let beyond = h * (b.load_power(&b.v, &b.w) - b.load_power(&v, &w));
             let before = 0.5 * w.dot(&(b.inertia_now() * w));
             let screw = b.advance(h);
             (b.v, b.w) = (v, w);
-            self.stats.energy.correction += beyond + load_power(&b.load, &screw, &Vector3::zeros());
+            self.stats.energy.correction += beyond + b.load_power(&screw, &Vector3::zeros());
             // Turned about the mean spin, not the spin now: its kinetic energy moved with it.
             self.stats.energy.retiming += 0.5 * w.dot(&(b.inertia_now() * w)) - before;
         }

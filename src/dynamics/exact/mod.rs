@@ -328,8 +328,7 @@ impl World {
             let b = &mut self.bodies[k];
             if !b.asleep {
                 let beyond = b.advance(h);
-                let l = &b.load;
-                self.stats.energy.correction += l[0] * beyond.x + l[1] * beyond.y + l[2] * beyond.z;
+                self.stats.energy.correction += b.load_power(&beyond, &Vector3::zeros());
             }
         }
     }

@@ -72,9 +72,7 @@ impl World {
         let sol = p.read(&ctx, &still, comp, active, &out.x);
         for (&k, &(dx, dq)) in comp.iter().zip(&sol.velocities) {
             let b = &mut self.bodies[k];
-            let l = &b.load;
-            self.stats.energy.correction +=
-                unit * (l[0] * dx.x + l[1] * dx.y + l[2] * dx.z + l[3] * dq.x + l[4] * dq.y + l[5] * dq.z);
+            self.stats.energy.correction += unit * b.load_power(&dx, &dq);
             let (v, w) = (b.v, b.w);
             let before = b.kinetic_energy();
             (b.v, b.w) = (dx, dq);
@@ -82,12 +80,7 @@ impl World {
             (b.v, b.w) = (v, w);
             // A turned block's spin keeps its world vector: its kinetic energy moves with it.
             self.stats.energy.retiming += b.kinetic_energy() - before;
-            self.stats.energy.correction += l_dot(&b.load, &beyond);
+            self.stats.energy.correction += b.load_power(&beyond, &Vector3::zeros());
         }
     }
-}
-
-/// The work of a load's force on a displacement, J.
-fn l_dot(load: &[f64; 6], d: &Vector3) -> f64 {
-    load[0] * d.x + load[1] * d.y + load[2] * d.z
 }

@@ -326,8 +326,7 @@ impl World {
             }
             let (dv, dw) = (v - b.v, w - b.w);
             e.impact += 0.5 * (b.mass * dv.norm_squared() + dw.dot(&(b.inertia_now() * dw)));
-            let l = &b.load;
-            e.load_work += h * (l[0] * v.x + l[1] * v.y + l[2] * v.z + l[3] * w.x + l[4] * w.y + l[5] * w.z);
+            e.load_work += h * b.load_power(&v, &w);
             b.v = v;
             b.w = w;
         }
