@@ -75,3 +75,8 @@ pub mod synthesis;
 pub mod viewer;
 #[warn(missing_docs)]
 pub mod viz;
+
+// The guide's Rust examples run as doctests (the bevy app's chapter needs the ECS plugins).
+#[cfg(all(doctest, feature = "ecs"))]
+#[doc = include_str!("../docs/guide/07-bevy-app.md")]
+struct GuideBevyApp;
