@@ -44,6 +44,7 @@
 // Every public item documented (`missing_docs`), module by module as each is finished.
 #[warn(missing_docs)]
 pub mod cli;
+#[warn(missing_docs)]
 pub mod dynamics;
 #[cfg(feature = "ecs")]
 #[warn(missing_docs)]
@@ -68,6 +69,7 @@ pub mod report;
 pub mod stability;
 #[warn(missing_docs)]
 pub mod statics;
+#[warn(missing_docs)]
 pub mod studies;
 #[warn(missing_docs)]
 pub mod synthesis;

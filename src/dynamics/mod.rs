@@ -5,8 +5,6 @@
 //! its own module (`settings`, [`scene`]); neither engine reads this front module. Units SI,
 //! z up.
 
-#![warn(missing_docs)]
-
 pub mod exact;
 pub mod rapier;
 pub mod run;

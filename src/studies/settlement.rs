@@ -97,6 +97,7 @@ impl Default for SettleSettings {
 }
 
 impl SettleSettings {
+    /// Every setting checked: one clear error naming the first that is wrong.
     pub fn validate(&self) -> Result<(), SettleError> {
         let positive = |name: &'static str, v: f64| {
             if v > 0.0 && v.is_finite() {
@@ -133,22 +134,52 @@ impl SettleSettings {
 /// Bad movement input; each names the movement and what is wrong.
 #[derive(Debug, Error, Clone, PartialEq)]
 pub enum SettleError {
+    /// No movement was given.
     #[error("no support movement: give one (--move NAME:dx,dy,dz or the scene's `movements`)")]
     NoMovement,
+    /// A movement names no block.
     #[error("movement of '{0}': no block of that name")]
     UnknownBlock(String),
+    /// A movement names a free block.
     #[error("movement of '{0}': it is a free block; only supports are moved (the blocks follow)")]
     NotASupport(String),
+    /// A movement's translation or rotation is not finite.
     #[error("movement of '{0}': a translation or rotation that is not a finite number")]
     NotFinite(String),
+    /// A movement beyond the bounds a path may have.
     #[error("movement of '{block}': {what} {value:.4e} exceeds the limit {limit:.4e} ({why})")]
-    TooFar { block: String, what: &'static str, value: f64, limit: f64, why: &'static str },
+    TooFar {
+        /// The moved support.
+        block: String,
+        /// What is too large (its translation, its rotation).
+        what: &'static str,
+        /// Its size (m or degrees).
+        value: f64,
+        /// The limit (m or degrees).
+        limit: f64,
+        /// Why the limit is there.
+        why: &'static str,
+    },
+    /// The engines' run of the path would take too many steps.
     #[error("the engines' run would take {steps:.3e} steps of dt (limit {limit:.0e}): a larger --dt or a shorter path")]
-    TooManySteps { steps: f64, limit: f64 },
+    TooManySteps {
+        /// The steps the path would take.
+        steps: f64,
+        /// The limit.
+        limit: f64,
+    },
+    /// A support is moved twice.
     #[error("'{0}' is moved twice: give one path per support")]
     Twice(String),
+    /// A path runs a support into another.
     #[error("movement of '{moved}': its path runs it into support '{other}' (two supports cannot pass each other)")]
-    Closes { moved: String, other: String },
+    Closes {
+        /// The moved support.
+        moved: String,
+        /// The support it runs into.
+        other: String,
+    },
+    /// A setting out of its range.
     #[error("{0}")]
     Setting(String),
 }
@@ -156,9 +187,13 @@ pub enum SettleError {
 /// One non-closed joint of a stage.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Joint {
+    /// The interface's index in the analysis.
     pub interface: usize,
+    /// Its two blocks' names (a → b).
     pub a: String,
+    /// The second block.
     pub b: String,
+    /// How it moves: hinging, opening or sliding.
     pub state: JointState,
 }
 
@@ -171,6 +206,7 @@ pub struct Stage {
     pub movement: f64,
     /// Per moved support (in the movements' order), the force the blocks put on it, N.
     pub reactions: Vec<[f64; 3]>,
+    /// The joints that are not closed at this stage.
     pub joints: Vec<Joint>,
     /// The largest rotation of a free block since the start, degrees (engine runs: the exact
     /// engine's; none in rapier's stages).
@@ -186,19 +222,34 @@ pub struct Stage {
 pub enum Outcome {
     /// It collapsed at this fraction of the path, this movement (m) and fraction of the model
     /// size.
-    Collapses { fraction: f64, movement: f64, relative: f64 },
+    Collapses {
+        /// The fraction of the path.
+        fraction: f64,
+        /// The largest support translation then, m.
+        movement: f64,
+        /// That movement over the model's size.
+        relative: f64,
+    },
     /// It stood to the end of the path.
     Stands,
     /// A step's solve reached no answer at this fraction of the path (`status`, the worst):
     /// what the run would say beyond it is not known, and it stops there.
-    Unresolved { fraction: f64, status: SolverStatus },
+    Unresolved {
+        /// The fraction of the path.
+        fraction: f64,
+        /// The worst solver status.
+        status: SolverStatus,
+    },
 }
 
 /// One way through the path.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Run {
+    /// "quasi-static", "exact" or "rapier".
     pub method: &'static str,
+    /// How it ended.
     pub outcome: Outcome,
+    /// Its stages along the path.
     pub stages: Vec<Stage>,
     /// The joints that are not closed just after the collapse (the mechanism); empty when it
     /// stands.
@@ -249,9 +300,12 @@ pub struct Settlement {
     /// The compressive strength the quasi-static run and the exact engine honoured, Pa (none:
     /// the stone does not crush).
     pub strength: Option<f64>,
+    /// The quasi-static run (the answer).
     pub quasi_static: Run,
+    /// The exact engine's run, when the engines ran.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub exact: Option<Run>,
+    /// rapier's run, when the engines ran.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub rapier: Option<Run>,
 }
