@@ -89,6 +89,15 @@ pub struct DropOptions {
     /// size below its lowest point, so what falls lands and rests in view).
     #[arg(long)]
     pub no_floor: bool,
+    /// Exact engine: take an impact at the end of its step instead of splitting the step at its
+    /// instant (first order in dt: each impact loses about half a step of motion; to compare).
+    #[arg(long)]
+    pub no_split_impacts: bool,
+    /// Exact engine: a design at rest stays where an equilibrium within Coulomb's sets holds it
+    /// (the settlement's rule), instead of the kinematic check's motion from rest where the
+    /// rigid-Coulomb model admits both (a bar between two posts could slide down with no force).
+    #[arg(long)]
+    pub rest_when_admissible: bool,
 }
 
 impl DropOptions {
@@ -96,7 +105,14 @@ impl DropOptions {
     /// coefficient `friction` (`--mu`, the same as the statics'; `None`: the scene's), and the
     /// statics' friction model and solver (the exact engine's contacts and steps take them).
     pub fn settings(&self, friction: Option<f64>, friction_model: FrictionModel, backend: Backend) -> DropSettings {
-        let exact = ExactSettings { coulomb: self.coulomb, friction_model, backend, ..Default::default() };
+        let exact = ExactSettings {
+            coulomb: self.coulomb,
+            friction_model,
+            backend,
+            split_impacts: !self.no_split_impacts,
+            rest_when_admissible: self.rest_when_admissible,
+            ..Default::default()
+        };
         DropSettings {
             engine: self.engine,
             exact,

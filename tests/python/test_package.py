@@ -389,6 +389,23 @@ def test_drop_on_the_exact_engine():
         voussoir.drop(voussoir.Scene.builtin("stack?n=2"), engine="soft")
 
 
+def test_the_exact_engine_s_switches():
+    # The collapsing arch lands on the floor: its impacts split steps, unless split_impacts is
+    # off (then no step is split, and the run still balances its energy).
+    scene = voussoir.Scene.builtin("arch?n=15&t=0.08")
+    split = voussoir.drop(scene, engine="exact", duration=1.0)["exact"]
+    whole = voussoir.drop(scene, engine="exact", duration=1.0, split_impacts=False)["exact"]
+    assert split["split_steps"] > 0 and whole["split_steps"] == 0
+    assert whole["energy"]["error"] < 1e-6
+    # compas_cra's H bar between its posts: the kinematic check's motion from rest (the bar
+    # slides down with no force on it) by default; held by an equilibrium with
+    # rest_when_admissible.
+    h = voussoir.Scene.from_file(DATA / "compas_cra" / "H.json")
+    free = voussoir.drop(h, engine="exact", duration=0.2, supports="lowest", mu=0.84)
+    held = voussoir.drop(h, engine="exact", duration=0.2, supports="lowest", mu=0.84, rest_when_admissible=True)
+    assert not free["stands"] and held["stands"] and held["max_drift"] == 0.0
+
+
 def test_a_column_crushes_at_its_strength():
     # Three 1 m cubes of 600 kg/m³ on a slab: the base joint carries 3 ρ g a³ on a², so the
     # stone needs σ = 3 ρ g a = 17 658 Pa; just below, the column crushes; a strength that is

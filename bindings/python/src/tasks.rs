@@ -203,9 +203,14 @@ solve_function! {
     /// under gravity for `duration` s with step `dt` (the library's defaults when None), on
     /// `engine` "rapier" (the default) or "exact" (hard contacts with the statics' friction
     /// model and solver; its account under "exact": solves, status, overlap, energy balance).
+    /// `split_impacts` (exact engine; default True) splits a step at an impact's instant;
+    /// `rest_when_admissible` (default False) keeps a design at rest where an equilibrium holds
+    /// it; `floor` (default True) puts a floor under a design with supports and no ground.
     pub fn drop<'py>(
         py, scene,
         duration: Option<f64> = None, dt: Option<f64> = None, engine: Option<String> = None,
+        split_impacts: Option<bool> = None, rest_when_admissible: Option<bool> = None,
+        floor: Option<bool> = None,
         ..options(mu, friction_model, solver, supports, ground, density)
     ) -> PyResult<Bound<'py, PyAny>> {
         let (design, settings) = options.apply(scene)?;
@@ -216,11 +221,14 @@ solve_function! {
             exact: ExactSettings {
                 friction_model: settings.statics.friction_model,
                 backend: settings.statics.backend,
+                split_impacts: split_impacts.unwrap_or(defaults.exact.split_impacts),
+                rest_when_admissible: rest_when_admissible.unwrap_or(defaults.exact.rest_when_admissible),
                 ..defaults.exact.clone()
             },
             duration: duration.unwrap_or(defaults.duration),
             dt: dt.unwrap_or(defaults.dt),
             friction: options.mu,
+            floor: floor.unwrap_or(defaults.floor),
             ..defaults
         };
         let source = scene.source.as_str();
