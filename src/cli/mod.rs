@@ -1,7 +1,7 @@
 //! Command line: `voussoir [analyze] [SCENE] [options]`. Exit codes: 0 the assembly stands,
 //! 1 it does not (or the solver could not tell), 2 bad input.
 //!
-//! One file per command ([`analyze`], [`cut`], [`decompose`], [`export`], [`infill`], [`repair`], [`robustness`], [`sequence`], [`sweep`],
+//! One file per command ([`analyze`], [`cut`], [`decompose`], [`export`], [`infill`], [`repair`], [`report`], [`robustness`], [`sequence`], [`sweep`],
 //! [`view`]);
 //! the options several commands share are flattened structs in [`options`] that turn into the
 //! library's settings in one place. Every default is the library's (`default_value_t` reads its
@@ -25,6 +25,7 @@ pub mod export;
 pub mod infill;
 pub mod options;
 pub mod repair;
+pub mod report;
 pub mod robustness;
 pub mod sequence;
 pub mod settle;
@@ -38,6 +39,7 @@ pub use export::ExportArgs;
 pub use infill::InfillArgs;
 pub use options::{Diagram, DiagramOptions, DropOptions, LoadOptions, SolverOptions};
 pub use repair::RepairArgs;
+pub use report::ReportArgs;
 pub use robustness::RobustnessArgs;
 pub use sequence::SequenceArgs;
 pub use settle::SettleArgs;
@@ -59,7 +61,7 @@ pub const DEFAULT_SCENE: &str = include_str!("../../assets/default.json");
 
 /// One example per command, as `voussoir <command> --help` shows it (and `voussoir --help` all
 /// of them): each runs from the repository's root (tests/it/cli.rs runs them, but `view`).
-pub const EXAMPLES: [(&str, &str); 12] = [
+pub const EXAMPLES: [(&str, &str); 13] = [
     ("analyze", r#"voussoir analyze "builtin:arch?n=15&t=0.15" --json report.json"#),
     ("drop", r#"voussoir drop "builtin:arch?n=15&t=0.15" --engine exact --duration 1"#),
     ("robustness", r#"voussoir robustness "builtin:arch?n=15&t=0.15" --plot polar.png --mechanism mechanism.png"#),
@@ -73,6 +75,7 @@ pub const EXAMPLES: [(&str, &str); 12] = [
     ("decompose", "voussoir decompose assets/shapes/solid_arch.json --blocks 11 -o arch.json"),
     ("repair", "voussoir repair assets/cases/fig4a_m_cut.json -o repaired.json"),
     ("infill", r#"voussoir infill "builtin:arch?n=15&t=0.07" -o light.json"#),
+    ("report", r#"voussoir report "builtin:arch?n=15&t=0.15" --robustness -o arch.html"#),
     ("export", "voussoir export assets/cases/fig6_dmsc.json --mode friction --png fig6.png --gltf fig6.glb"),
     ("view", "voussoir view assets/cases/fig6_dmsc.json --mode friction"),
 ];
@@ -146,6 +149,10 @@ pub enum Command {
     /// interface polygons coloured by a diagram mode.
     #[command(after_help = example("export"))]
     Export(ExportArgs),
+    /// One self-contained HTML report to send: the design's diagrams in 3D, the verdict and
+    /// its numbers, and the collapse mechanism, drop test or settlement played beside it.
+    #[command(after_help = example("report"))]
+    Report(ReportArgs),
     /// The interactive 3D viewer (built with `--features viewer`): diagrams, live cut editing,
     /// drop test and sequence stepper side by side.
     #[command(after_help = example("view"))]
@@ -171,6 +178,7 @@ pub fn run(cli: Cli) -> i32 {
         Some(Command::Decompose(args)) => decompose::run(&args),
         Some(Command::Infill(args)) => infill::run(&args),
         Some(Command::Export(args)) => export::run(&args),
+        Some(Command::Report(args)) => report::run(&args),
         Some(Command::View(args)) => view::run(&args),
     };
     match result {

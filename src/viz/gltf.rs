@@ -2,7 +2,10 @@
 //! normals) and every interface polygon coloured per vertex by a diagram mode, so any glTF
 //! viewer (or Rhino) shows the forces inside the assembly. Written by hand (the format is a
 //! JSON header and one binary buffer); `tests/it/gltf_export.rs` reads it back with the `gltf`
-//! crate. Axes: glTF is y-up, voussoir z-up: (x, y, z) → (x, z, −y), here and nowhere else in
+//! crate. Each node's `extras` name what it is (`{"block": i}` or `{"interface": k}`, indices
+//! into the assembly's blocks and the analysis's interfaces) so a viewer can say what was
+//! picked; the diagrams' colours are unlit (`KHR_materials_unlit`): shown as the legends give
+//! them, not shaded. Axes: glTF is y-up, voussoir z-up: (x, y, z) → (x, z, −y), here and nowhere else in
 //! the export.
 
 use super::DiagramMode;
@@ -68,8 +71,8 @@ impl Builder {
         self.accessors.len() - 1
     }
 
-    /// One mesh node of flat triangles (`positions` in threes).
-    fn mesh(&mut self, name: &str, positions: Vec<[f32; 3]>, colors: Option<Vec<Rgb>>, material: usize) {
+    /// One mesh node of flat triangles (`positions` in threes), `extras` naming what it is.
+    fn mesh(&mut self, name: &str, extras: Value, positions: Vec<[f32; 3]>, colors: Option<Vec<Rgb>>, material: usize) {
         if positions.is_empty() {
             return;
         }
@@ -89,32 +92,32 @@ impl Builder {
             attributes["COLOR_0"] = json!(self.vec3(&c, false));
         }
         self.meshes.push(json!({"name": name, "primitives": [{"attributes": attributes, "material": material}]}));
-        self.nodes.push(json!({"name": name, "mesh": self.meshes.len() - 1}));
+        self.nodes.push(json!({"name": name, "mesh": self.meshes.len() - 1, "extras": extras}));
     }
 }
 
 /// The .glb bytes of `analysis` with interfaces coloured by `mode`.
 pub fn glb(analysis: &Analysis, mode: DiagramMode) -> Vec<u8> {
     let mut b = Builder::default();
-    for block in &analysis.assembly.blocks {
+    for (i, block) in analysis.assembly.blocks.iter().enumerate() {
         let m = &block.mesh;
         let pos: Vec<[f32; 3]> = m
             .triangles()
             .into_iter()
             .flat_map(|(t, _)| t.map(|k| y_up([m.vertices[k].x, m.vertices[k].y, m.vertices[k].z])))
             .collect();
-        b.mesh(&block.name, pos, None, if block.support { 1 } else { 0 });
+        b.mesh(&block.name, json!({"block": i}), pos, None, if block.support { 1 } else { 0 });
     }
-    for (label, tris) in super::interface_triangles(analysis, mode) {
+    for (k, label, tris) in super::interface_triangles(analysis, mode) {
         let pos = tris.iter().flat_map(|t| t.map(|(p, _)| y_up(p))).collect();
         let col = tris.iter().flat_map(|t| t.map(|(_, c)| c)).collect();
-        b.mesh(&label, pos, Some(col), 2);
+        b.mesh(&label, json!({"interface": k}), pos, Some(col), 2);
     }
     // Materials: free blocks translucent stone, supports darker, interfaces white × vertex colour.
     let materials = json!([
         {"name": "block", "pbrMetallicRoughness": {"baseColorFactor": [0.85, 0.82, 0.76, 0.35], "metallicFactor": 0.0, "roughnessFactor": 0.9}, "alphaMode": "BLEND"},
         {"name": "support", "pbrMetallicRoughness": {"baseColorFactor": [0.35, 0.35, 0.38, 0.6], "metallicFactor": 0.0, "roughnessFactor": 0.9}, "alphaMode": "BLEND"},
-        {"name": "interface", "pbrMetallicRoughness": {"baseColorFactor": [1.0, 1.0, 1.0, 1.0], "metallicFactor": 0.0, "roughnessFactor": 1.0}, "doubleSided": true}
+        {"name": "interface", "pbrMetallicRoughness": {"baseColorFactor": [1.0, 1.0, 1.0, 1.0], "metallicFactor": 0.0, "roughnessFactor": 1.0}, "doubleSided": true, "extensions": {"KHR_materials_unlit": {}}}
     ]);
     write(b, &analysis.assembly.name, materials, None)
 }
@@ -139,6 +142,9 @@ fn write(mut b: Builder, name: &str, materials: Value, animation: Option<Value>)
     if let Some(a) = animation {
         doc["animations"] = json!([a]);
     }
+    if doc["materials"].to_string().contains("KHR_materials_unlit") {
+        doc["extensionsUsed"] = json!(["KHR_materials_unlit"]);
+    }
     let mut text = serde_json::to_vec(&doc).expect("a JSON value always serialises");
     while !text.len().is_multiple_of(4) {
         text.push(b' ');
@@ -162,26 +168,67 @@ fn write(mut b: Builder, name: &str, materials: Value, animation: Option<Value>)
 /// the recorded poses (linear translation, spherical rotation between frames), the other
 /// supports still. glTF players loop it.
 pub fn animation_glb(assembly: &crate::model::Assembly, motion: &crate::dynamics::Trajectory) -> Vec<u8> {
+    animated(assembly, &motion.times, &motion.poses, &format!("motion ({})", motion.engine))
+}
+
+/// The .glb bytes of a collapse mechanism played out over `seconds`: from the design at rest
+/// to its blocks moved by the drawn mechanism ([`super::mechanism_scale`]: the largest motion
+/// [`super::EXAGGERATION`] of the model size), each moving block turned by its rotation vector
+/// (a true rotation, where the mechanism's own picture is linearised) and translated along its
+/// translation, uniformly in time. `None` when nothing moves.
+pub fn mechanism_glb(
+    assembly: &crate::model::Assembly,
+    mechanism: &crate::statics::Mechanism,
+    seconds: f64,
+) -> Option<Vec<u8>> {
+    const FRAMES: usize = 31;
+    let scale = super::mechanism_scale(mechanism, assembly)?;
+    let times: Vec<f64> = (0..FRAMES).map(|f| seconds * f as f64 / (FRAMES - 1) as f64).collect();
+    let poses: Vec<_> = (0..FRAMES)
+        .map(|f| {
+            let s = scale * f as f64 / (FRAMES - 1) as f64;
+            assembly
+                .blocks
+                .iter()
+                .zip(&mechanism.motion)
+                .map(|(block, m)| {
+                    let c = block.mass.centroid + nalgebra::Vector3::new(m[0], m[1], m[2]) * s;
+                    let q = nalgebra::UnitQuaternion::from_scaled_axis(nalgebra::Vector3::new(m[3], m[4], m[5]) * s);
+                    (c, [q.w, q.i, q.j, q.k])
+                })
+                .collect()
+        })
+        .collect();
+    Some(animated(assembly, &times, &poses, "mechanism"))
+}
+
+/// The .glb bytes of `poses` (per frame, per block: centroid and rotation since the start,
+/// [w, x, y, z]) at `times` (s), as [`animation_glb`] describes, the animation called `name`.
+fn animated(
+    assembly: &crate::model::Assembly,
+    times: &[f64],
+    poses: &[Vec<(crate::geometry::Point3, [f64; 4])>],
+    name: &str,
+) -> Vec<u8> {
     let mut b = Builder::default();
-    for block in &assembly.blocks {
+    for (i, block) in assembly.blocks.iter().enumerate() {
         let m = &block.mesh;
         let c = block.mass.centroid;
         let pos: Vec<[f32; 3]> =
             m.triangles().into_iter().flat_map(|(t, _)| t.map(|k| y_up((m.vertices[k] - c).into()))).collect();
-        b.mesh(&block.name, pos, None, if block.support { 1 } else { 0 });
+        b.mesh(&block.name, json!({"block": i}), pos, None, if block.support { 1 } else { 0 });
         if let Some(node) = b.nodes.last_mut() {
             node["translation"] = json!(y_up(c.coords.into()));
         }
     }
-    let times: Vec<f32> = motion.times.iter().map(|&t| t as f32).collect();
+    let times: Vec<f32> = times.iter().map(|&t| t as f32).collect();
     let input = b.floats(&times, "SCALAR", true);
     let (mut samplers, mut channels) = (Vec::new(), Vec::new());
     // Supports are still in a drop test; a settlement's moved supports move with the blocks.
-    let moves = |i: usize| motion.poses.iter().any(|f| f.get(i) != motion.poses.first().and_then(|f0| f0.get(i)));
+    let moves = |i: usize| poses.iter().any(|f| f.get(i) != poses.first().and_then(|f0| f0.get(i)));
     for (i, block) in assembly.blocks.iter().enumerate().filter(|&(i, b)| !b.support || moves(i)) {
-        let translation: Vec<[f32; 3]> = motion.poses.iter().map(|f| y_up(f[i].0.coords.into())).collect();
-        let rotation: Vec<f32> = motion
-            .poses
+        let translation: Vec<[f32; 3]> = poses.iter().map(|f| y_up(f[i].0.coords.into())).collect();
+        let rotation: Vec<f32> = poses
             .iter()
             .flat_map(|f| {
                 let [w, x, y, z] = f[i].1;
@@ -201,6 +248,6 @@ pub fn animation_glb(assembly: &crate::model::Assembly, motion: &crate::dynamics
         {"name": "block", "pbrMetallicRoughness": {"baseColorFactor": [0.85, 0.82, 0.76, 1.0], "metallicFactor": 0.0, "roughnessFactor": 0.9}},
         {"name": "support", "pbrMetallicRoughness": {"baseColorFactor": [0.35, 0.35, 0.38, 1.0], "metallicFactor": 0.0, "roughnessFactor": 0.9}}
     ]);
-    let animation = json!({"name": format!("motion ({})", motion.engine), "samplers": samplers, "channels": channels});
+    let animation = json!({"name": name, "samplers": samplers, "channels": channels});
     write(b, &assembly.name, materials, Some(animation))
 }

@@ -137,15 +137,17 @@ pub fn legend(mode: DiagramMode) -> Vec<(Rgb, String)> {
 /// A triangle of force points: world position (m, z up) and colour.
 pub type ColouredTriangle = [([f64; 3], Rgb); 3];
 
-/// Every loaded interface of `analysis` with its `a | b` label, triangulated over its force
-/// points and coloured by `mode`: what both exports draw.
-pub fn interface_triangles(analysis: &Analysis, mode: DiagramMode) -> Vec<(String, Vec<ColouredTriangle>)> {
+/// Every loaded interface of `analysis` with its index in `statics.interfaces` and its `a | b`
+/// label, triangulated over its force points and coloured by `mode`: what both exports draw.
+pub fn interface_triangles(analysis: &Analysis, mode: DiagramMode) -> Vec<(usize, String, Vec<ColouredTriangle>)> {
     let s = &analysis.statics;
     s.interfaces
         .iter()
-        .filter(|r| r.vertices.len() >= 3)
-        .map(|r| {
+        .enumerate()
+        .filter(|(_, r)| r.vertices.len() >= 3)
+        .map(|(k, r)| {
             (
+                k,
                 format!("{} | {}", r.a, r.b),
                 triangles(r, &vertex_colors(r, s.friction_coefficient, s.friction_model, mode)),
             )

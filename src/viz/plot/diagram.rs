@@ -150,7 +150,7 @@ impl DiagramPicture<'_> {
         faces.sort_by(|x, y| x.depth.total_cmp(&y.depth));
         // Few interfaces: finer gradients; many: coarser (the picture stays fast).
         let levels = if a.statics.interfaces.len() > 400 { 1 } else { 3 };
-        for (_, tris) in interface_triangles(a, self.mode) {
+        for (_, _, tris) in interface_triangles(a, self.mode) {
             for t in tris {
                 subdivide(view, t.map(|(p, c)| (Point3::from(p), c)), levels, &mut prims);
             }

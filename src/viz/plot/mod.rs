@@ -80,6 +80,14 @@ pub fn render_rgb<D: Drawing>(d: &D, size: (u32, u32)) -> Result<Vec<u8>, String
     Ok(buffer)
 }
 
+/// Draws `d` as an SVG document of `size` pixels (the HTML report inlines it).
+pub fn svg_string<D: Drawing>(d: &D, size: (u32, u32)) -> Result<String, String> {
+    register_font();
+    let mut out = String::new();
+    d.draw(SVGBackend::with_string(&mut out, size).into_drawing_area())?;
+    Ok(out)
+}
+
 /// Draws `d` into `path` (.png or .svg) at `size` pixels: into a temporary file beside it (same
 /// extension: the bitmap backend picks its encoder by extension), renamed over it when complete.
 pub fn write<D: Drawing>(d: &D, path: &Path, size: (u32, u32)) -> Result<(), PlotError> {

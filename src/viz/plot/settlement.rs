@@ -17,7 +17,12 @@ pub struct ThrustPlot<'a> {
 
 /// Writes `plot` to `path` (.png or .svg), atomically.
 pub fn write_thrust(plot: &ThrustPlot, path: &Path) -> Result<(), PlotError> {
-    super::write(plot, path, (960, 640))
+    super::write(plot, path, ThrustPlot::SIZE)
+}
+
+impl ThrustPlot<'_> {
+    /// The plot's size in pixels.
+    pub const SIZE: (u32, u32) = (960, 640);
 }
 
 impl super::Drawing for ThrustPlot<'_> {
