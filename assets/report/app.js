@@ -265,9 +265,9 @@ async function start() {
   design.frame(designs[data.first].root);
   if (interfaces.length === 0) {
     const empty = document.createElement('div');
-    empty.className = 'empty';
-    empty.textContent = 'No interfaces: nothing to draw';
-    $('legend').prepend(empty);
+    empty.className = 'overlay';
+    empty.textContent = 'No interfaces: no forces to draw';
+    $('design-view').appendChild(empty);
   }
   if (data.motions.length > 0) {
     await showMotion(0);
@@ -277,6 +277,7 @@ async function start() {
   }
   requestAnimationFrame(tick);
   $('status').textContent = 'ready';
+  window.voussoir.readyAt = performance.now();
   window.voussoir.ready = true;
 }
 
@@ -294,8 +295,9 @@ function onPage(kind, index) {
 /** Page rectangles of the motion pane's moved blocks now: [left, top, right, bottom]. */
 function movingRects() {
   const rects = [];
+  const moved = new Set(player.motion ? player.motion.moved : []);
   motionView.scene.traverse((o) => {
-    if (!o.isMesh || o.userData.block === undefined || !player.motion) return;
+    if (!o.isMesh || !moved.has(o.userData.block)) return;
     const box = new THREE.Box3().setFromObject(o);
     const corners = [0, 1, 2, 3, 4, 5, 6, 7].map((k) => motionView.toPage(new THREE.Vector3(
       k & 1 ? box.max.x : box.min.x, k & 2 ? box.max.y : box.min.y, k & 4 ? box.max.z : box.min.z)));

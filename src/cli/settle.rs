@@ -148,7 +148,7 @@ fn write_motion(args: &SettleArgs, assembly: &crate::model::Assembly, run: &Run)
 
 /// One run in a line: how it ended (with the supports' turn then, of `turn` degrees over the
 /// path), the joints of its mechanism, and its pace (`seconds` of wall-clock time).
-pub(super) fn line(run: &Run, turn: f64, seconds: f64) -> String {
+fn line(run: &Run, turn: f64, seconds: f64) -> String {
     let how = match run.outcome {
         Outcome::Stands => "stands to the end of the path".to_string(),
         Outcome::Unresolved { fraction, status } => format!(

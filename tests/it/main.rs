@@ -42,6 +42,7 @@ mod pattern_generate;
 mod plane_cut;
 mod readers;
 mod real_data_interfaces;
+mod report_html;
 mod sequence;
 mod settlement;
 mod statics_backends;

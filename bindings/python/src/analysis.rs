@@ -310,6 +310,29 @@ impl Analysis {
         slf.py().import("voussoir._compas")?.call_method1("write_forces", (slf, assembly))
     }
 
+    /// The self-contained HTML report of this analysis (`voussoir report`'s page: the diagrams
+    /// in 3D, the verdict and its numbers; a drop test's verdict when one ran, without its
+    /// motion — `voussoir.report(..., dynamic=True)` plays it). `mode`: the diagram shown first.
+    #[pyo3(signature = (mode = None, threshold = None))]
+    fn to_html(&self, mode: Option<&str>, threshold: Option<f64>) -> PyResult<String> {
+        let mut page =
+            voussoir::report::html::HtmlReport::new(&self.analysis, crate::report::diagram(mode, threshold)?);
+        page.json = report::json::to_json_with(
+            &self.analysis,
+            &report::json::Extras {
+                dynamic: self.dynamic.as_ref(),
+                kinematic: self.kinematic.as_ref(),
+                tolerance: None,
+            },
+        );
+        Ok(page.html())
+    }
+
+    /// Jupyter's rich display: the report in an `<iframe srcdoc>`.
+    fn _repr_html_(&self) -> PyResult<String> {
+        Ok(crate::report::iframe(&self.to_html(None, None)?))
+    }
+
     fn __repr__(&self) -> String {
         let s = &self.analysis.statics;
         format!(

@@ -12,6 +12,7 @@ mod analysis;
 mod arrays;
 mod design;
 mod errors;
+mod report;
 mod scene;
 mod settings;
 mod tasks;
@@ -36,5 +37,6 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(design::repair, m)?)?;
     m.add_function(wrap_pyfunction!(design::decompose, m)?)?;
     m.add_function(wrap_pyfunction!(design::infill, m)?)?;
+    m.add_function(wrap_pyfunction!(report::report, m)?)?;
     Ok(())
 }

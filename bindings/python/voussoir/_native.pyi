@@ -133,6 +133,10 @@ class Analysis:
     timings: dict[str, float]
     def to_dict(self) -> dict[str, Any]:
         """The JSON report of `voussoir analyze --json`."""
+    def to_html(self, mode: Optional[Literal["compression", "friction", "vectors"]] = None, threshold: Optional[float] = None) -> str:
+        """`voussoir report`'s self-contained HTML page of this analysis."""
+    def _repr_html_(self) -> str:
+        """Jupyter's display: the report in an iframe."""
     def to_compas_json(self) -> str:
         """compas 2 Assembly JSON with the interfaces and forces (`analyze --compas-out`)."""
     def write_forces(self, assembly: Any) -> dict[str, Any]:
@@ -303,3 +307,27 @@ def decompose(
     `max_size`; beds through the axis `center` + s·`axis` for arches; "pattern": a running bond
     extruded to `apex`); the design and
     `{courses, pieces, max_size, rounds}` (`rounds` for "thrust")."""
+
+def report(
+    scene: Scene,
+    *,
+    path: Union[str, PathLike[str], None] = None,
+    mode: Optional[Literal["compression", "friction", "vectors"]] = None,
+    threshold: Optional[float] = None,
+    robustness: bool = False,
+    direction: Optional[float] = None,
+    directions: Optional[int] = None,
+    dynamic: bool = False,
+    engine: Optional[Literal["rapier", "exact"]] = None,
+    duration: Optional[float] = None,
+    settle: bool = False,
+    moves: Optional[Sequence[str]] = None,
+    mu: Optional[float] = None,
+    friction_model: Optional[FrictionModel] = None,
+    solver: Optional[Solver] = None,
+    supports: Optional[Supports] = None,
+    ground: Optional[bool] = None,
+    density: Optional[float] = None,
+    strength: Optional[float] = None,
+) -> str:
+    """`voussoir report`: one self-contained HTML page (returned; written to `path` when given)."""

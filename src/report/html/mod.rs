@@ -15,8 +15,15 @@
 //! - the JSON report ([`super::json`]: what a click on a block or an interface shows), the text
 //!   report (the panel), and the plots as inline SVG.
 //!
+//! The studies a report can show beside the statics add themselves ([`HtmlReport::add_mechanism`],
+//! [`HtmlReport::add_drop`], [`HtmlReport::add_settlement`]).
+//!
 //! Colours: the diagrams' linear RGB as the legends give them (the glTF's interface material
 //! is unlit), CSS colours in sRGB.
+
+mod parts;
+
+pub use parts::{MECHANISM_SECONDS, PATH_SECONDS};
 
 use crate::pipeline::Analysis;
 use crate::viz::{DiagramMode, colors, legend};
@@ -24,20 +31,20 @@ use serde::Serialize;
 use std::io::Write;
 
 /// The page: `{{TITLE}}`, `{{STYLE}}`, `{{DATA}}`, `{{ASSETS}}` and `{{APP}}` are filled in.
-pub const PAGE: &str = include_str!("../../assets/report/page.html");
+pub const PAGE: &str = include_str!("../../../assets/report/page.html");
 /// The page's style.
-pub const STYLE: &str = include_str!("../../assets/report/report.css");
+pub const STYLE: &str = include_str!("../../../assets/report/report.css");
 /// The page's script (an ES module importing `three` and its addons by name).
-pub const APP: &str = include_str!("../../assets/report/app.js");
+pub const APP: &str = include_str!("../../../assets/report/app.js");
 
 /// The vendored modules in import order: (name the page imports it by, source).
 const THREE: [(&str, &str); 6] = [
-    ("three.core.js", include_str!("../../assets/report/three/three.core.js")),
-    ("three", include_str!("../../assets/report/three/three.module.js")),
-    ("three/addons/utils/BufferGeometryUtils.js", include_str!("../../assets/report/three/BufferGeometryUtils.js")),
-    ("three/addons/utils/SkeletonUtils.js", include_str!("../../assets/report/three/SkeletonUtils.js")),
-    ("three/addons/loaders/GLTFLoader.js", include_str!("../../assets/report/three/GLTFLoader.js")),
-    ("three/addons/controls/OrbitControls.js", include_str!("../../assets/report/three/OrbitControls.js")),
+    ("three.core.js", include_str!("../../../assets/report/three/three.core.js")),
+    ("three", include_str!("../../../assets/report/three/three.module.js")),
+    ("three/addons/utils/BufferGeometryUtils.js", include_str!("../../../assets/report/three/BufferGeometryUtils.js")),
+    ("three/addons/utils/SkeletonUtils.js", include_str!("../../../assets/report/three/SkeletonUtils.js")),
+    ("three/addons/loaders/GLTFLoader.js", include_str!("../../../assets/report/three/GLTFLoader.js")),
+    ("three/addons/controls/OrbitControls.js", include_str!("../../../assets/report/three/OrbitControls.js")),
 ];
 
 /// A motion played in the report's motion pane.
@@ -270,9 +277,15 @@ mod tests {
     /// RFC 4648 §10's test vectors.
     #[test]
     fn base64_is_rfc_4648() {
-        for (plain, encoded) in
-            [("", ""), ("f", "Zg=="), ("fo", "Zm8="), ("foo", "Zm9v"), ("foob", "Zm9vYg=="), ("fooba", "Zm9vYmE="), ("foobar", "Zm9vYmFy")]
-        {
+        for (plain, encoded) in [
+            ("", ""),
+            ("f", "Zg=="),
+            ("fo", "Zm8="),
+            ("foo", "Zm9v"),
+            ("foob", "Zm9vYg=="),
+            ("fooba", "Zm9vYmE="),
+            ("foobar", "Zm9vYmFy"),
+        ] {
             assert_eq!(base64(plain.as_bytes()), encoded);
         }
     }
