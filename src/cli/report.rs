@@ -82,7 +82,7 @@ pub fn run(args: &ReportArgs) -> Result<i32, BadInput> {
         let question = Question::choose(&analysis, args.direction, args.directions);
         let answer = stability::answer(&analysis, &settings.statics, &question, &|_, _| {})
             .map_err(|e| BadInput(format!("{name}: --robustness: {e}")))?;
-        page.add_mechanism(&answer);
+        page.add_mechanism(&answer).map_err(|e| BadInput(format!("{name}: --robustness: {e}")))?;
     }
     if args.dynamic {
         let drop = args.drop.settings(args.solver.mu, args.solver.friction_model, args.solver.solver);
@@ -107,6 +107,9 @@ pub fn run(args: &ReportArgs) -> Result<i32, BadInput> {
         analysis.statics.verdict.words(),
         if parts.is_empty() { String::new() } else { format!("; {}", parts.join(", ")) }
     );
+    for m in &page.motions {
+        println!("  {}", m.caption);
+    }
     Ok(if stands { 0 } else { 1 })
 }
 

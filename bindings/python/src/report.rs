@@ -74,7 +74,7 @@ solve_function! {
                 let question = Question::choose(&analysis, direction, directions);
                 let answer = stability::answer(&analysis, &settings.statics, &question, &|_, _| {})
                     .map_err(|e| format!("robustness: {e}"))?;
-                page.add_mechanism(&answer);
+                page.add_mechanism(&answer).map_err(|e| format!("robustness: {e}"))?;
             }
             if dynamic {
                 let (d, motion) = voussoir::dynamics::record(&analysis.assembly, &drop, 30.0).map_err(|e| e.to_string())?;

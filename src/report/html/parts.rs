@@ -6,7 +6,7 @@ use crate::dynamics::{DropResult, DropSettings, Trajectory};
 use crate::report::text as text_report;
 use crate::stability::Answer;
 use crate::studies::settlement::{Outcome, Settlement};
-use crate::viz::plot::{ThrustPlot, svg_string};
+use crate::viz::plot::{PolarPlot, ThrustPlot, svg_string};
 
 /// Seconds a mechanism plays in.
 pub const MECHANISM_SECONDS: f64 = 3.0;
@@ -15,11 +15,24 @@ pub const PATH_SECONDS: f64 = 5.0;
 
 impl HtmlReport<'_> {
     /// A load factor and its collapse mechanism ([`crate::stability::answer`]): the robustness
-    /// text, and the mechanism played from the design at rest.
-    pub fn add_mechanism(&mut self, answer: &Answer) {
+    /// text, the mechanism played from the design at rest, and a direction sweep's polar plot.
+    pub fn add_mechanism(&mut self, answer: &Answer) -> Result<(), String> {
         let a = self.analysis;
         self.text.push('\n');
         self.text.push_str(&text_report::robustness(a, &answer.result, answer.sweep.as_ref(), &answer.load));
+        if let Some(sweep) = &answer.sweep {
+            let plot = PolarPlot { title: a.assembly.name.clone(), sweep, size: (640, 640) };
+            let svg = svg_string(&plot, plot.size).map_err(|e| format!("the polar plot: {e}"))?;
+            self.plots
+                .push(Plot { title: "λ* of a horizontal 1 g against its direction, the worst marked".into(), svg });
+        }
+        self.push_mechanism(answer);
+        Ok(())
+    }
+
+    /// The mechanism's motion pane, when something moves.
+    fn push_mechanism(&mut self, answer: &Answer) {
+        let a = self.analysis;
         let Some(mechanism) = &answer.result.mechanism else { return };
         let Some(glb) = crate::viz::gltf::mechanism_glb(&a.assembly, mechanism, MECHANISM_SECONDS) else { return };
         let moved: Vec<usize> = (0..a.assembly.blocks.len()).filter(|&b| mechanism.motion[b] != [0.0; 6]).collect();
