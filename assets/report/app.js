@@ -266,7 +266,8 @@ async function start() {
   if (interfaces.length === 0) {
     const empty = document.createElement('div');
     empty.className = 'overlay';
-    empty.textContent = 'No interfaces: no forces to draw';
+    empty.textContent = data.detected === 0 ? 'No interfaces: no forces to draw'
+      : `No forces: ${data.detected} interface(s), but nothing holds the design, so none were solved`;
     $('design-view').appendChild(empty);
   }
   if (data.motions.length > 0) {

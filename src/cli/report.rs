@@ -55,7 +55,7 @@ pub struct ReportArgs {
     /// engines beside it).
     #[arg(long)]
     pub settle: bool,
-    /// With `--settle`: a support's whole path, NAME:dx,dy,dz[:rx,ry,rz] (as `settle --move`).
+    /// With `--settle`: a support's whole path, `NAME:dx,dy,dz[:rx,ry,rz]` (as `settle --move`).
     #[arg(long = "move", value_name = "NAME:DX,DY,DZ[:RX,RY,RZ]", requires = "settle")]
     pub moves: Vec<String>,
 }

@@ -318,17 +318,31 @@ def test_a_drop_test_report_animates_the_fall(page, tmp):
     page.assert_clean()
 
 
-def test_designs_with_nothing_to_draw_say_so(page, tmp):
-    """Invariant: a block touching nothing (no interfaces, no support) gives a page that says
-    both, with the verdict, and no error."""
-    scene = tmp / "floating.json"
-    v = [[x, y, z] for z in (0, 1) for y in (0, 1) for x in (0, 1)]
+def box(name, x0, y0, z0, x1, y1, z1):
+    v = [[x, y, z] for z in (z0, z1) for y in (y0, y1) for x in (x0, x1)]
     faces = [[0, 2, 3, 1], [4, 5, 7, 6], [0, 1, 5, 4], [2, 6, 7, 3], [0, 4, 6, 2], [1, 3, 7, 5]]
-    scene.write_text(json.dumps({"name": "floating", "blocks": [{"name": "a", "vertices": v, "faces": faces}]}))
-    out = report(tmp / "floating.html", str(scene))
+    return {"name": name, "vertices": v, "faces": faces}
+
+
+@pytest.mark.parametrize("blocks, interfaces", [
+    ([box("a", 0, 0, 0, 1, 1, 1)], 0),
+    ([box("a", 0, 0, 0, 1, 1, 1), box("b", 0, 0, 1, 1, 1, 2)], 1),
+])
+def test_designs_that_touch_no_support_say_so(page, tmp, blocks, interfaces):
+    """Invariant: a block touching nothing (no interfaces) and a stack of two touching no
+    support (one interface) give pages that say the design is not supported, and the first that
+    it has no interfaces, with the verdict, and no error."""
+    scene = tmp / "unsupported.json"
+    scene.write_text(json.dumps({"name": "unsupported", "blocks": blocks}))
+    out = report(tmp / "unsupported.html", str(scene))
     page.open(out)
     text = page.js("document.body.innerText")
-    assert "no interfaces" in text.lower() and "not supported" in text and "DOES NOT STAND" in text
+    assert "not supported" in text and "DOES NOT STAND: something touches no support" in text
+    assert ("no interfaces" in text.lower()) == (interfaces == 0)
+    assert page.js("window.voussoir.data.detected") == interfaces
+    assert f"{interfaces} interfaces" in text
+    if interfaces:
+        assert f"No forces: {interfaces} interface(s), but nothing holds the design" in text
     page.assert_clean()
 
 

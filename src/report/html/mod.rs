@@ -152,6 +152,7 @@ impl<'a> HtmlReport<'a> {
             },
             diagrams,
             moved_colour: css(colors::MOVED),
+            detected: a.interfaces.len(),
             notes: notes(a),
             panel: &self.text,
             report,
@@ -173,6 +174,8 @@ struct Data<'a> {
     first: &'a str,
     diagrams: Vec<Diagram>,
     moved_colour: String,
+    /// The interfaces detected (the JSON report lists those solved: none when nothing holds the design).
+    detected: usize,
     notes: Vec<String>,
     panel: &'a str,
     report: serde_json::Value,
@@ -205,7 +208,7 @@ struct PlotData<'a> {
 /// touches no support.
 fn notes(a: &Analysis) -> Vec<String> {
     let mut notes = Vec::new();
-    if a.statics.interfaces.is_empty() {
+    if a.interfaces.is_empty() {
         notes.push("This design has no interfaces: no block touches another or a support, so there are no interface forces to draw.".into());
     }
     if a.statics.verdict == crate::statics::Verdict::Unsupported {
