@@ -3,18 +3,27 @@
 import * as THREE from 'three';
 import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
+import { mergeGeometries } from 'three/addons/utils/BufferGeometryUtils.js';
 
 const data = JSON.parse(document.getElementById('voussoir-data').textContent);
+/** The JSON report, read when first asked for (a large design's takes a quarter second). */
+let reportRead = null;
+const report = () => reportRead ??= globalThis.voussoirAsset('report.json').then((b) => JSON.parse(new TextDecoder().decode(b)));
 const $ = (id) => document.getElementById(id);
 const yUp = (p) => new THREE.Vector3(p[0], p[2], -p[1]);
 
-/** One 3D view: a renderer in `container`, a camera framed on what it shows, orbit controls. */
+/** The one WebGL renderer both views draw with, off the page: each view copies its picture
+ *  into its own canvas. One context and one set of compiled shaders (a software renderer
+ *  takes a noticeable fraction of a second for each). */
+const gl = new THREE.WebGLRenderer({ antialias: true });
+
+/** One 3D view in `container`: its canvas, a camera framed on what it shows, orbit controls. */
 class View {
   constructor(container) {
     this.container = container;
-    this.renderer = new THREE.WebGLRenderer({ antialias: true });
-    this.renderer.setPixelRatio(window.devicePixelRatio);
-    container.appendChild(this.renderer.domElement);
+    this.canvas = document.createElement('canvas');
+    this.picture = this.canvas.getContext('2d');
+    container.appendChild(this.canvas);
     this.scene = new THREE.Scene();
     this.scene.background = new THREE.Color(0xffffff);
     this.scene.add(new THREE.HemisphereLight(0xffffff, 0x888888, 2.2));
@@ -22,14 +31,15 @@ class View {
     sun.position.set(1, 2, 1.5);
     this.scene.add(sun);
     this.camera = new THREE.PerspectiveCamera(35, 1, 0.01, 1000);
-    this.controls = new OrbitControls(this.camera, this.renderer.domElement);
+    this.controls = new OrbitControls(this.camera, this.canvas);
     this.controls.addEventListener('change', () => this.render());
     new ResizeObserver(() => this.resize()).observe(container);
     this.resize();
   }
   resize() {
     const w = Math.max(1, this.container.clientWidth), h = Math.max(1, this.container.clientHeight);
-    this.renderer.setSize(w, h, false);
+    this.canvas.width = Math.round(w * window.devicePixelRatio);
+    this.canvas.height = Math.round(h * window.devicePixelRatio);
     this.camera.aspect = w / h;
     this.camera.updateProjectionMatrix();
     this.render();
@@ -50,16 +60,22 @@ class View {
     this.controls.update();
     this.render();
   }
-  render() { this.renderer.render(this.scene, this.camera); }
+  render() {
+    const { width, height } = this.canvas;
+    const size = gl.getDrawingBufferSize(new THREE.Vector2());
+    if (size.x !== width || size.y !== height) gl.setSize(width, height, false); // device pixels
+    gl.render(this.scene, this.camera);
+    this.picture.drawImage(gl.domElement, 0, 0);
+  }
   /** Where world point `p` is on the page, CSS pixels. */
   toPage(p) {
     const v = p.clone().project(this.camera);
-    const r = this.renderer.domElement.getBoundingClientRect();
+    const r = this.canvas.getBoundingClientRect();
     return { x: r.left + (v.x + 1) / 2 * r.width, y: r.top + (1 - v.y) / 2 * r.height };
   }
   /** The objects under the page point (x, y), nearest first. */
   pick(x, y, objects) {
-    const r = this.renderer.domElement.getBoundingClientRect();
+    const r = this.canvas.getBoundingClientRect();
     const ndc = new THREE.Vector2((x - r.left) / r.width * 2 - 1, -((y - r.top) / r.height) * 2 + 1);
     const ray = new THREE.Raycaster();
     ray.setFromCamera(ndc, this.camera);
@@ -67,10 +83,30 @@ class View {
   }
 }
 
+/** Lambert shading in place of the glTF's physically based materials: the same colours and
+ *  transparency, and a shader that a software renderer compiles several times faster (the
+ *  report must open quickly without a GPU). Unlit (diagram) materials stay as they are. */
+function lambert(root) {
+  const swapped = new Map();
+  root.traverse((o) => {
+    if (!o.isMesh || !o.material.isMeshStandardMaterial) return;
+    if (!swapped.has(o.material)) {
+      const m = o.material;
+      swapped.set(m, new THREE.MeshLambertMaterial({
+        color: m.color, opacity: m.opacity, transparent: m.transparent, side: m.side,
+        depthWrite: m.depthWrite, vertexColors: m.vertexColors, name: m.name }));
+    }
+    o.material = swapped.get(o.material);
+  });
+  return root;
+}
+
 const loader = new GLTFLoader();
 const gltfCache = new Map();
 async function gltf(asset) {
-  if (!gltfCache.has(asset)) gltfCache.set(asset, loader.parseAsync(await globalThis.voussoirAsset(asset), ''));
+  if (!gltfCache.has(asset)) {
+    gltfCache.set(asset, loader.parseAsync(await globalThis.voussoirAsset(asset), '').then((g) => { lambert(g.scene); return g; }));
+  }
   return gltfCache.get(asset);
 }
 
@@ -101,11 +137,52 @@ const design = new View($('design-view'));
 const designs = {};
 let mode = null;
 let blocksShown = true;
-const interfaces = (data.report && data.report.interfaces) || [];
-const blocks = (data.report && data.report.blocks) || [];
+
+/** One mesh per material in place of the glTF's mesh per block and per interface (a large
+ *  design's first frame spent its time on a draw call each); each merged mesh keeps its parts'
+ *  first triangles and tags ({block} or {interface}) for picking. */
+function merged(root) {
+  root.updateMatrixWorld(true);
+  const byMaterial = new Map();
+  root.traverse((o) => {
+    if (!o.isMesh) return;
+    const tag = o.userData.interface !== undefined ? { interface: o.userData.interface } : { block: o.userData.block };
+    if (!byMaterial.has(o.material)) byMaterial.set(o.material, []);
+    byMaterial.get(o.material).push({ geometry: o.geometry.clone().applyMatrix4(o.matrixWorld), tag });
+  });
+  const out = new THREE.Group();
+  for (const [material, parts] of byMaterial) {
+    const mesh = new THREE.Mesh(mergeGeometries(parts.map((p) => p.geometry)), material);
+    let first = 0;
+    mesh.userData.parts = parts.map((p) => {
+      const part = { first, tag: p.tag };
+      first += p.geometry.attributes.position.count / 3;
+      return part;
+    });
+    mesh.userData.blocks = parts[0].tag.block !== undefined;
+    out.add(mesh);
+  }
+  return out;
+}
+
+/** The tag of the part of a merged mesh that triangle `face` belongs to (else of the object). */
+function tagOf(hit) {
+  const parts = hit.object.userData.parts;
+  if (parts) {
+    let lo = 0, hi = parts.length - 1;
+    while (lo < hi) {
+      const mid = (lo + hi + 1) >> 1;
+      if (parts[mid].first <= hit.faceIndex) lo = mid; else hi = mid - 1;
+    }
+    return parts[lo].tag;
+  }
+  let o = hit.object;
+  while (o && o.userData.interface === undefined && o.userData.block === undefined) o = o.parent;
+  return o && o.userData;
+}
 
 /** The resultant arrows of the vectors diagram: one per loaded interface, length by force. */
-function arrows(size) {
+function arrows(size, interfaces) {
   const group = new THREE.Group();
   const largest = Math.max(0, ...interfaces.map((r) => Math.hypot(...r.resultant)));
   for (const r of interfaces) {
@@ -125,11 +202,10 @@ async function showMode(name) {
   const source = name === 'vectors' ? 'compression' : name;
   if (!designs[name]) {
     const diagram = data.diagrams.find((d) => d.name === source);
-    const g = await gltf(diagram.asset);
-    const root = name === 'vectors' ? g.scene.clone() : g.scene;
+    const root = merged((await gltf(diagram.asset)).scene);
     if (name === 'vectors') {
       const size = new THREE.Box3().setFromObject(root).getSize(new THREE.Vector3()).length();
-      root.add(arrows(size));
+      root.add(arrows(size, (await report()).interfaces));
     }
     designs[name] = { root, legend: diagram.legend };
   }
@@ -151,7 +227,7 @@ async function showMode(name) {
 
 function showBlocks(shown) {
   blocksShown = shown;
-  for (const d of Object.values(designs)) d.root.traverse((o) => { if (o.userData.block !== undefined) o.visible = shown; });
+  for (const d of Object.values(designs)) d.root.traverse((o) => { if (o.userData.blocks) o.visible = shown; });
   $('blocks-toggle').textContent = shown ? 'hide' : 'show';
   design.render();
 }
@@ -167,7 +243,7 @@ for (const name of ['compression', 'friction', 'vectors']) {
 $('blocks-toggle').addEventListener('click', () => showBlocks(!blocksShown));
 
 /** What a click on the design shows: the interface's forces, or the block's mass. */
-function describe(hit) {
+function describe(hit, { interfaces, blocks }) {
   if (hit.interface !== undefined) {
     const r = interfaces[hit.interface];
     return [`interface ${r.index}: ${r.a} | ${r.b}`,
@@ -186,14 +262,18 @@ function describe(hit) {
 }
 
 let down = null;
-design.renderer.domElement.addEventListener('pointerdown', (e) => { down = { x: e.clientX, y: e.clientY }; });
-design.renderer.domElement.addEventListener('pointerup', (e) => {
+design.canvas.addEventListener('pointerdown', (e) => { down = { x: e.clientX, y: e.clientY }; });
+design.canvas.addEventListener('pointerup', async (e) => {
   if (!down || Math.hypot(e.clientX - down.x, e.clientY - down.y) > 4) return;
   const hits = design.pick(e.clientX, e.clientY, [designs[mode].root]).filter((h) => h.object.visible);
-  const tagged = hits.map((h) => { let o = h.object; while (o && o.userData.interface === undefined && o.userData.block === undefined) o = o.parent; return o && o.userData; }).filter(Boolean);
+  const tagged = hits.map(tagOf).filter(Boolean);
   // An interface seen through the translucent block in front of it is what was meant.
   const hit = tagged.find((u) => u.interface !== undefined) || tagged[0];
-  $('info').textContent = hit ? describe(hit) : 'Nothing there: click a block or an interface.';
+  if (!hit) {
+    $('info').textContent = 'Nothing there: click a block or an interface.';
+    return;
+  }
+  report().then((r) => { $('info').textContent = describe(hit, r); });
 });
 
 // ---- the motions --------------------------------------------------------------------------
@@ -260,10 +340,13 @@ data.motions.forEach((m, k) => {
 });
 
 // ---- start, and what a test (or a curious user) can ask the page ------------------------
+// Marks (performance.getEntriesByType('mark')): what the page's start spends its time on.
 async function start() {
   await showMode(data.first);
   design.frame(designs[data.first].root);
-  if (interfaces.length === 0) {
+  performance.mark('voussoir:design');
+  window.voussoir.shownAt = performance.now();
+  if (data.solved === 0) {
     const empty = document.createElement('div');
     empty.className = 'overlay';
     empty.textContent = data.detected === 0 ? 'No interfaces: no forces to draw'
@@ -272,6 +355,7 @@ async function start() {
   }
   if (data.motions.length > 0) {
     await showMotion(0);
+    performance.mark('voussoir:motion');
   } else {
     $('motion-view').innerHTML = '<div class="empty">No motion in this report: add --robustness, --dynamic or --settle.</div>';
     for (const id of ['play', 'scrub']) $(id).disabled = true;
@@ -283,7 +367,8 @@ async function start() {
 }
 
 /** The page point of a block's centroid or an interface's resultant point (else its centroid). */
-function onPage(kind, index) {
+async function onPage(kind, index) {
+  const { interfaces, blocks } = await report();
   if (kind === 'interface') {
     const r = interfaces[index];
     const n = r.vertices.length;
@@ -307,7 +392,7 @@ function movingRects() {
   return rects;
 }
 
-window.voussoir = { ready: false, data, onPage, movingRects, setTime, player };
+window.voussoir = { ready: false, data, report, onPage, movingRects, setTime, player };
 start().catch((e) => {
   $('status').textContent = 'The report could not start: ' + e;
   console.error(e);

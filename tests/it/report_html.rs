@@ -1,7 +1,7 @@
 //! `voussoir report`'s page read back without a browser (tests/python/test_report_browser.py
 //! opens it in Chromium). Invariants: the page is one file that names nothing outside itself;
 //! its embedded designs and motions are the bytes of the glTF writers `export` and `--frames`
-//! use (one writer); the data the page reads is the JSON report; bad options exit 2 with one
+//! use (one writer); the numbers the page shows come from the JSON report it embeds; bad options exit 2 with one
 //! message and write nothing.
 
 use std::io::Read;
@@ -84,6 +84,7 @@ fn the_page_embeds_the_exports_gltf_and_three_js_and_names_nothing_outside_itsel
             "design:compression",
             "design:friction",
             "motion:0",
+            "report.json",
         ]
     );
     // The vendored three.js, byte for byte.
@@ -111,7 +112,8 @@ fn the_page_embeds_the_exports_gltf_and_three_js_and_names_nothing_outside_itsel
     // The data: the verdict, both diagrams' legends, the mechanism's moving blocks.
     let d = data(&page);
     assert_eq!(d["verdict"], voussoir::report::text::headline(analysis.statics.verdict));
-    assert_eq!(d["report"]["interfaces"].as_array().unwrap().len(), analysis.statics.interfaces.len());
+    let report: serde_json::Value = serde_json::from_slice(&assets[9].1).unwrap();
+    assert_eq!(report["interfaces"].as_array().unwrap().len(), analysis.statics.interfaces.len());
     assert_eq!(d["diagrams"][1]["legend"][1][0], "#fff359", "yellow, sRGB of the linear [1, 0.9, 0.1]");
     assert_eq!(d["motions"][0]["title"], "mechanism");
     assert_eq!(d["motions"][0]["moved"].as_array().unwrap().len(), 15, "the 4-hinge mechanism moves every voussoir");

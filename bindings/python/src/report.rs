@@ -88,6 +88,13 @@ solve_function! {
             Ok(page.html())
         }).map_err(|e| errors::input(source, e))?;
         if let Some(path) = path {
+            let same = |a: &std::path::Path, b: &std::path::Path| match (a.canonicalize(), b.canonicalize()) {
+                (Ok(a), Ok(b)) => a == b,
+                _ => a == b,
+            };
+            if same(&path, std::path::Path::new(source)) {
+                return Err(errors::input(source, format!("path {} would overwrite the scene's file", path.display())));
+            }
             voussoir::io::write_atomic(&path, html.as_bytes()).map_err(errors::io)?;
         }
         Ok(html)

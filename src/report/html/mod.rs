@@ -12,8 +12,8 @@
 //! - the design as the glTF binaries `voussoir export` writes ([`crate::viz::glb`]), one per
 //!   diagram mode, and the motions as the glTF animations the CLI's `--frames` write, each
 //!   compressed the same way;
-//! - the JSON report ([`super::json`]: what a click on a block or an interface shows), the text
-//!   report (the panel), and the plots as inline SVG.
+//! - the JSON report ([`super::json`]: what a click on a block or an interface shows; compressed
+//!   as the assets are), the text report (the panel), and the plots as inline SVG.
 //!
 //! The studies a report can show beside the statics add themselves ([`HtmlReport::add_mechanism`],
 //! [`HtmlReport::add_drop`], [`HtmlReport::add_settlement`]).
@@ -139,7 +139,7 @@ impl<'a> HtmlReport<'a> {
                 Motion { title: &m.title, caption: &m.caption, asset: id, moved: &m.moved }
             })
             .collect();
-        let report: serde_json::Value = serde_json::from_str(&self.json).unwrap_or(serde_json::Value::Null);
+        assets.add("report.json", self.json.as_bytes());
         let data = Data {
             scene: &a.assembly.name,
             verdict: super::text::headline(s.verdict),
@@ -153,9 +153,9 @@ impl<'a> HtmlReport<'a> {
             diagrams,
             moved_colour: css(colors::MOVED),
             detected: a.interfaces.len(),
+            solved: s.interfaces.len(),
             notes: notes(a),
             panel: &self.text,
-            report,
             motions,
             plots: self.plots.iter().map(|p| PlotData { title: &p.title, svg: &p.svg }).collect(),
         };
@@ -174,11 +174,12 @@ struct Data<'a> {
     first: &'a str,
     diagrams: Vec<Diagram>,
     moved_colour: String,
-    /// The interfaces detected (the JSON report lists those solved: none when nothing holds the design).
+    /// The interfaces detected, and those solved (the JSON report's: none when nothing holds
+    /// the design).
     detected: usize,
+    solved: usize,
     notes: Vec<String>,
     panel: &'a str,
-    report: serde_json::Value,
     motions: Vec<Motion<'a>>,
     plots: Vec<PlotData<'a>>,
 }
@@ -296,8 +297,9 @@ mod tests {
     /// The sRGB transfer function's fixed points and its value at one half (0.7354).
     #[test]
     fn linear_to_srgb_is_the_srgb_curve() {
-        assert_eq!(linear_to_srgb([0.0, 1.0, 0.5])[..2], [0.0, 1.0]);
-        assert!((linear_to_srgb([0.5; 3])[0] - 0.735_357).abs() < 1e-5);
+        let [black, white, half] = linear_to_srgb([0.0, 1.0, 0.5]);
+        assert_eq!(black, 0.0);
+        assert!((white - 1.0).abs() < 1e-6 && (half - 0.735_357).abs() < 1e-5, "{white} {half}");
         assert_eq!(css([1.0, 0.0, 0.5]), "#ff0080");
     }
 }
