@@ -249,6 +249,28 @@ def test_fig6_compression_mode_is_blue_on_the_legends_scale(page, tmp):
     page.assert_clean()
 
 
+def test_the_vectors_diagram_draws_each_resultant_as_an_arrow(page, tmp):
+    """Invariant: switching to vectors (a real click on its button) keeps the compression
+    colours and adds the resultants' arrows: dark pixels (the arrows' colour, #222) appear that
+    the compression diagram does not have, around the resultant points the JSON report gives."""
+    out = report(tmp / "fig6.html", "assets/cases/fig6_dmsc.json")
+    page.open(out)
+    page.click_on("#blocks-toggle")
+    before = page.shot("#design-view")[0]
+    page.click_on("#modes button[data-mode=vectors]")
+    assert "arrows" in page.js("document.getElementById('legend').textContent")
+    after, (left, top) = page.shot("#design-view")
+    dark = lambda px: (px.max(axis=2) < 70)
+    new_dark = dark(after) & ~dark(before)
+    assert new_dark.sum() > 100, new_dark.sum()
+    ys, xs = np.nonzero(new_dark)
+    points = [page.js(f"window.voussoir.onPage('interface', {r['index']})")
+              for r in page.js("window.voussoir.report().then(r => r.interfaces)") if r["resultant_point"]]
+    near = min(min(abs(x + left - p["x"]) + abs(y + top - p["y"]) for p in points) for x, y in zip(xs[::50], ys[::50]))
+    assert near < 60, near
+    page.assert_clean()
+
+
 def test_a_click_on_an_interface_shows_its_normal_force_as_the_json_report_gives_it(page, tmp):
     """Invariant: a real click at an interface's resultant point selects an interface, and the
     panel shows that interface's normal force equal to `voussoir analyze --json`'s (6 digits)."""
