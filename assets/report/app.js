@@ -1,4 +1,4 @@
-// voussoir's HTML report (src/report/html.rs writes the page and its data). Axes: the glTF
+// voussoir's HTML report (src/viz/html/mod.rs writes the page and its data). Axes: the glTF
 // files are y-up (voussoir's z-up x, y, z is x, z, −y there); the report's JSON is in voussoir's.
 import * as THREE from 'three';
 import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';

@@ -1,4 +1,4 @@
-//! `voussoir report`: one self-contained HTML file ([`crate::report::html`]) of the analysed
+//! `voussoir report`: one self-contained HTML file ([`crate::viz::html`]) of the analysed
 //! design — its diagrams in 3D, the verdict and the graded numbers — with, on request, the load
 //! factor's collapse mechanism (`--robustness`), the drop test (`--dynamic`) and the settlement
 //! on moving supports (`--settle`) played beside it. Exit codes as `analyze`: 0 it stands by
@@ -8,9 +8,9 @@ use super::options::{DiagramOptions, DropOptions, LoadOptions, SceneOptions, Sol
 use super::{BadInput, load, refuse_overwrite, scene_name, write_output};
 use crate::model::Movement;
 use crate::pipeline::analyze;
-use crate::report::html::HtmlReport;
 use crate::stability::{self, Question};
 use crate::studies::settlement::{Outcome, SettleSettings, settle};
+use crate::viz::html::HtmlReport;
 use clap::Args;
 use std::path::PathBuf;
 

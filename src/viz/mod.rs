@@ -1,9 +1,11 @@
 //! What the diagrams show, without a window: the seed paper's colour mappings (pure functions),
-//! the per-vertex colours of an interface, and the glTF export. The offscreen pictures
-//! ([`crate::viz::plot::diagram`]) and the bevy viewer (feature `viewer`) use the same colours.
+//! the per-vertex colours of an interface, the glTF export, and the self-contained HTML report
+//! ([`html`]). The offscreen pictures ([`crate::viz::plot::diagram`]) and the bevy viewer
+//! (feature `viewer`) use the same colours.
 
 pub mod colors;
 pub mod gltf;
+pub mod html;
 pub mod plot;
 
 pub use gltf::glb;

@@ -24,7 +24,7 @@ const LAYERS: [(u8, &[&str], &str); 16] = [
     (10, &["synthesis"], "generated decompositions, repair, props"),
     (11, &["io"], "scene formats in and out"),
     (12, &["report"], "JSON, text and compas reports of results"),
-    (13, &["viz"], "palette, glTF, plots"),
+    (13, &["viz"], "palette, glTF, plots, the HTML report"),
     (14, &["ecs"], "bevy plugins (feature `ecs`, default)"),
     (15, &["viewer"], "the interactive viewer (feature `viewer`)"),
     (16, &["cli"], "the command line"),

@@ -315,8 +315,7 @@ impl Analysis {
     /// motion — `voussoir.report(..., dynamic=True)` plays it). `mode`: the diagram shown first.
     #[pyo3(signature = (mode = None, threshold = None))]
     fn to_html(&self, mode: Option<&str>, threshold: Option<f64>) -> PyResult<String> {
-        let mut page =
-            voussoir::report::html::HtmlReport::new(&self.analysis, crate::report::diagram(mode, threshold)?);
+        let mut page = voussoir::viz::html::HtmlReport::new(&self.analysis, crate::report::diagram(mode, threshold)?);
         page.json = report::json::to_json_with(
             &self.analysis,
             &report::json::Extras {

@@ -1,5 +1,5 @@
 //! `voussoir.report` and `Analysis._repr_html_`: the self-contained HTML report
-//! (`voussoir report`'s page, one writer: [`voussoir::report::html`]).
+//! (`voussoir report`'s page, one writer: [`voussoir::viz::html`]).
 
 use crate::errors;
 use crate::settings::solve_function;
@@ -7,10 +7,10 @@ use pyo3::prelude::*;
 use std::path::PathBuf;
 use voussoir::dynamics::DropSettings;
 use voussoir::pipeline::analyze;
-use voussoir::report::html::HtmlReport;
 use voussoir::stability::{self, Question};
 use voussoir::studies::settlement::SettleSettings;
 use voussoir::viz::DiagramMode;
+use voussoir::viz::html::HtmlReport;
 
 /// The diagram shown first: `mode` by name ("compression", "friction", "vectors"), the friction
 /// diagram's `threshold` (default: the library's).

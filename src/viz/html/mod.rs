@@ -12,7 +12,7 @@
 //! - the design as the glTF binaries `voussoir export` writes ([`crate::viz::glb`]), one per
 //!   diagram mode, and the motions as the glTF animations the CLI's `--frames` write, each
 //!   compressed the same way;
-//! - the JSON report ([`super::json`]: what a click on a block or an interface shows; compressed
+//! - the JSON report ([`crate::report::json`]: what a click on a block or an interface shows; compressed
 //!   as the assets are), the text report (the panel), and the plots as inline SVG.
 //!
 //! The studies a report can show beside the statics add themselves ([`HtmlReport::add_mechanism`],
@@ -78,7 +78,7 @@ pub struct HtmlReport<'a> {
     pub mode: DiagramMode,
     /// The panel: the text report of everything that ran.
     pub text: String,
-    /// The JSON report ([`super::json::to_json_with`]).
+    /// The JSON report ([`crate::report::json::to_json_with`]).
     pub json: String,
     /// The motions, in tab order.
     pub motions: Vec<MotionPane>,
@@ -92,8 +92,8 @@ impl<'a> HtmlReport<'a> {
         Self {
             analysis,
             mode,
-            text: super::text::summary(analysis, 5),
-            json: super::json::to_json(analysis),
+            text: crate::report::text::summary(analysis, 5),
+            json: crate::report::json::to_json(analysis),
             motions: Vec::new(),
             plots: Vec::new(),
         }
@@ -142,7 +142,7 @@ impl<'a> HtmlReport<'a> {
         assets.add("report.json", self.json.as_bytes());
         let data = Data {
             scene: &a.assembly.name,
-            verdict: super::text::headline(s.verdict),
+            verdict: crate::report::text::headline(s.verdict),
             verdict_colour: css(colors::verdict(Some(s.verdict))),
             stands: s.stands,
             first: match self.mode {
