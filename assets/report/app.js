@@ -341,9 +341,27 @@ data.motions.forEach((m, k) => {
 
 // ---- start, and what a test (or a curious user) can ask the page ------------------------
 // Marks (performance.getEntriesByType('mark')): what the page's start spends its time on.
+/** The ground plane z = 0 (voussoir's), when the design stands on it: a disc under the design,
+ *  in both views, added after the design is framed (it does not count in the framing). A
+ *  backdrop: drawn first and writing no depth, it hides nothing (the arrows into the ground,
+ *  the ground's own joints). */
+function ground(view, around) {
+  const box = new THREE.Box3().setFromObject(around);
+  const centre = box.getCenter(new THREE.Vector3());
+  const radius = 0.55 * box.getSize(new THREE.Vector3()).length();
+  const disc = new THREE.Mesh(new THREE.CircleGeometry(radius, 64),
+    new THREE.MeshBasicMaterial({ color: 0xe6e2d8, side: THREE.DoubleSide, depthWrite: false }));
+  disc.renderOrder = -1;
+  disc.rotation.x = -Math.PI / 2;
+  disc.position.set(centre.x, 0, centre.z);
+  view.scene.add(disc);
+  view.render();
+}
+
 async function start() {
   await showMode(data.first);
   design.frame(designs[data.first].root);
+  if (data.ground) ground(design, designs[data.first].root);
   performance.mark('voussoir:design');
   window.voussoir.shownAt = performance.now();
   if (data.solved === 0) {
@@ -355,6 +373,7 @@ async function start() {
   }
   if (data.motions.length > 0) {
     await showMotion(0);
+    if (data.ground) ground(motionView, designs[data.first].root);
     performance.mark('voussoir:motion');
   } else {
     $('motion-view').innerHTML = '<div class="empty">No motion in this report: add --robustness, --dynamic or --settle.</div>';

@@ -142,7 +142,12 @@ class Page:
     def close(self):
         self.proc.kill()
         self.proc.wait()
-        shutil.rmtree(self.profile, ignore_errors=True)
+        # Chromium's helper processes may still write into the profile for a moment.
+        for _ in range(20):
+            shutil.rmtree(self.profile, ignore_errors=True)
+            if not os.path.exists(self.profile):
+                break
+            time.sleep(0.05)
 
     def assert_clean(self):
         """No error logged; nothing fetched but the file itself, data: and blob: URLs."""

@@ -154,6 +154,7 @@ impl<'a> HtmlReport<'a> {
             moved_colour: css(colors::MOVED),
             detected: a.interfaces.len(),
             solved: s.interfaces.len(),
+            ground: a.assembly.ground,
             notes: notes(a),
             panel: &self.text,
             motions,
@@ -178,6 +179,8 @@ struct Data<'a> {
     /// the design).
     detected: usize,
     solved: usize,
+    /// Whether the design stands on the ground plane z = 0 (the page draws it).
+    ground: bool,
     notes: Vec<String>,
     panel: &'a str,
     motions: Vec<Motion<'a>>,
