@@ -93,9 +93,6 @@ impl AnalyzeArgs {
     }
 }
 
-/// The frame rate of `--frames` (per simulated second).
-const FRAMES_PER_SECOND: f64 = 30.0;
-
 /// Writes the recorded motion as `--frames`' animation and `--strip`'s key frames.
 fn write_motion(
     args: &AnalyzeArgs,
@@ -195,7 +192,7 @@ fn check_outputs(args: &AnalyzeArgs) -> Result<(), BadInput> {
 fn drop_test(args: &AnalyzeArgs, analysis: &Analysis) -> Result<DropResult, BadInput> {
     let settings = args.drop.settings(args.solver.mu, args.solver.friction_model, args.solver.solver);
     let d = if args.frames.is_some() || args.strip.is_some() {
-        let (d, motion) = crate::dynamics::record(&analysis.assembly, &settings, FRAMES_PER_SECOND)
+        let (d, motion) = crate::dynamics::record(&analysis.assembly, &settings, crate::viz::gltf::FRAMES_PER_SECOND)
             .map_err(|e| BadInput(e.to_string()))?;
         write_motion(args, &analysis.assembly, &motion)?;
         d

@@ -244,11 +244,7 @@ fn scene_name(spec: Option<&str>) -> &str {
 /// and `a.json` match); `option` names the flag in the message. Inputs are never overwritten.
 fn refuse_overwrite(input: Option<&str>, out: &Path, option: &str) -> Result<(), BadInput> {
     let Some(input) = input else { return Ok(()) };
-    let same = match (std::fs::canonicalize(input), std::fs::canonicalize(out)) {
-        (Ok(a), Ok(b)) => a == b,
-        _ => Path::new(input) == out,
-    };
-    if same {
+    if io::same_file(Path::new(input), out) {
         return Err(BadInput(format!("{option} {} would overwrite the input; write elsewhere", out.display())));
     }
     Ok(())

@@ -60,9 +60,6 @@ pub struct ReportArgs {
     pub moves: Vec<String>,
 }
 
-/// The drop test's frames per simulated second (as `analyze --frames`).
-const FRAMES_PER_SECOND: f64 = 30.0;
-
 /// Runs `report`: analyses, runs what was asked, writes the page; prints one line.
 pub fn run(args: &ReportArgs) -> Result<i32, BadInput> {
     refuse_overwrite(args.scene.as_deref(), &args.out, "--out")?;
@@ -86,7 +83,7 @@ pub fn run(args: &ReportArgs) -> Result<i32, BadInput> {
     }
     if args.dynamic {
         let drop = args.drop.settings(args.solver.mu, args.solver.friction_model, args.solver.solver);
-        let (d, motion) = crate::dynamics::record(&analysis.assembly, &drop, FRAMES_PER_SECOND)
+        let (d, motion) = crate::dynamics::record(&analysis.assembly, &drop, crate::viz::gltf::FRAMES_PER_SECOND)
             .map_err(|e| BadInput(format!("{name}: --dynamic: {e}")))?;
         stands &= d.stands;
         page.add_drop(&d, &motion, &drop);

@@ -52,9 +52,6 @@ pub struct SettleArgs {
     pub strip: Option<PathBuf>,
 }
 
-/// Seconds the whole path takes in `--frames`' animation.
-const PATH_SECONDS: f64 = 5.0;
-
 /// Runs `settle`: prints each run's outcome; exit code 0 when it stands to the end of the path.
 pub fn run(args: &SettleArgs) -> Result<i32, BadInput> {
     for out in [&args.json, &args.plot, &args.frames, &args.strip].into_iter().flatten() {
@@ -133,10 +130,8 @@ pub fn run(args: &SettleArgs) -> Result<i32, BadInput> {
 /// Writes `run`'s motion as `--frames`' animation and `--strip`'s key frames.
 fn write_motion(args: &SettleArgs, assembly: &crate::model::Assembly, run: &Run) -> Result<(), BadInput> {
     if let Some(out) = &args.frames {
-        let mut motion = run.motion.clone();
-        motion.times.iter_mut().for_each(|t| *t *= PATH_SECONDS);
-        write_output(out, &crate::viz::gltf::animation_glb(assembly, &motion))?;
-        println!("increments written to {} ({} frames)", out.display(), motion.times.len());
+        write_output(out, &crate::viz::gltf::path_glb(assembly, &run.motion))?;
+        println!("increments written to {} ({} frames)", out.display(), run.motion.times.len());
     }
     if let Some(out) = &args.strip {
         let strip = FrameStrip { clock: Clock::Path, ..FrameStrip::new(assembly, &run.motion) };

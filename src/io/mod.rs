@@ -146,6 +146,15 @@ pub(crate) fn stem(path: &Path) -> String {
     path.file_stem().and_then(|s| s.to_str()).unwrap_or("scene").to_string()
 }
 
+/// Whether `a` and `b` name the same file (through links and `..` when both exist; else as
+/// written): an output must never be written over its input.
+pub fn same_file(a: &Path, b: &Path) -> bool {
+    match (a.canonicalize(), b.canonicalize()) {
+        (Ok(a), Ok(b)) => a == b,
+        _ => a == b,
+    }
+}
+
 /// Writes `bytes` to `path` atomically: a temporary file in the same folder, then a rename, so
 /// a reader never sees a half-written file and a failed write leaves the old file intact.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), IoError> {

@@ -206,7 +206,7 @@ impl ViewerState {
     }
 
     fn save(&mut self) {
-        if self.input.as_ref().is_some_and(|i| same_file(i, &self.save_path)) && !self.save_over_input {
+        if self.input.as_ref().is_some_and(|i| crate::io::same_file(i, &self.save_path)) && !self.save_over_input {
             self.message =
                 Some(format!("not saved: {} is the input (--save-over-input allows it)", self.save_path.display()));
             return;
@@ -216,13 +216,6 @@ impl ViewerState {
             Ok(()) => format!("saved {}", self.save_path.display()),
             Err(e) => format!("not saved: {e}"),
         });
-    }
-}
-
-fn same_file(a: &std::path::Path, b: &std::path::Path) -> bool {
-    match (a.canonicalize(), b.canonicalize()) {
-        (Ok(a), Ok(b)) => a == b,
-        _ => a == b,
     }
 }
 

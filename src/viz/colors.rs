@@ -33,6 +33,15 @@ const ORANGE_DEEP: Rgb = [0.85, 0.17, 0.0];
 /// sRGB as displayed, in [0, 1]: text and plot marks, which are not shaded.
 pub type Srgb = [f32; 3];
 
+/// A linear RGB colour as displayed (the sRGB transfer function): what a PNG, the viewer and
+/// the HTML report show of it.
+pub fn linear_to_srgb(c: Rgb) -> Srgb {
+    c.map(|v| {
+        let v = v.clamp(0.0, 1.0);
+        if v <= 0.003_130_8 { 12.92 * v } else { 1.055 * v.powf(1.0 / 2.4) - 0.055 }
+    })
+}
+
 /// An sRGB colour from 8-bit channels.
 pub const fn srgb8(r: u8, g: u8, b: u8) -> Srgb {
     [r as f32 / 255.0, g as f32 / 255.0, b as f32 / 255.0]

@@ -163,6 +163,19 @@ fn write(mut b: Builder, name: &str, materials: Value, animation: Option<Value>)
     out
 }
 
+/// Frames per simulated second of a recorded drop test's animation (`--frames`, the report).
+pub const FRAMES_PER_SECOND: f64 = 30.0;
+
+/// Seconds a settlement's whole path plays in (its motion's clock runs over the path, 0 to 1).
+pub const PATH_SECONDS: f64 = 5.0;
+
+/// The .glb bytes of a settlement run's motion ([`crate::studies::settlement::Run::motion`],
+/// clocked over the path) played in [`PATH_SECONDS`].
+pub fn path_glb(assembly: &crate::model::Assembly, motion: &crate::dynamics::Trajectory) -> Vec<u8> {
+    let seconds: Vec<f64> = motion.times.iter().map(|t| t * PATH_SECONDS).collect();
+    animated(assembly, &seconds, &motion.poses, &format!("motion ({})", motion.engine))
+}
+
 /// The .glb bytes of a drop test's (or a settlement's) motion: every block a node at its
 /// centroid (its mesh relative to it), the free blocks and any support that moves animated by
 /// the recorded poses (linear translation, spherical rotation between frames), the other

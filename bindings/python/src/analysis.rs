@@ -54,6 +54,16 @@ impl Analysis {
         self.analysis.statics.interfaces.iter().map(f).collect()
     }
 
+    /// The JSON report with what ran beside the statics (`to_dict`, `to_html`).
+    fn report_json(&self) -> String {
+        let extras = report::json::Extras {
+            dynamic: self.dynamic.as_ref(),
+            kinematic: self.kinematic.as_ref(),
+            tolerance: None,
+        };
+        report::json::to_json_with(&self.analysis, &extras)
+    }
+
     fn point_rows<T>(&self, f: impl Fn(&voussoir::statics::VertexForce) -> T) -> Vec<T> {
         self.analysis.statics.interfaces.iter().flat_map(|r| r.vertices.iter().map(&f)).collect()
     }
@@ -286,15 +296,7 @@ impl Analysis {
 
     /// The JSON report of `voussoir analyze --json` as a dict.
     fn to_dict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        let text = report::json::to_json_with(
-            &self.analysis,
-            &report::json::Extras {
-                dynamic: self.dynamic.as_ref(),
-                kinematic: self.kinematic.as_ref(),
-                tolerance: None,
-            },
-        );
-        py.import("json")?.call_method1("loads", (text,))
+        py.import("json")?.call_method1("loads", (self.report_json(),))
     }
 
     /// The design with its interfaces and forces as compas 2 Assembly JSON (what
@@ -316,14 +318,7 @@ impl Analysis {
     #[pyo3(signature = (mode = None, threshold = None))]
     fn to_html(&self, mode: Option<&str>, threshold: Option<f64>) -> PyResult<String> {
         let mut page = voussoir::viz::html::HtmlReport::new(&self.analysis, crate::report::diagram(mode, threshold)?);
-        page.json = report::json::to_json_with(
-            &self.analysis,
-            &report::json::Extras {
-                dynamic: self.dynamic.as_ref(),
-                kinematic: self.kinematic.as_ref(),
-                tolerance: None,
-            },
-        );
+        page.json = self.report_json();
         Ok(page.html())
     }
 

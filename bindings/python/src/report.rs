@@ -77,7 +77,7 @@ solve_function! {
                 page.add_mechanism(&answer).map_err(|e| format!("robustness: {e}"))?;
             }
             if dynamic {
-                let (d, motion) = voussoir::dynamics::record(&analysis.assembly, &drop, 30.0).map_err(|e| e.to_string())?;
+                let (d, motion) = voussoir::dynamics::record(&analysis.assembly, &drop, voussoir::viz::gltf::FRAMES_PER_SECOND).map_err(|e| e.to_string())?;
                 page.add_drop(&d, &motion, &drop);
             }
             if settle {
@@ -88,11 +88,7 @@ solve_function! {
             Ok(page.html())
         }).map_err(|e| errors::input(source, e))?;
         if let Some(path) = path {
-            let same = |a: &std::path::Path, b: &std::path::Path| match (a.canonicalize(), b.canonicalize()) {
-                (Ok(a), Ok(b)) => a == b,
-                _ => a == b,
-            };
-            if same(&path, std::path::Path::new(source)) {
+            if voussoir::io::same_file(&path, std::path::Path::new(source)) {
                 return Err(errors::input(source, format!("path {} would overwrite the scene's file", path.display())));
             }
             voussoir::io::write_atomic(&path, html.as_bytes()).map_err(errors::io)?;

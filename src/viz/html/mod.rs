@@ -23,7 +23,7 @@
 
 mod parts;
 
-pub use parts::{MECHANISM_SECONDS, PATH_SECONDS};
+pub use parts::MECHANISM_SECONDS;
 
 use crate::pipeline::Analysis;
 use crate::viz::{DiagramMode, colors, legend};
@@ -101,10 +101,7 @@ impl<'a> HtmlReport<'a> {
 
     /// The page, one self-contained HTML document.
     pub fn html(&self) -> String {
-        let mut assets = Assets::default();
-        for (name, source) in THREE {
-            assets.add(&format!("module:{name}"), source.as_bytes());
-        }
+        let mut assets = Assets { html: three_assets().to_string() };
         let data = self.data(&mut assets);
         let title = format!("voussoir report: {}", self.analysis.assembly.name);
         PAGE.replace("{{TITLE}}", &escape_html(&title))
@@ -223,15 +220,7 @@ fn notes(a: &Analysis) -> Vec<String> {
 
 /// The legend of `mode` with CSS colours.
 fn css_legend(mode: DiagramMode) -> Vec<(String, String)> {
-    legend(mode).into_iter().map(|(c, label)| (css(linear_to_srgb(c)), label)).collect()
-}
-
-/// A linear RGB colour as displayed (the sRGB transfer function).
-pub fn linear_to_srgb(c: colors::Rgb) -> colors::Srgb {
-    c.map(|v| {
-        let v = v.clamp(0.0, 1.0);
-        if v <= 0.003_130_8 { 12.92 * v } else { 1.055 * v.powf(1.0 / 2.4) - 0.055 }
-    })
+    legend(mode).into_iter().map(|(c, label)| (css(colors::linear_to_srgb(c)), label)).collect()
 }
 
 /// An sRGB colour as CSS `#rrggbb`.
@@ -242,6 +231,19 @@ fn css(c: colors::Srgb) -> String {
 
 fn escape_html(s: &str) -> String {
     s.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;").replace('"', "&quot;")
+}
+
+/// The vendored modules as asset elements: the same 2.3 MB compressed for every page, so once
+/// per process (a notebook shows many).
+fn three_assets() -> &'static str {
+    static THREE_ASSETS: std::sync::OnceLock<String> = std::sync::OnceLock::new();
+    THREE_ASSETS.get_or_init(|| {
+        let mut assets = Assets::default();
+        for (name, source) in THREE {
+            assets.add(&format!("module:{name}"), source.as_bytes());
+        }
+        assets.html
+    })
 }
 
 /// The binary assets as `<script>` elements of gzip-compressed base64 text.
@@ -300,7 +302,7 @@ mod tests {
     /// The sRGB transfer function's fixed points and its value at one half (0.7354).
     #[test]
     fn linear_to_srgb_is_the_srgb_curve() {
-        let [black, white, half] = linear_to_srgb([0.0, 1.0, 0.5]);
+        let [black, white, half] = colors::linear_to_srgb([0.0, 1.0, 0.5]);
         assert_eq!(black, 0.0);
         assert!((white - 1.0).abs() < 1e-6 && (half - 0.735_357).abs() < 1e-5, "{white} {half}");
         assert_eq!(css([1.0, 0.0, 0.5]), "#ff0080");

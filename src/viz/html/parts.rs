@@ -6,12 +6,11 @@ use crate::dynamics::{DropResult, DropSettings, Trajectory};
 use crate::report::text as text_report;
 use crate::stability::Answer;
 use crate::studies::settlement::{Outcome, Settlement};
+use crate::viz::gltf::PATH_SECONDS;
 use crate::viz::plot::{PolarPlot, ThrustPlot, svg_string};
 
 /// Seconds a mechanism plays in.
 pub const MECHANISM_SECONDS: f64 = 3.0;
-/// Seconds a settlement's whole path plays in (as `settle --frames`).
-pub const PATH_SECONDS: f64 = 5.0;
 
 impl HtmlReport<'_> {
     /// A load factor and its collapse mechanism ([`crate::stability::answer`]): the robustness
@@ -55,10 +54,10 @@ impl HtmlReport<'_> {
         let extras = crate::report::json::Extras { dynamic: Some(d), ..Default::default() };
         self.json = crate::report::json::to_json_with(a, &extras);
         let caption = format!(
-            "drop test ({}): {} s at dt {} s — {}",
+            "drop test ({}): {} s at dt {:.4} ms — {}",
             motion.engine,
             settings.duration,
-            settings.dt,
+            1e3 * settings.dt,
             if d.stands { "it stands" } else { "it falls" }
         );
         let glb = crate::viz::gltf::animation_glb(&a.assembly, motion);
@@ -66,7 +65,7 @@ impl HtmlReport<'_> {
     }
 
     /// A settlement ([`crate::studies::settlement::settle`]): its runs' lines, the quasi-static
-    /// run's motion (the path in [`PATH_SECONDS`]), the thrust plot.
+    /// run's motion (the path in [`PATH_SECONDS`] s), the thrust plot.
     pub fn add_settlement(&mut self, result: &Settlement) -> Result<(), String> {
         let a = self.analysis;
         let run = &result.quasi_static;
@@ -78,12 +77,10 @@ impl HtmlReport<'_> {
         for r in [Some(run), result.exact.as_ref(), result.rapier.as_ref()].into_iter().flatten() {
             self.text.push_str(&format!("  {:<12} {}\n", r.method, outcome(&r.outcome)));
         }
-        let mut motion = run.motion.clone();
-        motion.times.iter_mut().for_each(|t| *t *= PATH_SECONDS);
         let caption =
             format!("settlement (quasi-static): {}; the whole path plays in {PATH_SECONDS} s", outcome(&run.outcome));
-        let glb = crate::viz::gltf::animation_glb(&a.assembly, &motion);
-        self.motions.push(MotionPane { title: "settlement".into(), caption, glb, moved: moved_blocks(a, &motion) });
+        let glb = crate::viz::gltf::path_glb(&a.assembly, &run.motion);
+        self.motions.push(MotionPane { title: "settlement".into(), caption, glb, moved: moved_blocks(a, &run.motion) });
         let plot =
             ThrustPlot { title: format!("{}: reaction against support movement", a.assembly.name), settlement: result };
         let svg = svg_string(&plot, ThrustPlot::SIZE).map_err(|e| format!("the thrust plot: {e}"))?;

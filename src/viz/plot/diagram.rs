@@ -68,12 +68,8 @@ struct Prim {
 
 /// A linear colour as the sRGB bytes a PNG holds: what the viewer shows of the same colour.
 pub(super) fn rgba(c: Rgb, alpha: f64) -> RGBAColor {
-    let encode = |l: f32| {
-        let l = l.clamp(0.0, 1.0);
-        let v = if l <= 0.003_130_8 { 12.92 * l } else { 1.055 * l.powf(1.0 / 2.4) - 0.055 };
-        (v * 255.0).round() as u8
-    };
-    RGBAColor(encode(c[0]), encode(c[1]), encode(c[2]), alpha)
+    let [r, g, b] = crate::viz::colors::linear_to_srgb(c).map(|v| (v * 255.0).round() as u8);
+    RGBAColor(r, g, b, alpha)
 }
 
 pub(super) struct View {
