@@ -1,7 +1,8 @@
 //! The load factor (issue #21): the Armadillo vault's λ* for a horizontal 1 g along x beside its
 //! `analyze` time (statics alone, the same settings, measured in the same run), and its
 //! worst-direction sweep over 36 azimuths with its refinement (the root of the mechanism's
-//! normal offset between the grid's neighbours).
+//! normal offset between the grid's neighbours). `load_factor_x` against `load_factor_x_blend`:
+//! what recovering one vertex mechanism (`statics::vertex`) adds to the load-factor solve.
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use std::hint::black_box;
@@ -23,6 +24,11 @@ fn load_factor(c: &mut Criterion) {
     });
     g.bench_function("load_factor_x", |b| {
         b.iter(|| black_box(stability::assess_parts(&field, &a.interfaces, true, &settings.statics).unwrap()))
+    });
+    // The same solve without the vertex recovery (issue #73: the recovery ≤ 20 % of the solve).
+    let blend = voussoir::statics::StaticsSettings { one_mechanism: false, ..settings.statics.clone() };
+    g.bench_function("load_factor_x_blend", |b| {
+        b.iter(|| black_box(stability::assess_parts(&field, &a.interfaces, true, &blend).unwrap()))
     });
     g.finish();
     let mut g = c.benchmark_group("robustness/armadillo_sweep");

@@ -236,9 +236,7 @@ pub fn kinematic(analysis: &Analysis, k: &crate::stability::kinematic::Kinematic
             count(JointState::Opening),
             count(JointState::Sliding),
         );
-        for i in m.interfaces.iter().filter(|i| i.state != JointState::Closed).take(5) {
-            let _ = writeln!(o, "    {} → {}: {:?}", i.a, i.b, i.state);
-        }
+        joint_lines(&mut o, m);
     }
     let statics = if analysis.statics.stands { "stands" } else { "falls" };
     let verdict = match (k.verdict, k.agrees) {
@@ -346,12 +344,26 @@ pub fn robustness(
                 count(JointState::Sliding),
                 count(JointState::Closed)
             );
-            for i in m.interfaces.iter().filter(|i| i.state != JointState::Closed).take(5) {
-                let _ = writeln!(o, "    {} → {}: {:?}", i.a, i.b, i.state);
+            if let Some(line) = m.uniqueness.sentence() {
+                let _ = writeln!(o, "    {line}");
             }
+            joint_lines(&mut o, m);
         }
     }
     o
+}
+
+/// A mechanism's moving joints, the largest motion first, five of them and a count of the rest.
+fn joint_lines(o: &mut String, m: &crate::statics::Mechanism) {
+    use std::fmt::Write;
+    const SHOWN: usize = 5;
+    let joints = m.moving_joints();
+    for i in joints.iter().take(SHOWN) {
+        let _ = writeln!(o, "    {} → {}: {:?}", i.a, i.b, i.state);
+    }
+    if joints.len() > SHOWN {
+        let _ = writeln!(o, "    … and {} more moving joint(s), each moving less", joints.len() - SHOWN);
+    }
 }
 
 /// The fabrication tolerance margins, one line each with the joint that governs.

@@ -212,8 +212,9 @@ pub fn assess_cached(
         outcomes.iter().min_by(|a, b| a.1.lambda.total_cmp(&b.1.lambda)).expect("at least one loaded component");
     let lambda = critical.lambda;
     let safety = if lambda.is_infinite() { Safety::Unlimited } else { Safety::Collapses { load_factor: lambda } };
-    let mechanism =
-        (!critical.motions.is_empty()).then(|| Mechanism::new(assembly, interfaces, &[(*comp, &critical.motions)]));
+    let mechanism = (!critical.motions.is_empty()).then(|| {
+        Mechanism::new(assembly, interfaces, &[(*comp, &critical.motions)]).with_uniqueness(critical.uniqueness)
+    });
     Ok(Robustness {
         safety,
         load_factor: lambda,

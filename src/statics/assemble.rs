@@ -216,7 +216,7 @@ impl System {
     }
 
     /// Point `i`'s force in its interface frame (n, u, v): (c_n⁺ − c_n⁻, c_u, c_v).
-    fn frame_force(&self, x: &[f64], i: usize) -> [f64; 3] {
+    pub(super) fn frame_force(&self, x: &[f64], i: usize) -> [f64; 3] {
         let v = |var| self.value(x, i, var);
         [v(Var::CnPos) - v(Var::CnNeg), v(Var::Cu), v(Var::Cv)]
     }

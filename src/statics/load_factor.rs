@@ -30,9 +30,11 @@
 use super::assemble::{Stage, System, contact_problem, live_load};
 use super::backend::{Backend, QpOutcome, run};
 use super::components::Component;
+
 use super::problem::{Accuracy, ContactProblem, LoadColumn, SolverStatus, Strength};
 use super::settings::StaticsSettings;
 use super::stages::LP_TOLERANCE;
+use super::vertex::{FaceOutcome, Uniqueness, vertex};
 use crate::interfaces::Interface;
 use crate::model::Assembly;
 
@@ -57,6 +59,8 @@ pub struct FactorOutcome {
     pub iterations: u32,
     /// Seconds inside the solver.
     pub solver_seconds: f64,
+    /// Whether `motions` is the only mechanism at λ* (a vertex of the optimal face when not).
+    pub uniqueness: Uniqueness,
 }
 
 /// The physical motions of a component's blocks from the duals `z` of its equilibrium rows
@@ -161,17 +165,26 @@ fn load_factor(
     let mut cp = contact_problem(&sys, Stage::Strict, settings);
     cp.p.iter_mut().for_each(|v| *v = 0.0);
     cp.q.iter_mut().for_each(|v| *v = 0.0);
-    cp.factor = Some(LoadColumn { column: live_load(assembly, comp, sys.force_scale), cost: -1.0, bounded });
+    let live = live_load(assembly, comp, sys.force_scale);
+    cp.factor = Some(LoadColumn { column: live.clone(), cost: -1.0, bounded });
     // The stone's strength bounds every joint's compression (clarabel: the crushing rows).
     cp.crushing = settings.strength.map(|s| sys.crushing(Strength::Fixed(s * sys.strength_scale(assembly.scale))));
     let out = solve_to_full_accuracy(&cp, settings);
+    let mut uniqueness = Uniqueness::NotExamined;
     let (lambda, motions) = match out.status {
         SolverStatus::Solved | SolverStatus::AlmostSolved => {
             let blocks = comp.blocks.len();
+            // The crushing rows' duals enter admissibility: their face is left as solved.
+            let (z, face) = if cp.crushing.is_none() && settings.one_mechanism {
+                one_mechanism(&sys, &live, &out.duals, &out.x)
+            } else {
+                (None, uniqueness)
+            };
+            uniqueness = face;
             // λ's column follows the points' (the crushing cones' own columns follow it).
             (
                 out.x[sys.points.len() * cp.per_point()],
-                motions(&out.duals, blocks, sys.force_scale, assembly.scale, 1.0),
+                motions(z.as_deref().unwrap_or(&out.duals), blocks, sys.force_scale, assembly.scale, 1.0),
             )
         }
         SolverStatus::Unbounded => (f64::INFINITY, Vec::new()),
@@ -184,6 +197,21 @@ fn load_factor(
         residual: residual(&sys, &cp, &out.x, lambda),
         iterations: out.iterations,
         solver_seconds: t.elapsed().as_secs_f64(),
+        uniqueness,
+    }
+}
+
+/// A vertex of the optimal face from the interior point's duals `z` and forces `x` (None: keep `z`), and
+/// what it says of the mechanism's uniqueness.
+fn one_mechanism(sys: &System, live: &[f64], z: &[f64], x: &[f64]) -> (Option<Vec<f64>>, Uniqueness) {
+    let forces: Vec<[f64; 3]> = (0..sys.points.len()).map(|p| sys.frame_force(x, p)).collect();
+    match vertex(&sys.geometry, sys.model, sys.mu, live, z, &forces) {
+        FaceOutcome::Unique => (None, Uniqueness::Unique),
+        FaceOutcome::Vertex { vertex, dimension, vertices, .. } => {
+            (Some(vertex), Uniqueness::OneOfMany { dimension, vertices })
+        }
+        FaceOutcome::NoVertices => (None, Uniqueness::NotExamined),
+        FaceOutcome::Failed { dimension, residual } => (None, Uniqueness::Blend { dimension, residual }),
     }
 }
 
@@ -221,6 +249,7 @@ pub fn failure_mechanism(
             residual: residual(&sys, &cp, &out.x, 0.0),
             iterations,
             solver_seconds: t.elapsed().as_secs_f64(),
+            uniqueness: Uniqueness::NotExamined,
         };
         if found || !solved {
             return outcome;

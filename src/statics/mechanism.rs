@@ -11,14 +11,14 @@
 
 use super::components::Component;
 use super::load_factor::Motion;
+pub use super::vertex::Uniqueness;
 use crate::geometry::{Point3, Vector3};
 use crate::interfaces::{Body, Interface};
 use crate::model::{Assembly, BlockId};
 use serde::Serialize;
 
-/// A relative motion below this fraction of the mechanism's largest one is none. (An
-/// interior-point dual is the centre of the optimal face: where the mechanism is not unique —
-/// the Armadillo's is not — small motions of the other mechanisms blend in.)
+/// A relative motion (or a block's) below this fraction of the mechanism's largest one is
+/// none: the solver's round-off, not a motion a designer should read.
 pub const STILL: f64 = 1e-3;
 
 /// What an interface does in the mechanism.
@@ -68,10 +68,16 @@ pub struct InterfaceMotion {
 /// A mechanism over an assembly (see the module docs).
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Mechanism {
-    /// The blocks of the moving components, in block order.
+    /// The moving blocks, in block order: those of the moving components whose motion reaches
+    /// [`STILL`] × the largest block's.
     pub blocks: Vec<BlockMotion>,
     /// The interfaces of the moving components, in interface order.
     pub interfaces: Vec<InterfaceMotion>,
+    /// Whether other mechanisms collapse at the same load factor.
+    pub uniqueness: Uniqueness,
+    /// The moving blocks' ids, in the order of `blocks`.
+    #[serde(skip)]
+    pub moving: Vec<BlockId>,
     /// Every block's motion by [`BlockId`] (zero for the others).
     #[serde(skip)]
     pub motion: Vec<Motion>,
@@ -92,6 +98,12 @@ impl Mechanism {
         }
         moving.sort_unstable();
         joints.sort_unstable();
+        // A block whose motion stays below STILL × the largest is shown still (its motion kept,
+        // so the work balance holds to the last digit).
+        let reach: Vec<f64> = moving.iter().map(|&b| block_reach(assembly, b, &motion[b.0])).collect();
+        let largest_reach = reach.iter().copied().fold(0.0, f64::max);
+        let moving: Vec<BlockId> =
+            moving.iter().zip(&reach).filter(|(_, r)| **r > STILL * largest_reach).map(|(&b, _)| b).collect();
         let blocks = moving
             .iter()
             .map(|&b| {
@@ -103,7 +115,7 @@ impl Mechanism {
                 }
             })
             .collect();
-        let mut mech = Self { blocks, interfaces: Vec::new(), motion };
+        let mut mech = Self { blocks, interfaces: Vec::new(), uniqueness: Uniqueness::NotExamined, moving, motion };
         let relative: Vec<Vec<(f64, f64)>> =
             joints.iter().map(|&k| mech.vertex_motions(assembly, &interfaces[k])).collect();
         let largest = relative.iter().flatten().map(|m| m.0.abs().max(m.1)).fold(0.0, f64::max);
@@ -123,6 +135,22 @@ impl Mechanism {
             })
             .collect();
         mech
+    }
+
+    /// The mechanism with what is known of its uniqueness.
+    pub fn with_uniqueness(mut self, uniqueness: Uniqueness) -> Self {
+        self.uniqueness = uniqueness;
+        self
+    }
+
+    /// The joints that move (every state but closed), the largest relative motion (opening or
+    /// slip) first: where a designer looks to see the structure break.
+    pub fn moving_joints(&self) -> Vec<&InterfaceMotion> {
+        let mut joints: Vec<&InterfaceMotion> =
+            self.interfaces.iter().filter(|i| i.state != JointState::Closed).collect();
+        let size = |i: &InterfaceMotion| i.opening.max(i.sliding);
+        joints.sort_by(|a, b| size(b).total_cmp(&size(a)).then(a.index.cmp(&b.index)));
+        joints
     }
 
     /// How far point `p` of `body` moves (zero for supports and the ground).
@@ -180,6 +208,13 @@ impl Mechanism {
     pub fn work(&self, wrenches: impl Iterator<Item = (BlockId, [f64; 6])>) -> f64 {
         wrenches.map(|(b, w)| w.iter().zip(&self.motion[b.0]).map(|(a, m)| a * m).sum::<f64>()).sum()
     }
+}
+
+/// The largest motion of any vertex of block `b` under motion `m`, m.
+fn block_reach(assembly: &Assembly, b: BlockId, m: &Motion) -> f64 {
+    let block = assembly.block(b);
+    let (t, w) = (Vector3::new(m[0], m[1], m[2]), Vector3::new(m[3], m[4], m[5]));
+    block.mesh.vertices.iter().map(|p| (t + w.cross(&(p - block.mass.centroid))).norm()).fold(0.0, f64::max)
 }
 
 /// The state of a joint from its vertices' (normal, tangential) relative motions, motions

@@ -45,7 +45,9 @@
 //!    `error` ([`StaticsError`]), [`components`] (connected components of free blocks).
 //! 2. `backend`: the solvers, over `problem` only; `settings` ([`StaticsSettings`]), over `backend`'s
 //!    [`Backend`] and `problem`.
-//! 3. `assemble`: a component's rows and each stage's problem.
+//! 3. `assemble`: a component's rows and each stage's problem; `vertex`: one vertex of a load
+//!    factor's optimal face (the mechanism's recovery) and what it says of its uniqueness, over
+//!    `problem` only.
 //! 4. `stages`: a component's solve stage by stage, and the verdict rule; `load_factor`: a
 //!    component's load factor and collapse mechanism (an LP/SOCP on the same rows, its dual);
 //!    `infill`: the densities that make a component stand (the same rows with the
@@ -70,6 +72,7 @@ mod rate;
 mod result;
 mod settings;
 mod stages;
+mod vertex;
 
 pub use backend::{Backend, ConicOutcome, kernel_profile, solve_conic};
 pub(crate) use cache::component_key;
@@ -78,7 +81,7 @@ pub use components::{Component, components};
 pub use error::StaticsError;
 pub use infill::{DensityCell, DensityGoal, DensityOutcome, LiveCase, component_densities};
 pub use load_factor::{FactorOutcome, Motion, component_load_factor, failure_mechanism, standing_load_factor};
-pub use mechanism::{BlockMotion, InterfaceMotion, JointState, Mechanism};
+pub use mechanism::{BlockMotion, InterfaceMotion, JointState, Mechanism, Uniqueness};
 pub use problem::{Accuracy, BlockColumn, Cone, ConicProblem, FrictionModel, SolverStatus, StressBlock};
 // The contact form, for the exact-contact engine's steps on the structured solver.
 pub(crate) use backend::{Warm, WarmStart, run_warm as solve_contact_problem};

@@ -55,6 +55,10 @@ pub struct StaticsSettings {
     /// that does not end `Solved` within the cold one's iterations is run again cold), not bit
     /// for bit: so off by default, where the same input must give the same output.
     pub warm_start: bool,
+    /// Where several mechanisms collapse at the same load factor, report one of them — a vertex
+    /// of the optimal face (`statics::vertex`) — rather than the interior point's blend. Off
+    /// only to measure what the recovery costs: λ* is the same either way.
+    pub one_mechanism: bool,
     /// Which interior-point solver runs the problems (the enum's `#[default]`).
     pub backend: Backend,
     /// Which stage a component's solve starts with (the enum's `#[default]`).
@@ -96,6 +100,7 @@ impl Default for StaticsSettings {
             split_components: true,
             distribution: true,
             warm_start: false,
+            one_mechanism: true,
             backend: Backend::default(),
             first_stage: FirstStage::default(),
         }

@@ -143,8 +143,9 @@ impl Shown<'_> {
                         (n > 0).then(|| format!("{n} {}", joint_words(s)))
                     })
                     .collect();
+                let unique = mechanism.uniqueness.label().map_or(String::new(), |l| format!("\n{l}"));
                 format!(
-                    "{head}\nviolet: moved, largest motion drawn\n  as {:.0} % of the size · ghost: at rest\n{}",
+                    "{head}\nviolet: moved, largest motion drawn\n  as {:.0} % of the size · ghost: at rest\n{}{unique}",
                     100.0 * crate::viz::EXAGGERATION,
                     if states.is_empty() { "no joint opens".into() } else { states.join(" · ") }
                 )

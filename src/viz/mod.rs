@@ -283,6 +283,8 @@ mod plane_tests {
                 .map(|(k, (translation, rotation))| BlockMotion { block: format!("b{k}"), translation, rotation })
                 .collect(),
             interfaces: Vec::new(),
+            uniqueness: Default::default(),
+            moving: Vec::new(),
             motion: Vec::new(),
         }
     }

@@ -35,6 +35,7 @@ mod kinematic_check;
 mod layers;
 mod load_factor;
 mod mass_properties;
+mod mechanism_vertex;
 mod motion;
 mod no_panic_inputs;
 mod pattern_cut;

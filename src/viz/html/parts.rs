@@ -34,7 +34,7 @@ impl HtmlReport<'_> {
         let a = self.analysis;
         let Some(mechanism) = &answer.result.mechanism else { return };
         let Some(glb) = crate::viz::gltf::mechanism_glb(&a.assembly, mechanism, MECHANISM_SECONDS) else { return };
-        let moved: Vec<usize> = (0..a.assembly.blocks.len()).filter(|&b| mechanism.motion[b] != [0.0; 6]).collect();
+        let moved: Vec<usize> = mechanism.moving.iter().map(|b| b.0).collect();
         let caption = format!(
             "collapse mechanism under {}: λ* = {:.4}; {} moving block(s), drawn with the largest motion {:.0} % of the model size",
             answer.load,

@@ -61,7 +61,7 @@ impl MechanismPicture<'_> {
         for (i, block) in asm.blocks.iter().enumerate() {
             let rest = &block.mesh.vertices;
             let shifted = mech.map(|m| m.displaced(asm, BlockId(i), scale));
-            let moving = shifted.as_ref().is_some_and(|s| s != rest);
+            let moving = mech.is_some_and(|m| m.moving.contains(&BlockId(i)));
             for face in &block.mesh.faces {
                 let polygon = |pts: &[Point3<f64>]| -> (f64, Vec<(f64, f64)>) {
                     let c = Point3::from(face.iter().map(|&k| pts[k].coords).sum::<Vector3<f64>>() / face.len() as f64);
@@ -127,6 +127,7 @@ impl MechanismPicture<'_> {
                 let n = m.interfaces.iter().filter(|i| i.state == state).count();
                 lines.push(format!("{n} {}", format!("{state:?}").to_lowercase()));
             }
+            lines.extend(m.uniqueness.label());
             lines.push(format!("motion × {:.0}% of size", 100.0 * crate::viz::EXAGGERATION));
         } else {
             lines.push("no mechanism".into());
