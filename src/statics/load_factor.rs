@@ -165,8 +165,7 @@ fn load_factor(
     let mut cp = contact_problem(&sys, Stage::Strict, settings);
     cp.p.iter_mut().for_each(|v| *v = 0.0);
     cp.q.iter_mut().for_each(|v| *v = 0.0);
-    let live = live_load(assembly, comp, sys.force_scale);
-    cp.factor = Some(LoadColumn { column: live.clone(), cost: -1.0, bounded });
+    cp.factor = Some(LoadColumn { column: live_load(assembly, comp, sys.force_scale), cost: -1.0, bounded });
     // The stone's strength bounds every joint's compression (clarabel: the crushing rows).
     cp.crushing = settings.strength.map(|s| sys.crushing(Strength::Fixed(s * sys.strength_scale(assembly.scale))));
     let out = solve_to_full_accuracy(&cp, settings);
@@ -176,7 +175,8 @@ fn load_factor(
             let blocks = comp.blocks.len();
             // The crushing rows' duals enter admissibility: their face is left as solved.
             let (z, face) = if cp.crushing.is_none() && settings.one_mechanism {
-                one_mechanism(&sys, &live, &out.duals, &out.x)
+                let live = cp.factor.as_ref().map_or(&[][..], |f| f.column.as_slice());
+                one_mechanism(&sys, live, &out.duals, &out.x)
             } else {
                 (None, uniqueness)
             };

@@ -180,16 +180,10 @@ impl Mechanism {
 
     /// The largest motion of any vertex of a moving block, m.
     pub fn largest_motion(&self, assembly: &Assembly) -> f64 {
-        let mut largest: f64 = 0.0;
-        for (i, b) in assembly.blocks.iter().enumerate() {
-            if self.motion[i] == [0.0; 6] {
-                continue;
-            }
-            for p in &b.mesh.vertices {
-                largest = largest.max(self.point_motion(assembly, Body::Block(BlockId(i)), p).norm());
-            }
-        }
-        largest
+        (0..assembly.blocks.len())
+            .filter(|&i| self.motion[i] != [0.0; 6])
+            .map(|i| block_reach(assembly, BlockId(i), &self.motion[i]))
+            .fold(0.0, f64::max)
     }
 
     /// Block `b`'s vertices moved by `scale` × the mechanism (linearised: small rotations).

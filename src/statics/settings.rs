@@ -57,7 +57,8 @@ pub struct StaticsSettings {
     pub warm_start: bool,
     /// Where several mechanisms collapse at the same load factor, report one of them — a vertex
     /// of the optimal face (`statics::vertex`) — rather than the interior point's blend. Off
-    /// only to measure what the recovery costs: λ* is the same either way.
+    /// where only λ* is wanted (the design search's objective) and to measure what the recovery
+    /// costs: λ* is the same either way.
     pub one_mechanism: bool,
     /// Which interior-point solver runs the problems (the enum's `#[default]`).
     pub backend: Backend,

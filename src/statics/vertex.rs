@@ -149,7 +149,7 @@ pub enum FaceOutcome {
     Failed { dimension: usize, residual: f64 },
 }
 
-/// One admissibility row r_pk: its entries over the block rows.
+/// One admissibility row r_pk, scaled to unit length: its entries over the block rows.
 type Row = Vec<(usize, f64)>;
 
 /// The vertex of the optimal face reached from the interior point `z` (6 per block) with the
@@ -169,7 +169,7 @@ pub fn vertex(
     let n = 6 * geometry.blocks;
     let z = &z[..n];
     let rows = admissibility_rows(geometry, &pyramid.generators);
-    let values: Vec<f64> = rows.iter().map(|r| dot(r, z) / norm(r).max(f64::MIN_POSITIVE)).collect();
+    let values: Vec<f64> = rows.iter().map(|r| dot(r, z)).collect();
     let shares = pyramid.shares(forces);
     let (tight, scale) = tight_rows(&values, &shares);
     let directions = face_directions(&rows, &tight, live, n);
@@ -259,8 +259,8 @@ impl Pyramid {
     }
 }
 
-/// Every (force point, generator) row: the equilibrium column of the force g_k at p, so that
-/// r·z is the work of g_k on p's relative motion.
+/// Every (force point, generator) row, of unit length: the equilibrium column of the force g_k
+/// at p, so that r·z is the work of g_k on p's relative motion (per unit of the column).
 fn admissibility_rows(geometry: &Geometry, generators: &[[f64; 3]]) -> Vec<Row> {
     let mut rows = Vec::with_capacity(geometry.points() * generators.len());
     for contact in &geometry.contacts {
@@ -268,6 +268,8 @@ fn admissibility_rows(geometry: &Geometry, generators: &[[f64; 3]]) -> Vec<Row> 
             for g in generators {
                 let mut row = Row::with_capacity(12);
                 contact.force_rows(&geometry.rho[p], g, |r, v| row.push((r, v)));
+                let length = row.iter().map(|(_, v)| v * v).sum::<f64>().sqrt();
+                row.iter_mut().for_each(|(_, v)| *v /= length.max(f64::MIN_POSITIVE));
                 rows.push(row);
             }
         }
@@ -276,9 +278,10 @@ fn admissibility_rows(geometry: &Geometry, generators: &[[f64; 3]]) -> Vec<Row> 
 }
 
 /// The tight rows' indices and the scale of the row values (their largest, over unit rows).
-/// Complementarity decides: a row is tight where its rate is below [`STILL_ROW`], or where the force's share of its generator, relative
-/// to the largest share, exceeds its work rate relative to the largest rate — the interior
-/// point leaves both small only where neither carries anything.
+/// Complementarity decides: a row is tight where its rate is below [`STILL_ROW`], or where the
+/// force's share of its generator, relative to the largest share, exceeds its work rate
+/// relative to the largest rate — the interior point leaves both small only where neither
+/// carries anything.
 fn tight_rows(values: &[f64], shares: &[f64]) -> (Vec<usize>, f64) {
     let largest = |v: &[f64]| v.iter().fold(0.0f64, |m, v| m.max(v.abs())).max(f64::MIN_POSITIVE);
     let (scale, share) = (largest(values), largest(shares));
@@ -295,14 +298,10 @@ fn dot(row: &Row, z: &[f64]) -> f64 {
     row.iter().map(|&(i, v)| v * z[i]).sum()
 }
 
-fn norm(row: &Row) -> f64 {
-    row.iter().map(|(_, v)| v * v).sum::<f64>().sqrt()
-}
-
 /// An orthonormal basis (columns, n × f) of the directions d with r·d = 0 for every tight row
 /// and Lᵀd = 0: the optimal face's directions.
 fn face_directions(rows: &[Row], tight: &[usize], live: &[f64], n: usize) -> DMatrix<f64> {
-    let held: Vec<&Row> = tight.iter().map(|&i| &rows[i]).filter(|r| norm(r) > 0.0).collect();
+    let held: Vec<&Row> = tight.iter().map(|&i| &rows[i]).collect();
     let kernel = null_space(&held, n);
     if kernel.ncols() == 0 {
         return kernel;
@@ -321,7 +320,7 @@ fn face_directions(rows: &[Row], tight: &[usize], live: &[f64], n: usize) -> DMa
     kernel * basis
 }
 
-/// The null space of `rows` (n columns each), orthonormal columns: H = Σ r̂ r̂ᵀ factored once
+/// The null space of the unit `rows` (n columns each), orthonormal columns: H = Σ r rᵀ factored once
 /// with a shift, blocks of trial vectors swept by inverse iteration, H's Ritz values on them
 /// below [`NULL`] kept; the block doubles while every Ritz value is null.
 fn null_space(rows: &[&Row], n: usize) -> DMatrix<f64> {
@@ -330,11 +329,10 @@ fn null_space(rows: &[&Row], n: usize) -> DMatrix<f64> {
     }
     let mut triplets = Vec::with_capacity(rows.len() * 78 + n);
     for row in rows {
-        let s = 1.0 / (norm(row) * norm(row));
         for &(i, a) in row.iter() {
             for &(j, b) in row.iter() {
                 if j <= i {
-                    triplets.push(Triplet::new(i, j, a * b * s));
+                    triplets.push(Triplet::new(i, j, a * b));
                 }
             }
         }
@@ -347,9 +345,8 @@ fn null_space(rows: &[&Row], n: usize) -> DMatrix<f64> {
     let h_apply = |x: &DMatrix<f64>| {
         let mut out = DMatrix::zeros(n, x.ncols());
         for row in rows {
-            let s = 1.0 / (norm(row) * norm(row));
             for c in 0..x.ncols() {
-                let d: f64 = row.iter().map(|&(i, v)| v * x[(i, c)]).sum::<f64>() * s;
+                let d: f64 = row.iter().map(|&(i, v)| v * x[(i, c)]).sum();
                 for &(i, v) in row.iter() {
                     out[(i, c)] += v * d;
                 }
@@ -379,10 +376,9 @@ fn null_space(rows: &[&Row], n: usize) -> DMatrix<f64> {
 fn dense_null_space(rows: &[&Row], n: usize) -> DMatrix<f64> {
     let mut h = DMatrix::<f64>::zeros(n, n);
     for row in rows {
-        let s = 1.0 / (norm(row) * norm(row));
         for &(i, a) in row.iter() {
             for &(j, b) in row.iter() {
-                h[(i, j)] += a * b * s;
+                h[(i, j)] += a * b;
             }
         }
     }
@@ -411,7 +407,7 @@ fn l1_descent(z: &[f64], directions: &DMatrix<f64>) -> DVector<f64> {
 }
 
 /// The optimal face in its own coordinates c (z = z* + N c): the loose rows' values s_j at z*
-/// and their slopes w_j = r_j·N, both over unit rows.
+/// and their slopes w_j = r_j·N.
 struct Face {
     slack: Vec<f64>,
     slope: Vec<DVector<f64>>,
@@ -424,12 +420,11 @@ impl Face {
         let mut slack = Vec::new();
         let mut slope = Vec::new();
         for (j, (row, &v)) in rows.iter().zip(values).enumerate() {
-            let r = norm(row);
-            if r == 0.0 || tight.binary_search(&j).is_ok() {
+            if tight.binary_search(&j).is_ok() {
                 continue;
             }
             slack.push(v);
-            slope.push(DVector::from_fn(f, |c, _| row.iter().map(|&(i, a)| a * directions[(i, c)]).sum::<f64>() / r));
+            slope.push(DVector::from_fn(f, |c, _| row.iter().map(|&(i, a)| a * directions[(i, c)]).sum::<f64>()));
         }
         Self { slack, slope, dimension: f }
     }
@@ -499,7 +494,7 @@ impl Face {
 fn check(rows: &[Row], vertex: &[f64], live: &[f64], z: &[f64], scale: f64) -> f64 {
     let work = |m: &[f64]| m.iter().zip(live).map(|(a, b)| a * b).sum::<f64>();
     let live_miss = (work(vertex) - work(z)).abs() / work(z).abs().max(f64::MIN_POSITIVE);
-    let worst = rows.iter().map(|r| dot(r, vertex) / norm(r).max(f64::MIN_POSITIVE)).fold(0.0f64, f64::min);
+    let worst = rows.iter().map(|r| dot(r, vertex)).fold(0.0f64, f64::min);
     live_miss.max(-worst / scale)
 }
 

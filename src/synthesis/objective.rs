@@ -141,7 +141,9 @@ impl Evaluator {
     /// The smallest λ over the azimuths (0 when a direction's solve fails: no credit for it).
     fn load_factor(&self, analysis: &Analysis) -> f64 {
         let sweep = DirectionSettings { directions: self.directions.unwrap_or(8), refine: 0 };
-        worst_direction(&analysis.assembly, &analysis.interfaces, &self.settings.statics, &sweep, &|_, _| {})
+        // Only λ counts here: no mechanism is shown, so none is recovered.
+        let statics = crate::statics::StaticsSettings { one_mechanism: false, ..self.settings.statics.clone() };
+        worst_direction(&analysis.assembly, &analysis.interfaces, &statics, &sweep, &|_, _| {})
             .map(|s| s.worst_load_factor)
             .unwrap_or(0.0)
     }
