@@ -9,7 +9,8 @@ use criterion::{Criterion, criterion_group, criterion_main};
 use std::hint::black_box;
 use std::time::Duration;
 use voussoir::dynamics::{DropSettings, Engine, drop_test};
-use voussoir::model::{Assembly, builtin};
+use voussoir::geometry::{Mesh, Point3};
+use voussoir::model::{Assembly, Block, Scene, builtin};
 use voussoir::statics::Backend;
 
 fn drops(c: &mut Criterion) {
@@ -27,6 +28,15 @@ fn drops(c: &mut Criterion) {
     }
     let asm = Assembly::new(&builtin("arch?n=15&t=0.08").unwrap(), &Default::default()).unwrap();
     g.bench_function("exact/collapsing arch?n=15&t=0.08", |b| b.iter(|| black_box(drop_test(&asm, &exact).unwrap())));
+    g.bench_function("collapsing arch?n=15&t=0.08", |b| {
+        b.iter(|| black_box(drop_test(&asm, &DropSettings::default()).unwrap()))
+    });
+    // Every moving step by the Tresca rounds (no step by the contacts' states): the states' share.
+    let mut rounds = exact.clone();
+    rounds.exact.by_states = false;
+    g.bench_function("exact_rounds/collapsing arch?n=15&t=0.08", |b| {
+        b.iter(|| black_box(drop_test(&asm, &rounds).unwrap()))
+    });
     // Each structured solve cold (no kept iterate): the warm starts' share.
     let mut cold = exact.clone();
     cold.exact.warm_start = false;
@@ -47,6 +57,7 @@ fn drops(c: &mut Criterion) {
         b.iter(|| black_box(drop_test(&asm, &on_clarabel).unwrap()))
     });
     g.finish();
+    rocking(c, &exact, &rounds);
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/compas/compas_cra/armadillo_cra.json");
     let mut scene = voussoir::io::load_scene(&path).unwrap();
     scene.material.friction = 0.84;
@@ -60,6 +71,27 @@ fn drops(c: &mut Criterion) {
     let mut g = c.benchmark_group("dynamics/drop_10s");
     g.sample_size(10).measurement_time(Duration::from_secs(45));
     g.bench_function("armadillo", |b| b.iter(|| black_box(drop_test(&asm, &settings).unwrap())));
+    g.finish();
+}
+
+/// Housner's slender block (0.2 × 0.2 × 1 m, leaning 8° on its edge on the ground plane), 4 s
+/// at the default dt: by the contacts' states, by the rounds, and on rapier.
+fn rocking(c: &mut Criterion, exact: &DropSettings, rounds: &DropSettings) {
+    let (b, h, theta) = (0.1f64, 0.5f64, 8f64.to_radians());
+    let (s, co) = theta.sin_cos();
+    let mesh = Mesh::cuboid(Point3::new(-b, -b, 0.0), Point3::new(b, b, 2.0 * h)).map_points(|p| {
+        let x = p.x - b;
+        Point3::new(b + co * x + s * p.z, p.y, -s * x + co * p.z)
+    });
+    let mut scene = Scene::new("rocking", vec![Block::new("block", mesh)]);
+    scene.ground = true;
+    let asm = Assembly::new(&scene, &Default::default()).unwrap();
+    let four = |s: &DropSettings| DropSettings { duration: 4.0, ..s.clone() };
+    let mut g = c.benchmark_group("dynamics/rocking_4s");
+    g.sample_size(20).measurement_time(Duration::from_secs(8));
+    g.bench_function("exact", |bch| bch.iter(|| black_box(drop_test(&asm, &four(exact)).unwrap())));
+    g.bench_function("exact_rounds", |bch| bch.iter(|| black_box(drop_test(&asm, &four(rounds)).unwrap())));
+    g.bench_function("rapier", |bch| bch.iter(|| black_box(drop_test(&asm, &four(&DropSettings::default())).unwrap())));
     g.finish();
 }
 

@@ -98,6 +98,11 @@ pub struct DropOptions {
     /// rigid-Coulomb model admits both (a bar between two posts could slide down with no force).
     #[arg(long)]
     pub rest_when_admissible: bool,
+    /// Exact engine: solve every moving step by the Tresca rounds of interior-point solves,
+    /// instead of first by its contacts' last states (one linear solve where they still hold;
+    /// the same answer, to cross-check).
+    #[arg(long)]
+    pub rounds_only: bool,
 }
 
 impl DropOptions {
@@ -111,6 +116,7 @@ impl DropOptions {
             backend,
             split_impacts: !self.no_split_impacts,
             rest_when_admissible: self.rest_when_admissible,
+            by_states: !self.rounds_only,
             ..Default::default()
         };
         DropSettings {

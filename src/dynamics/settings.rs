@@ -159,6 +159,12 @@ pub struct ExactSettings {
     pub backend: Backend,
     /// The force selection's friction sets.
     pub selection: Selection,
+    /// Take a moving component's step first by its contacts' last states (open, sticking,
+    /// sliding): one linear solve, kept where it meets every exact-Coulomb condition, the
+    /// Tresca rounds otherwise (exact Coulomb with the round's selection, no crushing, not
+    /// `rest_when_admissible`: a drop's steps). `false` runs the rounds on every step (to
+    /// cross-check).
+    pub by_states: bool,
 }
 
 impl Default for ExactSettings {
@@ -187,6 +193,7 @@ impl Default for ExactSettings {
             backend: Backend::default(),
             // Exact velocities for a drop's energy balance; the quasi-static runs take Coulomb.
             selection: Selection::Round,
+            by_states: true,
         }
     }
 }

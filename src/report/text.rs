@@ -183,9 +183,10 @@ pub fn side_by_side(analysis: &Analysis, d: &DropResult) -> String {
 fn exact_engine(e: &crate::dynamics::ExactStats) -> String {
     let b = &e.energy;
     let mut o = format!(
-        "  exact contacts ({} Coulomb, {}): {} solves ({} without clarabel), {} iterations, up to {} round(s) a step{}{}; {:?}, residual {:.1e} N\n",
+        "  exact contacts ({} Coulomb, {}): {} steps by their contacts' states, {} solves ({} without clarabel), {} iterations, up to {} round(s) a step{}{}; {:?}, residual {:.1e} N\n",
         e.coulomb,
         e.friction_model,
+        e.state_steps,
         e.solves,
         e.structured_solves,
         e.iterations,

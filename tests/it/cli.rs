@@ -456,16 +456,18 @@ fn the_options_default_to_the_librarys_settings() {
     assert_eq!(export.diagram.mode().unwrap(), voussoir::viz::DiagramMode::default());
     assert_eq!(export.diagram.threshold, voussoir::viz::DiagramMode::DEFAULT_THRESHOLD);
     // The exact engine's switches turn the library's defaults over, and only those.
-    let flags = ["voussoir", "analyze", "--no-split-impacts", "--rest-when-admissible", "--no-floor"];
+    let flags = ["voussoir", "analyze", "--no-split-impacts", "--rest-when-admissible", "--no-floor", "--rounds-only"];
     let Ok(Cli { command: Some(Cmd::Analyze(flagged)) }) = Cli::try_parse_from(flags) else { panic!("flags parse") };
     let s = flagged.drop.settings(None, Default::default(), Default::default());
     let d = voussoir::dynamics::DropSettings::default();
     assert!(!s.exact.split_impacts && d.exact.split_impacts);
     assert!(s.exact.rest_when_admissible && !d.exact.rest_when_admissible);
     assert!(!s.floor && d.floor);
+    assert!(!s.exact.by_states && d.exact.by_states);
     let back = voussoir::dynamics::ExactSettings {
         split_impacts: d.exact.split_impacts,
         rest_when_admissible: d.exact.rest_when_admissible,
+        by_states: d.exact.by_states,
         ..s.exact.clone()
     };
     assert_eq!(back, d.exact);

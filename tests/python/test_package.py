@@ -397,6 +397,11 @@ def test_the_exact_engine_s_switches():
     whole = voussoir.drop(scene, engine="exact", duration=1.0, split_impacts=False)["exact"]
     assert split["split_steps"] > 0 and whole["split_steps"] == 0
     assert whole["energy"]["error"] < 1e-6
+    # Its moving steps go by the contacts' states, unless by_states is off (then every step
+    # is the rounds' interior-point solves, at least twice as many of them).
+    rounds = voussoir.drop(scene, engine="exact", duration=1.0, by_states=False)["exact"]
+    assert split["state_steps"] > 0 and rounds["state_steps"] == 0
+    assert 2 * split["solves"] <= rounds["solves"]
     # compas_cra's H bar between its posts: the kinematic check's motion from rest (the bar
     # slides down with no force on it) by default; held by an equilibrium with
     # rest_when_admissible.

@@ -205,12 +205,14 @@ solve_function! {
     /// model and solver; its account under "exact": solves, status, overlap, energy balance).
     /// `split_impacts` (exact engine; default True) splits a step at an impact's instant;
     /// `rest_when_admissible` (default False) keeps a design at rest where an equilibrium holds
-    /// it; `floor` (default True) puts a floor under a design with supports and no ground.
+    /// it; `floor` (default True) puts a floor under a design with supports and no ground;
+    /// `by_states` (default True) takes a moving step first by its contacts' last states, False
+    /// solves every step by the Tresca rounds (the same answer, to cross-check).
     pub fn drop<'py>(
         py, scene,
         duration: Option<f64> = None, dt: Option<f64> = None, engine: Option<String> = None,
         split_impacts: Option<bool> = None, rest_when_admissible: Option<bool> = None,
-        floor: Option<bool> = None,
+        floor: Option<bool> = None, by_states: Option<bool> = None,
         ..options(mu, friction_model, solver, supports, ground, density)
     ) -> PyResult<Bound<'py, PyAny>> {
         let (design, settings) = options.apply(scene)?;
@@ -223,6 +225,7 @@ solve_function! {
                 backend: settings.statics.backend,
                 split_impacts: split_impacts.unwrap_or(defaults.exact.split_impacts),
                 rest_when_admissible: rest_when_admissible.unwrap_or(defaults.exact.rest_when_admissible),
+                by_states: by_states.unwrap_or(defaults.exact.by_states),
                 ..defaults.exact.clone()
             },
             duration: duration.unwrap_or(defaults.duration),

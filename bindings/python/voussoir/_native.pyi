@@ -236,12 +236,19 @@ def drop(
     *,
     duration: Optional[float] = None,
     dt: Optional[float] = None,
+    engine: Optional[str] = None,
+    split_impacts: Optional[bool] = None,
+    rest_when_admissible: Optional[bool] = None,
+    floor: Optional[bool] = None,
+    by_states: Optional[bool] = None,
     mu: Optional[float] = None,
+    friction_model: Optional[FrictionModel] = None,
+    solver: Optional[Solver] = None,
     supports: Optional[Supports] = None,
     ground: Optional[bool] = None,
     density: Optional[float] = None,
 ) -> dict[str, Any]:
-    """The rapier drop test's result."""
+    """The drop test's result on rapier (default) or the exact engine ("exact")."""
 
 def repair(
     scene: Scene,

@@ -76,6 +76,21 @@ pub(super) struct Contact {
     pub scale: f64,
     /// The normal force of the last step that solved it, N (warms the friction capacity).
     pub last_normal: f64,
+    /// Its state at the end of the last step that solved it (starts the next step's states).
+    pub state: State,
+}
+
+/// A contact's state at the end of its last step, in its own (u, v) frame.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub(super) enum State {
+    #[default]
+    Open,
+    Stick,
+    /// Sliding, the friction force pointing at `angle` (rad, from u towards v): against the
+    /// slip (on a polygon: a facet's normal, or any angle within a vertex's cone).
+    Slide {
+        angle: f64,
+    },
 }
 
 /// A contact's geometry at the current poses.
@@ -137,6 +152,7 @@ pub(super) fn build(
                 reach,
                 scale,
                 last_normal: 0.0,
+                state: Default::default(),
             });
         }
     }
@@ -154,6 +170,7 @@ pub(super) fn build(
                     reach: f64::INFINITY,
                     scale: block_size(assembly, body.block),
                     last_normal: 0.0,
+                    state: Default::default(),
                 });
             }
         }

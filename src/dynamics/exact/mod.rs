@@ -30,6 +30,13 @@
 //!   too (nothing slips) and it stays — the static theorem's pick where the exact sets also
 //!   admit a motion (a flat arch whose halves could slide down their vertical joints with no
 //!   force on them stands, as its statics say); otherwise those forces start the rounds.
+//! - A moving component's step is first taken by its contacts' last states (`active_set`):
+//!   open, sticking or sliding one way, the step is one linear system, solved by the method of
+//!   multipliers and checked against every exact-Coulomb condition; states that fail are changed
+//!   and the system solved again, a few times, before the rounds above take the step. In smooth
+//!   motion (a block rocking between impacts, an arch's hinges turning) the states hold and a
+//!   step costs one small factorisation; impacts and new slips go to the rounds. Drops only: a
+//!   settlement's runs take the rounds' pick ([`ExactSettings::by_states`][crate::dynamics::settings::ExactSettings]).
 //! - A component touching nothing falls freely: M v⁺ = M v + h w, no solve.
 //! - A component whose step leaves every vertex slower than `still` × g h is set at rest; one
 //!   at rest whose step leaves it at rest sleeps — the next steps would repeat the same problem
@@ -58,6 +65,7 @@
 //! Units SI (m, kg, s, N), z up; solved non-dimensionally (`bodies::Units`). Same input,
 //! same trajectory (the same solves in the same order).
 
+mod active_set;
 mod anderson;
 mod best;
 mod bodies;
@@ -142,6 +150,9 @@ pub struct ExactStats {
     pub sleeping_steps: u64,
     /// Steps split at an impact's instant (each one solve more).
     pub split_steps: u64,
+    /// Steps of a moving component taken by its contacts' states (one linear solve, no
+    /// interior point: `active_set`).
+    pub state_steps: u64,
     /// Overlaps projected out at a step's end (each one solve more).
     pub projections: u64,
     /// The worst solve's status.
@@ -248,6 +259,7 @@ impl World {
             failed_steps: 0,
             sleeping_steps: 0,
             split_steps: 0,
+            state_steps: 0,
             projections: 0,
             status: SolverStatus::Solved,
             residual: 0.0,

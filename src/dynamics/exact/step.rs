@@ -1,9 +1,11 @@
 //! One component's step: the rounds of solves, then its new velocities, forces and account.
 
 use super::World;
+use super::active_set::state_after;
 use super::anderson::Anderson;
 use super::best::Best;
 use super::contact_form::{self, StepData};
+use super::contacts::State;
 use super::crushing::{self, Crush};
 use super::problem::{self, Active, Solution, StepProblem};
 use crate::dynamics::settings::{Coulomb, Selection};
@@ -59,6 +61,16 @@ impl World {
             return;
         }
         let exact = self.ctx.coulomb == Coulomb::Exact;
+        let moving = !comp.iter().all(|&k| self.bodies[k].at_rest());
+        if exact
+            && moving
+            && self.by_states()
+            && let Some(sol) = self.step_by_states(comp, &local, &active)
+        {
+            self.stats.state_steps += 1;
+            let rest = self.peak_speed(comp, &sol) <= self.settings.still * self.ctx.units.g * self.ctx.h;
+            return self.accept(comp, &active, sol, rest);
+        }
         if exact && self.settings.rest_when_admissible && comp.iter().all(|&k| self.bodies[k].at_rest()) {
             match self.step_from_rest(comp, &local, &active) {
                 FromRest::Stays(sol) => return self.accept(comp, &active, sol, true),
@@ -174,6 +186,15 @@ impl World {
         };
         selection.select_forces(first, first_residual, open);
         (selection, ctx)
+    }
+
+    /// Whether a moving component's step is first tried by its contacts' states: exact Coulomb
+    /// with the round's own force selection (a drop), no crushing. A settlement's runs pick the
+    /// limit-analysis model's answer where exact Coulomb admits several (Coulomb's selection, a
+    /// component at rest held where an equilibrium holds it): the rounds' pick, not the states'.
+    fn by_states(&self) -> bool {
+        let s = &self.settings;
+        s.by_states && s.selection == Selection::Round && !s.rest_when_admissible && self.ctx.strength.is_none()
     }
 
     /// A component at rest: the step with Coulomb's coupled sets (friction bounded by μ f_n of
@@ -332,7 +353,10 @@ impl World {
         }
         for c in self.contacts.iter_mut().filter(|c| comp.iter().any(|&k| c.touches(k))) {
             c.last_normal = 0.0;
+            c.state = State::Open;
         }
+        let slow = self.settings.still * self.ctx.units.g * h;
+        let noise = force_noise(&sol.normal, self.settings.solver_tolerance);
         let mut contact_work = 0.0;
         for (((a, &n), impulse), work) in active.iter().zip(&sol.normal).zip(&sol.impulses).zip(&sol.work) {
             let c = &self.contacts[a.contact];
@@ -346,7 +370,11 @@ impl World {
                 self.stats.max_penetration = self.stats.max_penetration.max(-a.geometry.gap / scale);
                 self.deepest = self.deepest.max(-a.geometry.gap);
             }
-            self.contacts[a.contact].last_normal = n * self.ctx.units.force;
+            let slip = relative - a.geometry.frame[0] * relative.dot(&a.geometry.frame[0]);
+            let state = state_after((n, noise), &a.geometry.frame, &slip, slow);
+            let c = &mut self.contacts[a.contact];
+            c.last_normal = n * self.ctx.units.force;
+            c.state = state;
         }
         let e = &mut self.stats.energy;
         e.contact += contact_work;
@@ -395,12 +423,17 @@ fn binds_nowhere(active: &[Active], next: &[f64], gauge: &[f64], slack: f64) -> 
         .all(|((a, &c), &t)| (c - a.capacity).abs() <= slack || t <= a.capacity.min(c) - slack)
 }
 
+/// The normal force (non-dimensional) below which a solve's force is its noise: √(tol × max(1, Σ f²)).
+fn force_noise(normal: &[f64], tolerance: f64) -> f64 {
+    let sum_sq: f64 = normal.iter().map(|f| f * f).sum();
+    (tolerance * sum_sq.max(1.0)).sqrt()
+}
+
 /// The next round's capacities μ f_n, a normal force within the solver's noise counted as none
 /// (non-dimensional). The force selection resolves Σ f² to the tolerance, so a force with f²
 /// below tol × max(1, Σ f²) is invisible to it: where no force is needed (a bar sliding down
 /// between posts) the barrier leaves ~√tol on every contact, which would become friction.
 fn capacities(normal: &[f64], mu: f64, tolerance: f64) -> Vec<f64> {
-    let sum_sq: f64 = normal.iter().map(|f| f * f).sum();
-    let noise = (tolerance * sum_sq.max(1.0)).sqrt();
+    let noise = force_noise(normal, tolerance);
     normal.iter().map(|&f| if f > noise { mu * f } else { 0.0 }).collect()
 }

@@ -1,0 +1,601 @@
+//! A step by its contacts' states: the fast path of exact Coulomb steps in smooth motion.
+//!
+//! The Tresca rounds solve a step's exact-Coulomb problem as a sequence of convex problems
+//! (each an interior-point solve, and a force selection): about ten solves a step on a
+//! collapsing arch. Between impacts the contacts keep their states from step to step — open,
+//! sticking, or sliding one way — and with the states known the step is linear:
+//! M (u⁺ − u*) = Σ Jᵀ B λ (u* the free motion, λ the unknown impulses along each state's
+//! force directions B: n, u, v for a sticking point; n + μ e for one sliding with its friction at
+//! e on the unit friction set; a facet's free direction too), with the states' rows
+//! R J u⁺ = r (a sticking point's relative velocity 0 up to its gap term, a sliding one's
+//! normal velocity, a facet's slip along its normal only). It is solved by the method of
+//! multipliers: (M + ρ JᵀB R J) u = M u* + JᵀB (λ + ρ r), λ ← λ + ρ (r − R J u), one
+//! factorisation and a few back-substitutions, from the last step's impulses (contacts that share
+//! a face have no unique forces; the last step's split carries on).
+//!
+//! Its answer is then checked against every condition of the exact-Coulomb step (each
+//! contact's Signorini condition, its friction within μ λ_n, a sliding contact's friction at
+//! the set's point opposing its slip): where a state is wrong it is changed (a point pulling
+//! opens, one whose friction is beyond its set slides, a slide that reverses sticks, an open
+//! point closing sticks) and the step solved again, up to [`PASSES`] times. An answer that
+//! meets every condition is the rounds' fixed point (the same conditions; velocities unique
+//! where the forces are); otherwise the caller runs the rounds. Friction sets: the cone, and
+//! the regular polygons (box4, pyramid8: facets at unit distance, `model.facets()`).
+
+use super::World;
+use super::bodies::Body;
+use super::contacts::{Side, State};
+use super::problem::{Active, Solution};
+use crate::geometry::Vector3;
+use crate::model::FrictionModel;
+use nalgebra::{DMatrix, DVector};
+use std::f64::consts::PI;
+
+/// A row's error, a closing speed or a slip counted as none, as a fraction of the rest
+/// criterion's speed `still` g h.
+const SPEED: f64 = 0.1;
+
+/// A pull counted as none, as a fraction of the component's weight × h.
+const IMPULSE: f64 = 1e-9;
+
+/// Solves of changed states before the rounds take over.
+const PASSES: usize = 10;
+
+/// Friction beyond its capacity by this fraction of it is within it (the Tresca rounds'
+/// capacities settle to 1e-4 of the largest: `ExactSettings::settle`).
+const SLACK: f64 = 1e-6;
+
+/// Back-substitutions of the method of multipliers within one factorisation.
+const MULTIPLIER_STEPS: usize = 30;
+
+/// The penalty ρ as a multiple of the component's smallest mass: each multiplier step shrinks
+/// a row's error by ~1 / (1 + ρ / m), and the factorisation keeps ~16 − 7 digits.
+const PENALTY: f64 = 1e7;
+
+/// A slip direction within this angle (rad) of a facet's normal slides on that facet (the
+/// interior point's slips point to ~1e-6 rad).
+const ON_FACET: f64 = 1e-5;
+
+/// A cone's sliding direction that turns by less than this (rad) within a step's passes has
+/// settled: its friction is μ f_n to 1e-9 of it.
+const ON_CONE: f64 = 1e-9;
+
+/// One unknown impulse: its contact, the direction its force acts along at the contact point
+/// (on b; −on a) and the direction of the relative velocity its row holds at `target`.
+struct Unknown {
+    contact: usize,
+    force: Vector3,
+    row: Vector3,
+    target: f64,
+}
+
+/// The friction set's place for a friction force pointing at `angle`: on the cone, that
+/// direction; on a polygon of `sides` facets at unit distance, the facet whose normal it is
+/// (with the facet's free direction) or the vertex nearest it.
+fn friction_point(sides: Option<usize>, angle: f64) -> (Vector3, Option<Vector3>) {
+    let Some(n) = sides else { return (Vector3::new(angle.cos(), angle.sin(), 0.0), None) };
+    let spacing = 2.0 * PI / n as f64;
+    let facet = (angle / spacing).round() * spacing;
+    if (angle - facet).abs() <= ON_FACET {
+        let d = Vector3::new(facet.cos(), facet.sin(), 0.0);
+        return (d, Some(Vector3::new(-facet.sin(), facet.cos(), 0.0)));
+    }
+    let vertex = (angle / spacing).floor() * spacing + 0.5 * spacing;
+    let r = 1.0 / (0.5 * spacing).cos();
+    (Vector3::new(vertex.cos(), vertex.sin(), 0.0) * r, None)
+}
+
+/// The next state of a contact sliding with its friction at `angle` (a facet's normal, or
+/// inside a vertex's cone), by its slip `vt` and its friction `gt` against the capacity:
+/// a slip that turns back sticks; friction beyond a facet's end goes to that end's
+/// vertex; a slip that leaves a vertex's cone goes to the facet it crosses (the polygon's
+/// states move one face at a time, so they do not cycle between neighbouring vertices); on the
+/// cone the slip's direction.
+fn slide_state(
+    sides: Option<usize>,
+    angle: f64,
+    frame: &[Vector3; 3],
+    vt: &Vector3,
+    (gt, capacity): ((f64, f64), f64),
+    tol: Tolerances,
+) -> State {
+    let (e, free) = friction_point(sides, angle);
+    let along = -(vt.dot(&frame[1]) * e.x + vt.dot(&frame[2]) * e.y);
+    if along < -tol.speed {
+        return State::Stick;
+    }
+    // Sliding at no speed yet (a slip that starts): friction at capacity holds it, whatever
+    // the round-off direction of its slip.
+    if vt.norm() <= tol.speed && gauge(sides, gt) <= capacity * (1.0 + SLACK) + tol.impulse {
+        return State::Slide { angle };
+    }
+    let turned = angle_in(frame, &(-vt));
+    let Some(n) = sides else {
+        return State::Slide { angle: if (turned - angle).abs() > ON_CONE { turned } else { angle } };
+    };
+    let spacing = 2.0 * PI / n as f64;
+    if free.is_some() {
+        if gauge(sides, gt) <= capacity + tol.impulse {
+            return State::Slide { angle };
+        }
+        // The friction along the facet beyond its end: that end's vertex.
+        let across = -gt.0 * angle.sin() + gt.1 * angle.cos();
+        return State::Slide { angle: angle + 0.5 * spacing * across.signum() };
+    }
+    let vertex = (angle / spacing).floor() * spacing + 0.5 * spacing;
+    let off = wrap(turned - vertex);
+    if off.abs() < 0.5 * spacing - ON_FACET {
+        State::Slide { angle }
+    } else {
+        State::Slide { angle: vertex + 0.5 * spacing * off.signum() }
+    }
+}
+
+/// The kinds of state a contact has taken within a step's passes.
+#[derive(Clone, Copy, Default)]
+struct Tried {
+    open: bool,
+    stick: bool,
+    slide: bool,
+}
+
+impl Tried {
+    fn of(s: &State) -> Self {
+        Self::default().with(s)
+    }
+
+    fn with(self, s: &State) -> Self {
+        match s {
+            State::Open => Self { open: true, ..self },
+            State::Stick => Self { stick: true, ..self },
+            State::Slide { .. } => Self { slide: true, ..self },
+        }
+    }
+}
+
+/// How basic a change of state is: opening a pulling contact, closing a penetrating one,
+/// then friction's changes.
+fn kind(from: &State, to: &State) -> u8 {
+    match (from, to) {
+        (_, State::Open) => 0,
+        (State::Open, _) => 1,
+        (State::Stick, _) => 2,
+        _ => 3,
+    }
+}
+
+/// An angle brought within (−π, π].
+fn wrap(a: f64) -> f64 {
+    let b = a.rem_euclid(2.0 * PI);
+    if b > PI { b - 2.0 * PI } else { b }
+}
+
+/// The normal angle of the facet on which friction `t` is largest (its direction on the cone).
+fn widest_facet(sides: Option<usize>, t: (f64, f64)) -> f64 {
+    let Some(n) = sides else { return t.1.atan2(t.0) };
+    let spacing = 2.0 * PI / n as f64;
+    (t.1.atan2(t.0) / spacing).round() * spacing
+}
+
+/// The polygon's facet count, None for the cone.
+fn polygon(model: FrictionModel) -> Option<usize> {
+    match model {
+        FrictionModel::Cone => None,
+        m => Some(m.facets().len()),
+    }
+}
+
+/// A tangent vector's angle in the frame (u, v).
+fn angle_in(frame: &[Vector3; 3], t: &Vector3) -> f64 {
+    t.dot(&frame[2]).atan2(t.dot(&frame[1]))
+}
+
+/// The least capacity whose set holds friction `t` (in the frame's u, v components).
+fn gauge(sides: Option<usize>, t: (f64, f64)) -> f64 {
+    match sides {
+        None => t.0.hypot(t.1),
+        Some(n) => (0..n)
+            .map(|k| {
+                let a = 2.0 * PI * k as f64 / n as f64;
+                t.0 * a.cos() + t.1 * a.sin()
+            })
+            .fold(0.0, f64::max),
+    }
+}
+
+/// The component's dense rigid-body algebra: its bodies' mass matrices and free motion.
+struct Component<'a> {
+    bodies: Vec<&'a Body>,
+    local: &'a [usize],
+    /// M (6 per body: translation, then rotation in world axes), and M u*.
+    mass: DMatrix<f64>,
+    free: DVector<f64>,
+    /// Each body's inverse inertia now, world axes.
+    inverse_inertia: Vec<nalgebra::Matrix3<f64>>,
+}
+
+/// A generalized row with at most two bodies' parts: (the body's local index, its 6 entries).
+struct Sparse {
+    parts: [(usize, nalgebra::Vector6<f64>); 2],
+    len: usize,
+}
+
+impl Sparse {
+    fn iter(&self) -> impl Iterator<Item = &(usize, nalgebra::Vector6<f64>)> {
+        self.parts[..self.len].iter()
+    }
+
+    fn dot(&self, u: &DVector<f64>) -> f64 {
+        self.iter().map(|(j, r)| r.dot(&u.fixed_rows::<6>(6 * j))).sum()
+    }
+
+    fn add_to(&self, u: &mut DVector<f64>, scale: f64) {
+        for (j, r) in self.iter() {
+            let mut s = u.fixed_rows_mut::<6>(6 * j);
+            s.axpy(scale, r, 1.0);
+        }
+    }
+}
+
+impl<'a> Component<'a> {
+    /// The generalized row of direction `d` at `point` on a contact's sides (+ on b, − on a).
+    fn sparse_row(&self, a: Side, b: Side, point: &crate::geometry::Point3, d: &Vector3) -> Sparse {
+        let mut out = Sparse { parts: [(0, nalgebra::Vector6::zeros()); 2], len: 0 };
+        for (side, sign) in [(a, -1.0), (b, 1.0)] {
+            let Side::Free(k) = side else { continue };
+            let j = self.local[k];
+            let m = (point - self.bodies[j].x).cross(d);
+            let r = nalgebra::Vector6::new(d.x, d.y, d.z, m.x, m.y, m.z) * sign;
+            out.parts[out.len] = (j, r);
+            out.len += 1;
+        }
+        out
+    }
+
+    /// r M⁻¹ rᵀ of a row (a floor keeps a row with no free body finite).
+    fn compliance(&self, row: &Sparse) -> f64 {
+        row.iter().map(|(j, r)| r.dot(&self.inverse_mass(*j, r))).sum::<f64>().max(f64::MIN_POSITIVE)
+    }
+
+    /// Body `j`'s M⁻¹ applied to 6 entries.
+    fn inverse_mass(&self, j: usize, x: &nalgebra::Vector6<f64>) -> nalgebra::Vector6<f64> {
+        let b = self.bodies[j];
+        let t = x.fixed_rows::<3>(0) / b.mass;
+        let w = self.inverse_inertia[j] * x.fixed_rows::<3>(3);
+        nalgebra::Vector6::new(t.x, t.y, t.z, w.x, w.y, w.z)
+    }
+
+    /// M⁻¹ x, body by body.
+    fn solve_mass(&self, x: &DVector<f64>) -> DVector<f64> {
+        let mut y = x.clone();
+        for j in 0..self.bodies.len() {
+            let part = self.inverse_mass(j, &x.fixed_rows::<6>(6 * j).into_owned());
+            y.fixed_rows_mut::<6>(6 * j).copy_from(&part);
+        }
+        y
+    }
+
+    fn new(all: &'a [Body], comp: &[usize], local: &'a [usize], h: f64) -> Self {
+        let n = 6 * comp.len();
+        let mut mass = DMatrix::zeros(n, n);
+        let mut free = DVector::zeros(n);
+        for (j, &k) in comp.iter().enumerate() {
+            let b = &all[k];
+            let inertia = b.inertia_now();
+            let (o, l) = (6 * j, &b.load);
+            for r in 0..3 {
+                mass[(o + r, o + r)] = b.mass;
+                free[o + r] = b.mass * b.v[r] + h * l[r];
+            }
+            mass.view_mut((o + 3, o + 3), (3, 3)).copy_from(&inertia);
+            let momentum = inertia * b.w;
+            for r in 0..3 {
+                free[o + 3 + r] = momentum[r] + h * l[3 + r];
+            }
+        }
+        let inverse_inertia = comp
+            .iter()
+            .map(|&k| {
+                let b = &all[k];
+                let a = b.axes_now();
+                a * nalgebra::Matrix3::from_diagonal(&Vector3::from(b.moments.map(|m| 1.0 / m))) * a.transpose()
+            })
+            .collect();
+        Self { bodies: comp.iter().map(|&k| &all[k]).collect(), local, mass, free, inverse_inertia }
+    }
+}
+
+impl World {
+    /// The step of moving component `comp` by its contacts' last states (module docs), or None
+    /// where no states within [`PASSES`] changes meet the exact-Coulomb conditions.
+    pub(super) fn step_by_states(&self, comp: &[usize], local: &[usize], active: &[Active]) -> Option<Solution> {
+        let h = self.ctx.h;
+        let sides = polygon(self.ctx.model);
+        let parts = Component::new(&self.bodies, comp, local, h);
+        let weight: f64 = parts.bodies.iter().map(|b| b.mass * self.ctx.units.g).sum();
+        // A tenth of the rest criterion's speed: far below any motion a verdict reads, above the
+        // gap terms of joints closed to round-off (1e-11 m / h), which tighter rows cannot all meet.
+        let tol =
+            Tolerances { speed: SPEED * self.settings.still * self.ctx.units.g * h, impulse: IMPULSE * weight * h };
+        let mut states: Vec<State> = active.iter().map(|a| self.contacts[a.contact].state).collect();
+        let mut tried: Vec<Tried> = states.iter().map(Tried::of).collect();
+        for _ in 0..PASSES {
+            let unknowns = self.unknowns(active, &states, sides);
+            let (u, lambda, converged) = self.solve_states(&parts, active, &unknowns, tol)?;
+            let check = self.check(&parts, active, (&states, &tried), &unknowns, (&u, &lambda), tol, sides);
+            match check {
+                // Rows that cannot all hold (states asking for more than the blocks' motion
+                // allows) whose impulses still meet every condition: no answer of these states.
+                Check::Holds(..) if !converged => return None,
+                Check::Holds(normal, impulses) => {
+                    return Some(self.solution(&parts, active, &u, normal, impulses));
+                }
+                Check::Change(next) => {
+                    tried.iter_mut().zip(&next).for_each(|(t, s)| *t = t.with(s));
+                    states = next
+                }
+            }
+        }
+        None
+    }
+
+    /// Each contact's unknowns by its state.
+    fn unknowns(&self, active: &[Active], states: &[State], sides: Option<usize>) -> Vec<Unknown> {
+        let (h, mu) = (self.ctx.h, self.ctx.mu);
+        let recovery = self.ctx.recovery * self.ctx.units.speed();
+        let mut out = Vec::new();
+        for (i, (a, s)) in active.iter().zip(states).enumerate() {
+            let f = &a.geometry.frame;
+            let gap_term = (a.geometry.gap / h).max(-recovery) + a.prescribed.dot(&f[0]);
+            let normal = |force| Unknown { contact: i, force, row: f[0], target: -gap_term };
+            match *s {
+                State::Open => {}
+                State::Stick => {
+                    out.push(normal(f[0]));
+                    for t in [f[1], f[2]] {
+                        out.push(Unknown { contact: i, force: t, row: t, target: -a.prescribed.dot(&t) });
+                    }
+                }
+                State::Slide { angle } => {
+                    let (e, free) = friction_point(sides, angle);
+                    out.push(normal(f[0] + (f[1] * e.x + f[2] * e.y) * mu));
+                    if let Some(t) = free {
+                        let t = f[1] * t.x + f[2] * t.y;
+                        out.push(Unknown { contact: i, force: t, row: t, target: -a.prescribed.dot(&t) });
+                    }
+                }
+            }
+        }
+        out
+    }
+
+    /// u⁺ and the impulses λ of the states' linear step by the method of multipliers, from the
+    /// last step's impulses, and whether every row holds (where they cannot all hold the
+    /// multipliers grow along the conflict: their signs say which states to change); None where
+    /// the factorisation fails.
+    /// Each unknown's penalty is [`PENALTY`] over its row's own compliance r M⁻¹ rᵀ, so every
+    /// row's error shrinks alike; the answer's velocities are M⁻¹ (M u* + Σ Jᵀ B λ) (the
+    /// momentum exact, the rows to the tolerance).
+    fn solve_states(
+        &self,
+        parts: &Component,
+        active: &[Active],
+        unknowns: &[Unknown],
+        tol: Tolerances,
+    ) -> Option<(DVector<f64>, DVector<f64>, bool)> {
+        let n = parts.mass.nrows();
+        let sparse: Vec<(Sparse, Sparse)> = unknowns
+            .iter()
+            .map(|q| {
+                let a = &active[q.contact];
+                let c = &self.contacts[a.contact];
+                let p = &a.geometry.point;
+                (parts.sparse_row(c.a, c.b, p, &q.row), parts.sparse_row(c.a, c.b, p, &q.force))
+            })
+            .collect();
+        let rho: Vec<f64> = sparse.iter().map(|(row, _)| PENALTY / parts.compliance(row)).collect();
+        let mut system = parts.mass.clone();
+        for ((row, force), r) in sparse.iter().zip(&rho) {
+            for (jf, f) in force.iter() {
+                for (jr, w) in row.iter() {
+                    let mut block = system.view_mut((6 * jf, 6 * jr), (6, 6));
+                    block.ger(*r, f, w, 1.0);
+                }
+            }
+        }
+        let lu = system.lu();
+        let mut lambda = self.last_impulses(active, unknowns);
+        let mut rhs = DVector::zeros(n);
+        let mut converged = false;
+        for _ in 0..MULTIPLIER_STEPS {
+            rhs.copy_from(&parts.free);
+            for (((_, force), l), (q, r)) in sparse.iter().zip(lambda.iter()).zip(unknowns.iter().zip(&rho)) {
+                force.add_to(&mut rhs, l + r * q.target);
+            }
+            let u = lu.solve(&rhs)?;
+            let mut worst = 0.0f64;
+            for (((row, _), l), (q, r)) in sparse.iter().zip(lambda.iter_mut()).zip(unknowns.iter().zip(&rho)) {
+                let error = q.target - row.dot(&u);
+                *l += r * error;
+                worst = worst.max(error.abs());
+            }
+            if worst <= tol.speed {
+                converged = true;
+                break;
+            }
+        }
+        rhs.copy_from(&parts.free);
+        for ((_, force), l) in sparse.iter().zip(lambda.iter()) {
+            force.add_to(&mut rhs, *l);
+        }
+        Some((parts.solve_mass(&rhs), lambda, converged))
+    }
+
+    /// The last step's impulses along the unknowns' force directions (their normal parts for a
+    /// state's first unknown), N·s: the multipliers' start.
+    fn last_impulses(&self, active: &[Active], unknowns: &[Unknown]) -> DVector<f64> {
+        let h = self.ctx.h;
+        DVector::from_iterator(
+            unknowns.len(),
+            unknowns.iter().map(|q| {
+                let last = self.contacts[active[q.contact].contact].last_normal * h;
+                if q.force.dot(&active[q.contact].geometry.frame[0]) > 0.5 { last } else { 0.0 }
+            }),
+        )
+    }
+
+    /// Whether the states' answer meets every condition of the exact-Coulomb step; if so the
+    /// normal forces (non-dimensional) and impulses (N·s, on b) of each active contact, else
+    /// the states to try next.
+    #[allow(clippy::too_many_arguments)]
+    fn check(
+        &self,
+        parts: &Component,
+        active: &[Active],
+        (states, tried): (&[State], &[Tried]),
+        unknowns: &[Unknown],
+        (u, lambda): (&DVector<f64>, &DVector<f64>),
+        tol: Tolerances,
+        sides: Option<usize>,
+    ) -> Check {
+        let (h, mu) = (self.ctx.h, self.ctx.mu);
+        let recovery = self.ctx.recovery * self.ctx.units.speed();
+        let mut impulses = vec![Vector3::zeros(); active.len()];
+        let mut normal = vec![0.0; active.len()];
+        for (q, l) in unknowns.iter().zip(lambda.iter()) {
+            impulses[q.contact] += q.force * *l;
+        }
+        let mut changes: Vec<(usize, State)> = Vec::new();
+        for (i, a) in active.iter().enumerate() {
+            let f = &a.geometry.frame;
+            let c = &self.contacts[a.contact];
+            let rel = relative_velocity(parts, c.a, c.b, &a.geometry.point, u) + a.prescribed;
+            let gap_term = (a.geometry.gap / h).max(-recovery);
+            let (vn, vt) = (rel.dot(&f[0]) + gap_term, rel - f[0] * rel.dot(&f[0]));
+            let g = impulses[i];
+            let (gn, gt) = (g.dot(&f[0]), (g.dot(&f[1]), g.dot(&f[2])));
+            normal[i] = gn / (h * self.ctx.units.force);
+            let state = match states[i] {
+                // Closing: it sticks, or slides where sticking pulled it open before.
+                State::Open if vn < -tol.speed && tried[i].stick && vt.norm() > tol.speed => {
+                    State::Slide { angle: widest_facet(sides, (-vt.dot(&f[1]), -vt.dot(&f[2]))) }
+                }
+                State::Open if vn < -tol.speed => State::Stick,
+                State::Open => State::Open,
+                // Pulling while sticking where it closed when open: held by a slide, not a pull.
+                State::Stick if gn < -tol.impulse && tried[i].open && !tried[i].slide => {
+                    State::Slide { angle: widest_facet(sides, gt) }
+                }
+                _ if gn < -tol.impulse => State::Open,
+                State::Stick if gauge(sides, gt) > mu * gn * (1.0 + SLACK) + tol.impulse => {
+                    State::Slide { angle: widest_facet(sides, gt) }
+                }
+                State::Stick => State::Stick,
+                State::Slide { angle } => slide_state(sides, angle, f, &vt, (gt, mu * gn), tol),
+            };
+            if state != states[i] {
+                changes.push((i, state));
+            }
+        }
+        if changes.is_empty() {
+            return Check::Holds(normal, impulses);
+        }
+        // One kind of change a pass, the most basic first (a contact that pulls opens before
+        // one that penetrates closes, before friction changes): all kinds at once cycle.
+        let first = changes.iter().map(|(i, s)| kind(&states[*i], s)).min().unwrap_or(0);
+        let mut next = states.to_vec();
+        for (i, s) in changes.into_iter().filter(|(i, s)| kind(&states[*i], s) == first) {
+            next[i] = s;
+        }
+        Check::Change(next)
+    }
+
+    /// The accepted states' answer as a step's [`Solution`] (its momentum residual, N).
+    fn solution(
+        &self,
+        parts: &Component,
+        active: &[Active],
+        u: &DVector<f64>,
+        normal: Vec<f64>,
+        impulses: Vec<Vector3>,
+    ) -> Solution {
+        let mut momentum = &parts.mass * u - &parts.free;
+        for (a, g) in active.iter().zip(&impulses) {
+            let c = &self.contacts[a.contact];
+            parts.sparse_row(c.a, c.b, &a.geometry.point, g).add_to(&mut momentum, -1.0);
+        }
+        let velocities = (0..parts.bodies.len())
+            .map(|j| {
+                let s = u.rows(6 * j, 6);
+                (Vector3::new(s[0], s[1], s[2]), Vector3::new(s[3], s[4], s[5]))
+            })
+            .collect();
+        let residual = momentum.amax() / self.ctx.h;
+        Solution { velocities, normal, work: impulses.clone(), impulses, residual }
+    }
+}
+
+/// b's point's velocity relative to a's at `point` in the component's velocities `u`, m/s
+/// (a side outside the component, fixed or moved, contributes its prescribed part elsewhere).
+fn relative_velocity(
+    parts: &Component,
+    a: Side,
+    b: Side,
+    point: &crate::geometry::Point3,
+    u: &DVector<f64>,
+) -> Vector3 {
+    let vel = |s: Side| match s {
+        Side::Free(k) => {
+            let j = parts.local[k];
+            let (v, w) = (u.fixed_rows::<3>(6 * j).into_owned(), u.fixed_rows::<3>(6 * j + 3).into_owned());
+            v + w.cross(&(point - parts.bodies[j].x))
+        }
+        _ => Vector3::zeros(),
+    };
+    vel(b) - vel(a)
+}
+
+#[derive(Clone, Copy)]
+struct Tolerances {
+    /// m/s: a row's error, a contact's closing speed or slip counted as none.
+    speed: f64,
+    /// N·s: a pull counted as none, friction beyond its set by this much.
+    impulse: f64,
+}
+
+enum Check {
+    Holds(Vec<f64>, Vec<Vector3>),
+    Change(Vec<State>),
+}
+
+/// The state a contact ends a step in: open without a normal force (`normal` at most `noise`),
+/// else sticking where its slip is below `still` and sliding against its slip.
+pub(super) fn state_after((normal, noise): (f64, f64), frame: &[Vector3; 3], slip: &Vector3, still: f64) -> State {
+    if normal <= noise {
+        return State::Open;
+    }
+    if slip.norm() <= still { State::Stick } else { State::Slide { angle: angle_in(frame, &(-slip)) } }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Invariant: on the polygons a friction direction exactly along a facet normal lies on that
+    /// facet (its free direction across it), any other at the vertex whose cone holds it, at
+    /// radius 1 / cos(π/n); on the cone the direction itself.
+    #[test]
+    fn friction_points_of_the_sets() {
+        let (e, free) = friction_point(Some(8), 0.0);
+        assert!((e - Vector3::x()).norm() < 1e-15 && free.is_some());
+        let (e, free) = friction_point(Some(8), 0.3);
+        let r = 1.0 / (PI / 8.0).cos();
+        assert!((e - Vector3::new((PI / 8.0).cos(), (PI / 8.0).sin(), 0.0) * r).norm() < 1e-12 && free.is_none());
+        let (e, _) = friction_point(Some(4), -0.2);
+        assert!((e - Vector3::new(1.0, -1.0, 0.0)).norm() < 1e-12, "{e:?}");
+        let (e, free) = friction_point(None, 1.0);
+        assert!((e - Vector3::new(1f64.cos(), 1f64.sin(), 0.0)).norm() < 1e-15 && free.is_none());
+        assert!((gauge(Some(8), (1.0, 0.0)) - 1.0).abs() < 1e-15);
+        assert!((gauge(Some(4), (1.0, 1.0)) - 1.0).abs() < 1e-15);
+    }
+}
