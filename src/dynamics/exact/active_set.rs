@@ -306,9 +306,15 @@ impl<'a> Component<'a> {
 }
 
 impl World {
-    /// The step of moving component `comp` by its contacts' last states (module docs), or None
+    /// The step of moving component `comp` from its contacts' `states` (module docs), or None
     /// where no states within [`PASSES`] changes meet the exact-Coulomb conditions.
-    pub(super) fn step_by_states(&self, comp: &[usize], local: &[usize], active: &[Active]) -> Option<Solution> {
+    pub(super) fn step_by_states(
+        &self,
+        comp: &[usize],
+        local: &[usize],
+        active: &[Active],
+        mut states: Vec<State>,
+    ) -> Option<Solution> {
         let h = self.ctx.h;
         let sides = polygon(self.ctx.model);
         let parts = Component::new(&self.bodies, comp, local, h);
@@ -317,7 +323,6 @@ impl World {
         // gap terms of joints closed to round-off (1e-11 m / h), which tighter rows cannot all meet.
         let tol =
             Tolerances { speed: SPEED * self.settings.still * self.ctx.units.g * h, impulse: IMPULSE * weight * h };
-        let mut states: Vec<State> = active.iter().map(|a| self.contacts[a.contact].state).collect();
         let mut tried: Vec<Tried> = states.iter().map(Tried::of).collect();
         for _ in 0..PASSES {
             let unknowns = self.unknowns(active, &states, sides);

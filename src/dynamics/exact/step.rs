@@ -62,14 +62,19 @@ impl World {
         }
         let exact = self.ctx.coulomb == Coulomb::Exact;
         let moving = !comp.iter().all(|&k| self.bodies[k].at_rest());
-        if exact
-            && moving
-            && self.by_states()
-            && let Some(sol) = self.step_by_states(comp, &local, &active)
-        {
-            self.stats.state_steps += 1;
-            let rest = self.peak_speed(comp, &sol) <= self.settings.still * self.ctx.units.g * self.ctx.h;
-            return self.accept(comp, &active, sol, rest);
+        if exact && moving && self.by_states() {
+            let last = active.iter().map(|a| self.contacts[a.contact].state).collect();
+            let by_states = match self.step_by_states(comp, &local, &active, last) {
+                Some(sol) => Some(sol),
+                None => self.states_of_one_round(comp, &local, &active).and_then(|states| {
+                    self.step_by_states(comp, &local, &active, states)
+                }),
+            };
+            if let Some(sol) = by_states {
+                self.stats.state_steps += 1;
+                let rest = self.peak_speed(comp, &sol) <= self.settings.still * self.ctx.units.g * self.ctx.h;
+                return self.accept(comp, &active, sol, rest);
+            }
         }
         if exact && self.settings.rest_when_admissible && comp.iter().all(|&k| self.bodies[k].at_rest()) {
             match self.step_from_rest(comp, &local, &active) {
@@ -281,6 +286,42 @@ impl World {
         out.status.solved().then_some(out)
     }
 
+    /// The contacts' states after one Tresca round (one interior-point solve with the last
+    /// step's capacities): where the last step's states no longer settle (a contact closing, a
+    /// slip starting), the round's velocities and forces say which contacts are open, sticking
+    /// or sliding, and the states' step from there needs no more rounds. None where the solve
+    /// fails.
+    fn states_of_one_round(&mut self, comp: &[usize], local: &[usize], active: &[Active]) -> Option<Vec<State>> {
+        let p = problem::build(&self.ctx, &self.bodies, comp, local, &self.contacts, active, None);
+        let all = vec![true; active.len()];
+        let part = Part { comp, local, active, taking_part: &all, selection: false, ctx: self.ctx };
+        let out = self.solve(&p, part)?;
+        let sol = p.read(&self.ctx, &self.bodies, comp, active, &out.x);
+        let noise = force_noise(&sol.normal, self.settings.solver_tolerance);
+        let slow = self.settings.still * self.ctx.units.g * self.ctx.h;
+        let states = active.iter().zip(&sol.normal).map(|(a, &n)| {
+            let c = &self.contacts[a.contact];
+            let relative = self.velocity_in(&sol, local, c.b, &a.geometry.point)
+                - self.velocity_in(&sol, local, c.a, &a.geometry.point)
+                + a.prescribed;
+            let slip = relative - a.geometry.frame[0] * relative.dot(&a.geometry.frame[0]);
+            state_after((n, noise), &a.geometry.frame, &slip, slow)
+        });
+        Some(states.collect())
+    }
+
+    /// The velocity of side `side`'s material point at `p` in solve `sol` (0 for a fixed or
+    /// moved side: the latter's is the contact's prescribed part), m/s.
+    fn velocity_in(&self, sol: &Solution, local: &[usize], side: super::Side, p: &crate::geometry::Point3) -> Vector3 {
+        match side {
+            super::Side::Free(k) => {
+                let (v, w) = sol.velocities[local[k]];
+                v + w.cross(&(p - self.bodies[k].x))
+            }
+            _ => Vector3::zeros(),
+        }
+    }
+
     /// Per active contact, whether it is open by more than [`OPEN`] of a block and the step's
     /// velocities leave it open at the step's end (its gap term plus its closing speed above the
     /// rest criterion's speed): complementarity gives it no force, and the force selection must
@@ -290,13 +331,7 @@ impl World {
         let h = self.ctx.h;
         let recovery = self.ctx.recovery * self.ctx.units.speed();
         let tol = self.settings.still * self.ctx.units.g * h;
-        let velocity = |side: super::Side, p: &crate::geometry::Point3| match side {
-            super::Side::Free(k) => {
-                let (v, w) = sol.velocities[local[k]];
-                v + w.cross(&(p - self.bodies[k].x))
-            }
-            _ => Vector3::zeros(),
-        };
+        let velocity = |side, p: &crate::geometry::Point3| self.velocity_in(sol, local, side, p);
         active
             .iter()
             .map(|a| {
