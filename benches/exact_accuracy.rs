@@ -36,7 +36,9 @@ fn main() {
          exact_accuracy` (benches/exact_accuracy.rs explains the families). Threshold: bisection on the drop \
          test's verdict with `--engine exact` (12 halvings, 2 s simulated per test, other settings default); \
          error = threshold / reference − 1 (for the tilts, in tan); time = wall time per drop test on the \
-         shared 2-core machine. Compare docs/drop_accuracy.md (rapier).\n\n\
+         shared 2-core machine. Compare docs/drop_accuracy.md (rapier); work against precision of both \
+         engines, dt 1/60 to 1/4000 s (a rocking block's peaks and an arch's tilt threshold against wall \
+         time): [drop_work_precision.md](drop_work_precision.md).\n\n\
          | family | dt | Coulomb | drop threshold | reference | error | ms / test |\n|---|---|---|---|---|---|---|\n",
     );
     for (name, family, ok, fail) in &families {
