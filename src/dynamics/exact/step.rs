@@ -66,9 +66,9 @@ impl World {
             let last = active.iter().map(|a| self.contacts[a.contact].state).collect();
             let by_states = match self.step_by_states(comp, &local, &active, last) {
                 Some(sol) => Some(sol),
-                None => self.states_of_one_round(comp, &local, &active).and_then(|states| {
-                    self.step_by_states(comp, &local, &active, states)
-                }),
+                None => self
+                    .states_of_one_round(comp, &local, &active)
+                    .and_then(|states| self.step_by_states(comp, &local, &active, states)),
             };
             if let Some(sol) = by_states {
                 self.stats.state_steps += 1;
