@@ -62,19 +62,8 @@ impl World {
         }
         let exact = self.ctx.coulomb == Coulomb::Exact;
         let moving = !comp.iter().all(|&k| self.bodies[k].at_rest());
-        if exact && moving && self.by_states() {
-            let last = active.iter().map(|a| self.contacts[a.contact].state).collect();
-            let by_states = match self.step_by_states(comp, &local, &active, last) {
-                Some(sol) => Some(sol),
-                None => self
-                    .states_of_one_round(comp, &local, &active)
-                    .and_then(|states| self.step_by_states(comp, &local, &active, states)),
-            };
-            if let Some(sol) = by_states {
-                self.stats.state_steps += 1;
-                let rest = self.peak_speed(comp, &sol) <= self.settings.still * self.ctx.units.g * self.ctx.h;
-                return self.accept(comp, &active, sol, rest);
-            }
+        if exact && moving && self.by_states() && self.step_taken_by_states(comp, &local, &active) {
+            return;
         }
         if exact && self.settings.rest_when_admissible && comp.iter().all(|&k| self.bodies[k].at_rest()) {
             match self.step_from_rest(comp, &local, &active) {
@@ -284,6 +273,23 @@ impl World {
         self.stats.iterations += u64::from(out.iterations);
         self.stats.status = self.stats.status.max(out.status);
         out.status.solved().then_some(out)
+    }
+
+    /// Takes a moving component's step by its contacts' last states, else by the states one
+    /// Tresca round gives ([`super::active_set`]); whether either settled (and was accepted).
+    fn step_taken_by_states(&mut self, comp: &[usize], local: &[usize], active: &[Active]) -> bool {
+        let last = active.iter().map(|a| self.contacts[a.contact].state).collect();
+        let by_states = match self.step_by_states(comp, local, active, last) {
+            Some(sol) => Some(sol),
+            None => self
+                .states_of_one_round(comp, local, active)
+                .and_then(|states| self.step_by_states(comp, local, active, states)),
+        };
+        let Some(sol) = by_states else { return false };
+        self.stats.state_steps += 1;
+        let rest = self.peak_speed(comp, &sol) <= self.settings.still * self.ctx.units.g * self.ctx.h;
+        self.accept(comp, active, sol, rest);
+        true
     }
 
     /// The contacts' states after one Tresca round (one interior-point solve with the last
