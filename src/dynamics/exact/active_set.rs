@@ -62,11 +62,11 @@ const ON_CONE: f64 = 1e-9;
 
 /// One unknown impulse: its contact, the direction its force acts along at the contact point
 /// (on b; −on a) and the direction of the relative velocity its row holds at `target`.
-struct Unknown {
-    contact: usize,
-    force: Vector3,
-    row: Vector3,
-    target: f64,
+pub(super) struct Unknown {
+    pub contact: usize,
+    pub force: Vector3,
+    pub row: Vector3,
+    pub target: f64,
 }
 
 /// The friction set's place for a friction force pointing at `angle`: on the cone, that
@@ -204,7 +204,7 @@ fn gauge(sides: Option<usize>, t: (f64, f64)) -> f64 {
 }
 
 /// The component's dense rigid-body algebra: its bodies' mass matrices and free motion.
-struct Component<'a> {
+pub(super) struct Component<'a> {
     bodies: Vec<&'a Body>,
     local: &'a [usize],
     /// M (6 per body: translation, then rotation in world axes), and M u*.
@@ -265,6 +265,16 @@ impl<'a> Component<'a> {
         nalgebra::Vector6::new(t.x, t.y, t.z, w.x, w.y, w.z)
     }
 
+    /// Each body's (velocity, angular velocity) in `u`.
+    pub(super) fn velocities(&self, u: &DVector<f64>) -> Vec<(Vector3, Vector3)> {
+        (0..self.bodies.len())
+            .map(|j| {
+                let s = u.rows(6 * j, 6);
+                (Vector3::new(s[0], s[1], s[2]), Vector3::new(s[3], s[4], s[5]))
+            })
+            .collect()
+    }
+
     /// M⁻¹ x, body by body.
     fn solve_mass(&self, x: &DVector<f64>) -> DVector<f64> {
         let mut y = x.clone();
@@ -275,7 +285,7 @@ impl<'a> Component<'a> {
         y
     }
 
-    fn new(all: &'a [Body], comp: &[usize], local: &'a [usize], h: f64) -> Self {
+    pub(super) fn new(all: &'a [Body], comp: &[usize], local: &'a [usize], h: f64) -> Self {
         let n = 6 * comp.len();
         let mut mass = DMatrix::zeros(n, n);
         let mut free = DVector::zeros(n);
@@ -324,9 +334,11 @@ impl World {
         let tol =
             Tolerances { speed: SPEED * self.settings.still * self.ctx.units.g * h, impulse: IMPULSE * weight * h };
         let mut tried: Vec<Tried> = states.iter().map(Tried::of).collect();
+        let mut seen = vec![states.clone()];
         for _ in 0..PASSES {
             let unknowns = self.unknowns(active, &states, sides);
-            let (u, lambda, converged) = self.solve_states(&parts, active, &unknowns, tol)?;
+            let start = self.last_impulses(active, &unknowns);
+            let (u, lambda, converged) = self.solve_states(&parts, active, (&unknowns, start), tol)?;
             let check = self.check(&parts, active, (&states, &tried), &unknowns, (&u, &lambda), tol, sides);
             match check {
                 // Rows that cannot all hold (states asking for more than the blocks' motion
@@ -335,7 +347,10 @@ impl World {
                 Check::Holds(normal, impulses) => {
                     return Some(self.solution(&parts, active, &u, normal, impulses));
                 }
+                // States met before: the changes cycle, and more passes would repeat them.
+                Check::Change(next) if seen.contains(&next) => return None,
                 Check::Change(next) => {
+                    seen.push(next.clone());
                     tried.iter_mut().zip(&next).for_each(|(t, s)| *t = t.with(s));
                     states = next
                 }
@@ -374,18 +389,18 @@ impl World {
         out
     }
 
-    /// u⁺ and the impulses λ of the states' linear step by the method of multipliers, from the
-    /// last step's impulses, and whether every row holds (where they cannot all hold the
+    /// u⁺ and the impulses λ of the states' linear step by the method of multipliers, from
+    /// impulses `start` (the last step's), and whether every row holds (where they cannot all hold the
     /// multipliers grow along the conflict: their signs say which states to change); None where
     /// the factorisation fails.
     /// Each unknown's penalty is [`PENALTY`] over its row's own compliance r M⁻¹ rᵀ, so every
     /// row's error shrinks alike; the answer's velocities are M⁻¹ (M u* + Σ Jᵀ B λ) (the
     /// momentum exact, the rows to the tolerance).
-    fn solve_states(
+    pub(super) fn solve_states(
         &self,
         parts: &Component,
         active: &[Active],
-        unknowns: &[Unknown],
+        (unknowns, start): (&[Unknown], DVector<f64>),
         tol: Tolerances,
     ) -> Option<(DVector<f64>, DVector<f64>, bool)> {
         let n = parts.mass.nrows();
@@ -415,7 +430,7 @@ impl World {
             Some(cholesky) => Factor::Cholesky(cholesky),
             None => Factor::Lu(system.lu()),
         };
-        let mut lambda = self.last_impulses(active, unknowns);
+        let mut lambda = start;
         let mut rhs = DVector::zeros(n);
         let mut converged = false;
         for _ in 0..MULTIPLIER_STEPS {
@@ -535,12 +550,7 @@ impl World {
             let c = &self.contacts[a.contact];
             parts.sparse_row(c.a, c.b, &a.geometry.point, g).add_to(&mut momentum, -1.0);
         }
-        let velocities = (0..parts.bodies.len())
-            .map(|j| {
-                let s = u.rows(6 * j, 6);
-                (Vector3::new(s[0], s[1], s[2]), Vector3::new(s[3], s[4], s[5]))
-            })
-            .collect();
+        let velocities = parts.velocities(u);
         let residual = momentum.amax() / self.ctx.h;
         Solution { velocities, normal, work: impulses.clone(), impulses, residual }
     }
@@ -548,7 +558,7 @@ impl World {
 
 /// b's point's velocity relative to a's at `point` in the component's velocities `u`, m/s
 /// (a side outside the component, fixed or moved, contributes its prescribed part elsewhere).
-fn relative_velocity(
+pub(super) fn relative_velocity(
     parts: &Component,
     a: Side,
     b: Side,
@@ -582,11 +592,11 @@ impl Factor {
 }
 
 #[derive(Clone, Copy)]
-struct Tolerances {
+pub(super) struct Tolerances {
     /// m/s: a row's error, a contact's closing speed or slip counted as none.
-    speed: f64,
+    pub speed: f64,
     /// N·s: a pull counted as none, friction beyond its set by this much.
-    impulse: f64,
+    pub impulse: f64,
 }
 
 enum Check {

@@ -153,7 +153,8 @@ pub struct ExactStats {
     /// Steps of a moving component taken by its contacts' states (one linear solve, no
     /// interior point: `active_set`).
     pub state_steps: u64,
-    /// Overlaps projected out at a step's end (each one solve more).
+    /// Overlaps projected out at a step's end (by an active set of normal rows, else by one
+    /// interior-point solve more).
     pub projections: u64,
     /// The worst solve's status.
     pub status: SolverStatus,

@@ -62,8 +62,13 @@ impl World {
         }
         let exact = self.ctx.coulomb == Coulomb::Exact;
         let moving = !comp.iter().all(|&k| self.bodies[k].at_rest());
-        if exact && moving && self.by_states() && self.step_taken_by_states(comp, &local, &active) {
-            return;
+        // Where the states do not settle, the interior-point round they tried starts the rounds.
+        let mut first_round = None;
+        if exact && moving && self.by_states() {
+            match self.step_taken_by_states(comp, &local, &active) {
+                ByStates::Taken => return,
+                ByStates::Rounds(round) => first_round = round.map(|r| *r),
+            }
         }
         if exact && self.settings.rest_when_admissible && comp.iter().all(|&k| self.bodies[k].at_rest()) {
             match self.step_from_rest(comp, &local, &active) {
@@ -81,16 +86,17 @@ impl World {
         let mut best = Best::<Solution>::default();
         let accepted = loop {
             rounds += 1;
-            let crush = self.ctx.strength.map(|sigma| Crush { bearings: &self.bearings, sigma, bound: &bound });
-            let p = problem::build(&self.ctx, &self.bodies, comp, &local, &self.contacts, &active, crush.as_ref());
-            let all = vec![true; active.len()];
-            let part =
-                Part { comp, local: &local, active: &active, taking_part: &all, selection: false, ctx: self.ctx };
-            let Some(out) = self.solve(&p, part) else {
-                break None;
-            };
+            let round = first_round.take().or_else(|| self.round(comp, &local, &active, &bound));
+            let Some((p, out)) = round else { break None };
             let sol = p.read(&self.ctx, &self.bodies, comp, &active, &out.x);
             let rest = self.peak_speed(comp, &sol) <= self.settings.still * self.ctx.units.g * self.ctx.h;
+            // Each later round's states may settle where the first round's did not.
+            if exact && moving && self.by_states() && rounds > 1 {
+                let states = self.states_of(&sol, &local, &active);
+                if let Some(sol) = self.step_by_states(comp, &local, &active, states) {
+                    return self.accept_by_states(comp, &active, sol);
+                }
+            }
             if rest || !exact {
                 if self.bind(&active, &sol, &mut bound) && rounds < self.settings.max_rounds {
                     continue;
@@ -276,44 +282,78 @@ impl World {
     }
 
     /// Takes a moving component's step by its contacts' last states, else by the states one
-    /// Tresca round gives ([`super::active_set`]); whether either settled (and was accepted).
-    fn step_taken_by_states(&mut self, comp: &[usize], local: &[usize], active: &[Active]) -> bool {
+    /// Tresca round gives ([`super::active_set`]); where neither settles, that round (its
+    /// problem and solve) for the rounds to start from.
+    fn step_taken_by_states(&mut self, comp: &[usize], local: &[usize], active: &[Active]) -> ByStates {
         let last = active.iter().map(|a| self.contacts[a.contact].state).collect();
+        let mut round = None;
         let by_states = match self.step_by_states(comp, local, active, last) {
             Some(sol) => Some(sol),
-            None => self
-                .states_of_one_round(comp, local, active)
-                .and_then(|states| self.step_by_states(comp, local, active, states)),
+            None => self.one_round(comp, local, active).and_then(|(states, p, out)| {
+                let sol = self.step_by_states(comp, local, active, states);
+                round = Some(Box::new((p, out)));
+                sol
+            }),
         };
-        let Some(sol) = by_states else { return false };
+        let Some(sol) = by_states else { return ByStates::Rounds(round) };
+        self.accept_by_states(comp, active, sol);
+        ByStates::Taken
+    }
+
+    /// Accepts a step the contacts' states settled, counted as such.
+    fn accept_by_states(&mut self, comp: &[usize], active: &[Active], sol: Solution) {
         self.stats.state_steps += 1;
         let rest = self.peak_speed(comp, &sol) <= self.settings.still * self.ctx.units.g * self.ctx.h;
         self.accept(comp, active, sol, rest);
-        true
     }
 
-    /// The contacts' states after one Tresca round (one interior-point solve with the last
-    /// step's capacities): where the last step's states no longer settle (a contact closing, a
-    /// slip starting), the round's velocities and forces say which contacts are open, sticking
-    /// or sliding, and the states' step from there needs no more rounds. None where the solve
-    /// fails.
-    fn states_of_one_round(&mut self, comp: &[usize], local: &[usize], active: &[Active]) -> Option<Vec<State>> {
-        let p = problem::build(&self.ctx, &self.bodies, comp, local, &self.contacts, active, None);
+    /// One Tresca round's problem with `active`'s capacities (and, crushing, the stress blocks
+    /// of the joints in `bound`), and its solve; None where the solve fails.
+    fn round(
+        &mut self,
+        comp: &[usize],
+        local: &[usize],
+        active: &[Active],
+        bound: &BTreeSet<usize>,
+    ) -> Option<(StepProblem, ConicOutcome)> {
+        let crush = self.ctx.strength.map(|sigma| Crush { bearings: &self.bearings, sigma, bound });
+        let p = problem::build(&self.ctx, &self.bodies, comp, local, &self.contacts, active, crush.as_ref());
         let all = vec![true; active.len()];
         let part = Part { comp, local, active, taking_part: &all, selection: false, ctx: self.ctx };
         let out = self.solve(&p, part)?;
+        Some((p, out))
+    }
+
+    /// One Tresca round (one interior-point solve with the last step's capacities) and the
+    /// contacts' states after it: where the last step's states no longer settle (a contact
+    /// closing, a slip starting), the round's velocities and forces say which contacts are
+    /// open, sticking or sliding, and the states' step from there needs no more rounds. None
+    /// where the solve fails.
+    fn one_round(
+        &mut self,
+        comp: &[usize],
+        local: &[usize],
+        active: &[Active],
+    ) -> Option<(Vec<State>, StepProblem, ConicOutcome)> {
+        let (p, out) = self.round(comp, local, active, &BTreeSet::new())?;
         let sol = p.read(&self.ctx, &self.bodies, comp, active, &out.x);
+        Some((self.states_of(&sol, local, active), p, out))
+    }
+
+    /// The contacts' states after a round's solve `sol`: open without force, else sticking or
+    /// sliding by their slip.
+    fn states_of(&self, sol: &Solution, local: &[usize], active: &[Active]) -> Vec<State> {
         let noise = force_noise(&sol.normal, self.settings.solver_tolerance);
         let slow = self.settings.still * self.ctx.units.g * self.ctx.h;
         let states = active.iter().zip(&sol.normal).map(|(a, &n)| {
             let c = &self.contacts[a.contact];
-            let relative = self.velocity_in(&sol, local, c.b, &a.geometry.point)
-                - self.velocity_in(&sol, local, c.a, &a.geometry.point)
+            let relative = self.velocity_in(sol, local, c.b, &a.geometry.point)
+                - self.velocity_in(sol, local, c.a, &a.geometry.point)
                 + a.prescribed;
             let slip = relative - a.geometry.frame[0] * relative.dot(&a.geometry.frame[0]);
             state_after((n, noise), &a.geometry.frame, &slip, slow)
         });
-        Some(states.collect())
+        states.collect()
     }
 
     /// The velocity of side `side`'s material point at `p` in solve `sol` (0 for a fixed or
@@ -438,6 +478,14 @@ impl World {
             }
         }
     }
+}
+
+/// How a moving component's step by its contacts' states ended.
+enum ByStates {
+    /// Settled and accepted.
+    Taken,
+    /// Not settled: the rounds take the step, from this interior-point round where one ran.
+    Rounds(Option<Box<(StepProblem, ConicOutcome)>>),
 }
 
 /// What a component at rest does in its step ([`World::step_from_rest`]).
