@@ -57,6 +57,7 @@ fn drops(c: &mut Criterion) {
         b.iter(|| black_box(drop_test(&asm, &on_clarabel).unwrap()))
     });
     g.finish();
+    arches(c, &exact);
     rocking(c, &exact, &rounds);
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/compas/compas_cra/armadillo_cra.json");
     let mut scene = voussoir::io::load_scene(&path).unwrap();
@@ -71,6 +72,29 @@ fn drops(c: &mut Criterion) {
     let mut g = c.benchmark_group("dynamics/drop_10s");
     g.sample_size(10).measurement_time(Duration::from_secs(45));
     g.bench_function("armadillo", |b| b.iter(|| black_box(drop_test(&asm, &settings).unwrap())));
+    g.finish();
+}
+
+/// Six collapsing arches (15/13/17/11/19/9 voussoirs, t/R 0.06–0.08), 2 s each, one after
+/// another: a collapse is chaotic after its blocks land (round-off picks the trajectory, and
+/// with it how many steps need the rounds), so one arch's time is partly its draw; the six
+/// together measure the engine.
+fn arches(c: &mut Criterion, exact: &DropSettings) {
+    let specs = [
+        "arch?n=15&t=0.08",
+        "arch?n=13&t=0.08",
+        "arch?n=17&t=0.07",
+        "arch?n=11&t=0.06",
+        "arch?n=19&t=0.08",
+        "arch?n=9&t=0.07",
+    ];
+    let arches: Vec<Assembly> =
+        specs.iter().map(|s| Assembly::new(&builtin(s).unwrap(), &Default::default()).unwrap()).collect();
+    let all = |s: &DropSettings| arches.iter().filter(|a| !drop_test(a, s).unwrap().stands).count();
+    let mut g = c.benchmark_group("dynamics/six_collapsing_arches_2s");
+    g.sample_size(10).measurement_time(Duration::from_secs(20));
+    g.bench_function("exact", |b| b.iter(|| black_box(all(exact))));
+    g.bench_function("rapier", |b| b.iter(|| black_box(all(&DropSettings::default()))));
     g.finish();
 }
 

@@ -11,7 +11,8 @@
 //! - Signorini at velocity level: max(gap_p, 0)/h + n·(v⁺_b − v⁺_a)(p) ≥ 0 ⊥ γ_n,p ≥ 0: an
 //!   open contact may close within the step, a closed one stops closing. Nothing pushes an
 //!   overlap out through the velocities (that would create energy): overlaps beyond a setting
-//!   are projected out at the step's end without touching velocities (`projection`).
+//!   are projected out at the step's end without touching velocities (`projection`: the least
+//!   mass-weighted displacement, by an active set of normal rows).
 //! - Friction: γ_t,p within the friction model's set (cone, pyramid8, box4) of capacity c_p,
 //!   opposing the slip; [`Coulomb::Exact`] takes c_p = μ γ_n,p by a fixed point within the step
 //!   (warm-started from the last step's normal forces; a round whose changed capacities bind
@@ -33,9 +34,10 @@
 //! - A moving component's step is first taken by its contacts' last states (`active_set`):
 //!   open, sticking or sliding one way, the step is one linear system, solved by the method of
 //!   multipliers and checked against every exact-Coulomb condition; states that fail are changed
-//!   and the system solved again, a few times, before the rounds above take the step. In smooth
-//!   motion (a block rocking between impacts, an arch's hinges turning) the states hold and a
-//!   step costs one small factorisation; impacts and new slips go to the rounds. Drops only: a
+//!   and the system solved again, a few times; where they do not settle, one Tresca round's
+//!   states are tried, then each later round's, before the next round. In smooth motion (a
+//!   block rocking between impacts, an arch's hinges turning) the states hold and a step costs
+//!   one small factorisation; impacts and new slips may need the rounds. Drops only: a
 //!   settlement's runs take the rounds' pick ([`ExactSettings::by_states`][crate::dynamics::settings::ExactSettings]).
 //! - A component touching nothing falls freely: M v⁺ = M v + h w, no solve.
 //! - A component whose step leaves every vertex slower than `still` × g h is set at rest; one

@@ -8,9 +8,14 @@
 //!
 //! minimise ½ Δᵀ M Δ subject to gap_p + n_p · (Δ_b − Δ_a)(p) ≥ 0,
 //!
-//! the step problem with no velocity, no load and no friction (the step's builder with those
-//! zeroed, dt = the time unit). Velocities are untouched; the loads' work on Δ is accounted apart
-//! ([`super::EnergyBalance::correction`]).
+//! the step problem with no velocity, no load and no friction (dt = the time unit). It is
+//! solved by an active set of normal rows on the states' linear solve (`active_set`): the
+//! overlapping contacts held at gap 0, then those that pull released and those still
+//! overlapping held, until M Δ = Σ n λ, λ ≥ 0, gaps ≥ 0 and λ × gap = 0 all hold — the QP's
+//! unique minimiser, every held contact left exactly touching. Where that does not settle, the
+//! step's builder with those terms zeroed goes to the interior point (clarabel), whose barrier
+//! leaves the contacts slightly open. Velocities are untouched; the loads' work on Δ is
+//! accounted apart ([`super::EnergyBalance::correction`]).
 
 use super::World;
 use super::active_set::{Component, Tolerances, Unknown, relative_velocity};
