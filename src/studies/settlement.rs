@@ -33,8 +33,8 @@
 //! Each run records stages: the fraction of the path, the movement (m: the largest translation
 //! of a support, and its fraction of the model size), the reaction on each moved support (N,
 //! the force the blocks put on it: the thrust), and the joints that are not closed (hinging,
-//! opening, sliding) from the contacts' gaps and slips beyond [`JOINT_TOLERANCE`] of the block
-//! size. Units SI, z up; rotations of the paths in degrees (input) about the support's centroid.
+//! opening, sliding) from the contacts' gaps, and their slips since the last stage, beyond
+//! [`JOINT_TOLERANCE`] of the block size. Units SI, z up; rotations of the paths in degrees (input) about the support's centroid.
 
 use crate::dynamics::exact::World;
 use crate::dynamics::{DropSettings, Engine, ExactSettings, Selection, Stepper, SupportPath, Trajectory};
@@ -49,8 +49,8 @@ use thiserror::Error;
 /// The quasi-static run's [`Run::method`].
 pub const QUASI_STATIC: &str = "quasi-static";
 
-/// A joint counts as open (sliding) where a contact's gap (slip) passes this fraction of the
-/// median block size.
+/// A joint counts as open (sliding) where a contact's gap (its slip since the last stage)
+/// passes this fraction of the median block size.
 pub const JOINT_TOLERANCE: f64 = 1e-4;
 
 /// Settings of [`settle`]; each default written once, in `Default`.
@@ -538,6 +538,7 @@ fn quasi_static(
         if held {
             done = fraction;
             run.stages.push(stage(assembly, &analysis.interfaces, &world, done, scale));
+            world.mark_slips();
             run.frame(&world, done);
             progress(done);
             continue;
@@ -553,6 +554,7 @@ fn quasi_static(
             let mut s = stage(assembly, &analysis.interfaces, &world, done, scale);
             s.snapped = true;
             run.stages.push(s);
+            world.mark_slips();
             run.frame(&world, done);
             progress(done);
             continue;
@@ -842,14 +844,16 @@ fn in_engine(
         if k % every == 0 {
             let fraction = pace.covered(k);
             progress(fraction);
-            let s = match &stepper {
+            let s = match &mut stepper {
                 Stepper::Exact(w) => {
                     let mut stopped = (**w).clone();
                     if increment(&mut stopped, 0.0, &mut run.steps) {
                         holding = Some(((**w).clone(), k));
                     }
                     run.frame(w, fraction);
-                    stage(assembly, &analysis.interfaces, w, fraction, scale)
+                    let s = stage(assembly, &analysis.interfaces, w, fraction, scale);
+                    w.mark_slips();
+                    s
                 }
                 // rapier's joints are not classified: the stage has its movement and reactions
                 // (read from its contact impulses, `Simulation::contact_force`).

@@ -507,8 +507,10 @@ fn flat_arch() -> Scene {
 /// w cos θ + d sin θ = w + δ/2 for a spread δ. The crown contact sinks to the hinges' level at
 /// tan θ = d/w, the largest spread the halves can bridge: δ* = 2(√(w² + d²) − w) = 0.0881 m,
 /// 44.0 % of a path of 0.1 m per abutment. The quasi-static run collapses there within 0.5 %,
-/// the exact engine (supports moved in real time) within 2 %; from 2 % of the path (past the joints' tolerance) to 80 % of it both hinge at the three
-/// joints, and the thrust is the rotated halves' moment balance about the hinge,
+/// the exact engine (supports moved in real time) within 2 %; from 2 % of the path (past the
+/// joints' tolerance) to the collapse both hinge at the three joints and at no other (no joint
+/// read as sliding: a stage's slips are those since the last stage), and up to 80 % of it the
+/// thrust is the rotated halves' moment balance about the hinge,
 /// H = P (w cos θ + d sin θ) / (2 (d cos θ − w sin θ)) with P a half's weight — the
 /// quasi-static run's within 0.1 %, the exact engine's within 4 % (its halves turn ever faster,
 /// first as the supports start, then as the crown nears the hinges' level, and that
@@ -533,11 +535,13 @@ fn a_flat_arch_on_spreading_abutments_turns_about_its_hinges_until_they_line_up(
     assert_close(q, expected, 0.005 * expected, "quasi-static spread at collapse (fraction of the path)");
     assert_close(e, expected, 0.02 * expected, "exact engine's spread at collapse (fraction of the path)");
     for (run, tol) in [(&s.quasi_static, 0.001), (s.exact.as_ref().unwrap(), 0.04)] {
-        let early: Vec<_> = run.stages.iter().filter(|st| st.fraction > 0.02 && st.fraction < 0.8 * expected).collect();
-        assert!(early.len() >= 10, "{}: {} stages", run.method, early.len());
-        for st in early {
+        let turning: Vec<_> = run.stages.iter().filter(|st| st.fraction > 0.02).collect();
+        assert!(turning.len() >= 20, "{}: {} stages", run.method, turning.len());
+        for st in &turning {
             let hinging = st.joints.iter().filter(|j| j.state == JointState::Hinging).count();
-            assert_eq!(hinging, 3, "{} at {}: {:?}", run.method, st.fraction, st.joints);
+            assert_eq!((hinging, st.joints.len()), (3, 3), "{} at {}: {:?}", run.method, st.fraction, st.joints);
+        }
+        for st in turning.iter().filter(|st| st.fraction < 0.8 * expected) {
             let theta = st.rotation.to_radians();
             let thrust = 0.5 * half * (w * theta.cos() + d * theta.sin()) / (d * theta.cos() - w * theta.sin());
             let h = -st.reactions[0][0];

@@ -197,6 +197,9 @@ pub struct World {
     size: f64,
     /// The deepest overlap at a contact over the run, m.
     deepest: f64,
+    /// Per interface vertex contact, its tangential offset at the last [`Self::mark_slips`] (m,
+    /// in a's axes; empty before any).
+    slip_marks: Vec<Vector3>,
     stats: ExactStats,
 }
 
@@ -287,6 +290,7 @@ impl World {
             settings: s.clone(),
             size,
             deepest: 0.0,
+            slip_marks: Vec::new(),
             stats,
         }
     }
@@ -417,10 +421,44 @@ impl World {
         })
     }
 
-    /// Per interface vertex contact now: its interface, vertex, gap (m, > 0 open) and slip (m),
-    /// in the contacts' order.
+    /// Per interface vertex contact now: its interface, vertex, gap (m, > 0 open) and slip
+    /// since the last [`Self::mark_slips`] (m; since the start before any), in the contacts'
+    /// order.
     pub fn joint_gaps(&self) -> Vec<(usize, usize, f64, f64)> {
-        self.per_joint_contact(|_, g, _| (g.gap, g.slip))
+        let offsets = self.joint_offsets().into_iter();
+        let marks = self.slip_marks.iter().copied().chain(std::iter::repeat(Vector3::zeros()));
+        offsets.zip(marks).map(|((i, v, gap, t), m)| (i, v, gap, (t - m).norm())).collect()
+    }
+
+    /// Takes the joints' tangential offsets now as the origin of [`Self::joint_gaps`]' slips: a
+    /// stage's reading is then how far a joint slipped since the last stage. (A hinge on a
+    /// translating support drifts along its face by ½ h² ω × u a step — the screw of the
+    /// block's twist against the support's straight path, O(h) over a path — which summed from
+    /// the start would read as a slide.)
+    pub fn mark_slips(&mut self) {
+        self.slip_marks = self.joint_offsets().into_iter().map(|o| o.3).collect();
+    }
+
+    /// Per interface vertex contact now: its interface, vertex, gap (m) and the tangential
+    /// offset of b's point from a's, in a's axes (m), in the contacts' order.
+    fn joint_offsets(&self) -> Vec<(usize, usize, f64, Vector3)> {
+        let poses = self.poses();
+        let offset = |c: &Contact, g: &contacts::Geometry| {
+            // The geometry's point is the two points' middle.
+            let d = (c.point_b(poses) - g.point) * 2.0;
+            let t = d - g.frame[0] * g.gap;
+            poses.of(c.a).map_or(t, |a| a.q.inverse() * t)
+        };
+        self.contacts
+            .iter()
+            .filter_map(|c| match c.origin {
+                contacts::Origin::Interface { interface, vertex } => {
+                    let g = c.geometry(poses);
+                    Some((interface, vertex, g.gap, offset(c, &g)))
+                }
+                contacts::Origin::Ground { .. } | contacts::Origin::Touch { .. } => None,
+            })
+            .collect()
     }
 
     /// `measure` of every interface vertex contact at its geometry now, with its interface and
