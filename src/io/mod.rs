@@ -3,8 +3,10 @@
 //! Formats: voussoir scene JSON (`.json` with a `blocks` list), compas 2 Assembly JSON (`.json`
 //! with `data.graph`), compas_dem `BlockModel` JSON and lists of compas meshes, legacy
 //! compas_rbe JSON (`blocks` + `assembly`), Wavefront OBJ (one block per `o`/`g`; names starting with `support` are
-//! supports), STL ascii/binary (one block). Writes are atomic (temporary file + rename).
+//! supports), STL ascii/binary (one block); ground-motion records (`accelerogram`: PEER NGA
+//! `.AT2`, two-column CSV). Writes are atomic (temporary file + rename).
 
+pub mod accelerogram;
 pub mod compas;
 pub mod compas_dem;
 pub mod compas_rbe;

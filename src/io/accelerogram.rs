@@ -1,0 +1,262 @@
+//! Ground-motion records: a base acceleration history read from the PEER NGA `.AT2` format or
+//! from a two-column CSV of time and acceleration. Time in s from the record's start;
+//! acceleration stored in m/s² (a record in g is converted with standard gravity, 9.80665 m/s²).
+//!
+//! - `.AT2` (PEER NGA): four header lines — a title, the event and station, a line naming the
+//!   unit ("ACCELERATION TIME SERIES IN UNITS OF G"), and `NPTS= n, DT= dt SEC` — then the `n`
+//!   samples, any number per line, at times 0, dt, 2 dt, …
+//! - `.csv`: a header naming the two columns, the second with its unit in parentheses —
+//!   `time (s),acceleration (g)`, or `m/s2`, `m/s^2`, `cm/s2`, `gal` — then one `time,value`
+//!   row per sample, times strictly increasing.
+//!
+//! Every sample must be finite and within [`LARGEST`] g; a bad file gets one error naming the
+//! file, the line and what is wrong.
+
+use std::path::{Path, PathBuf};
+use thiserror::Error;
+
+/// Standard gravity, m/s² (a record in g is converted with it).
+pub const STANDARD_GRAVITY: f64 = 9.80665;
+
+/// The largest acceleration a record may hold, in g (strong-motion peaks stay below 5 g; a
+/// larger value is a wrong unit or a corrupt file).
+pub const LARGEST: f64 = 20.0;
+
+/// A base acceleration history.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Accelerogram {
+    /// Sample times, s, strictly increasing from the record's first.
+    pub times: Vec<f64>,
+    /// Acceleration at each time, m/s².
+    pub acceleration: Vec<f64>,
+}
+
+impl Accelerogram {
+    /// The largest |acceleration|, m/s².
+    pub fn peak(&self) -> f64 {
+        self.acceleration.iter().fold(0.0, |m, a| m.max(a.abs()))
+    }
+
+    /// The record's length, s.
+    pub fn duration(&self) -> f64 {
+        self.times.last().copied().unwrap_or(0.0) - self.times.first().copied().unwrap_or(0.0)
+    }
+}
+
+/// Why a record could not be read.
+#[derive(Debug, Error)]
+pub enum RecordError {
+    /// The file cannot be read (missing, no permission).
+    #[error("{path}: cannot read: {source}")]
+    Read {
+        /// The file.
+        path: PathBuf,
+        /// What the operating system said.
+        #[source]
+        source: std::io::Error,
+    },
+    /// The file's content is not a record: where (1-based line, 0 for the file as a whole) and
+    /// what is wrong.
+    #[error("{}{}: {message}", path.display(), if *line > 0 { format!(":{line}") } else { String::new() })]
+    Format {
+        /// The file.
+        path: PathBuf,
+        /// The line, 1-based (0: the file as a whole).
+        line: usize,
+        /// What is wrong.
+        message: String,
+    },
+}
+
+/// Reads a record, its format by its extension (`.at2`, `.csv`, any case).
+pub fn read_accelerogram(path: &Path) -> Result<Accelerogram, RecordError> {
+    let text = std::fs::read_to_string(path).map_err(|source| RecordError::Read { path: path.into(), source })?;
+    let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+    let fail = |line, message: String| RecordError::Format { path: path.into(), line, message };
+    match ext.as_deref() {
+        Some("at2") => parse_at2(&text).map_err(|(line, m)| fail(line, m)),
+        Some("csv") => parse_csv(&text).map_err(|(line, m)| fail(line, m)),
+        _ => Err(fail(0, "unknown record format: expected a .AT2 (PEER NGA) or .csv file".into())),
+    }
+}
+
+/// A parse failure: the 1-based line and what is wrong.
+type Failure = (usize, String);
+
+/// The samples of a PEER NGA `.AT2` text.
+fn parse_at2(text: &str) -> Result<Accelerogram, Failure> {
+    let lines: Vec<&str> = text.lines().collect();
+    if lines.len() < 4 {
+        return Err((lines.len().max(1), "missing header: an .AT2 file starts with four header lines".into()));
+    }
+    let unit = lines[2].to_ascii_uppercase();
+    if !unit.contains("UNITS OF G") {
+        return Err((3, format!("unknown unit in {:?}: expected \"UNITS OF G\"", lines[2].trim())));
+    }
+    let (n, dt) = npts_dt(lines[3])
+        .ok_or_else(|| (4, format!("expected \"NPTS= n, DT= dt SEC\", found {:?}", lines[3].trim())))?;
+    let mut values = Vec::with_capacity(n);
+    for (i, line) in lines.iter().enumerate().skip(4) {
+        for word in line.split_whitespace() {
+            values.push(sample(word, i + 1, 1.0)?);
+        }
+    }
+    if values.len() != n {
+        return Err((lines.len(), format!("NPTS= {n} but {} samples follow", values.len())));
+    }
+    let times = (0..n).map(|k| k as f64 * dt).collect();
+    Ok(Accelerogram { times, acceleration: values.iter().map(|g| g * STANDARD_GRAVITY).collect() })
+}
+
+/// `NPTS= n, DT= dt SEC` (the keys in any case, the separators free).
+fn npts_dt(line: &str) -> Option<(usize, f64)> {
+    let upper = line.to_ascii_uppercase();
+    let after = |key: &str| {
+        let rest = &upper[upper.find(key)? + key.len()..];
+        let rest = rest.trim_start_matches(|c: char| c == '=' || c.is_whitespace());
+        let end = rest.find(|c: char| c == ',' || c.is_whitespace()).unwrap_or(rest.len());
+        Some(rest[..end].to_string())
+    };
+    let n: usize = after("NPTS")?.parse().ok()?;
+    let dt: f64 = after("DT")?.parse().ok()?;
+    (n > 0 && dt.is_finite() && dt > 0.0).then_some((n, dt))
+}
+
+/// One sample on 1-based line `line` in its record's unit (`in_g` g): finite and within
+/// [`LARGEST`] g.
+fn sample(word: &str, line: usize, in_g: f64) -> Result<f64, Failure> {
+    let v: f64 = word.parse().map_err(|_| (line, format!("{word:?} is not a number")))?;
+    if !v.is_finite() {
+        return Err((line, format!("{word:?} is not a finite acceleration")));
+    }
+    if (v * in_g).abs() > LARGEST {
+        let g = v * in_g;
+        return Err((line, format!("{g} g is beyond {LARGEST} g: a wrong unit or a corrupt record")));
+    }
+    Ok(v)
+}
+
+/// The samples of a two-column CSV text (module docs).
+fn parse_csv(text: &str) -> Result<Accelerogram, Failure> {
+    let mut rows = text.lines().enumerate().filter(|(_, l)| !l.trim().is_empty());
+    let (_, header) = rows.next().ok_or((1, "empty record".to_string()))?;
+    let to_si = csv_unit(header)?;
+    let (mut times, mut acceleration) = (Vec::new(), Vec::new());
+    for (i, row) in rows {
+        let line = i + 1;
+        let cells: Vec<&str> = row.split(',').map(str::trim).collect();
+        let [t, a] = cells[..] else {
+            return Err((line, format!("expected two columns (time, acceleration), found {}", cells.len())));
+        };
+        let t: f64 = t.parse().map_err(|_| (line, format!("time {t:?} is not a number")))?;
+        if !t.is_finite() {
+            return Err((line, format!("time {t} is not finite")));
+        }
+        if let Some(&last) = times.last()
+            && t <= last
+        {
+            let what = if t == last { "repeats" } else { "goes back from" };
+            return Err((line, format!("time {t} s {what} the previous row's {last} s: times must increase")));
+        }
+        let a = sample(a, line, to_si / STANDARD_GRAVITY)?;
+        times.push(t);
+        acceleration.push(a * to_si);
+    }
+    if times.is_empty() {
+        return Err((2, "no samples after the header".into()));
+    }
+    Ok(Accelerogram { times, acceleration })
+}
+
+/// The factor to m/s² of the acceleration column named in CSV `header`'s second cell.
+fn csv_unit(header: &str) -> Result<f64, Failure> {
+    let cells: Vec<&str> = header.split(',').map(str::trim).collect();
+    if cells.len() != 2 || cells.iter().any(|c| c.parse::<f64>().is_ok()) {
+        return Err((
+            1,
+            format!("missing header: expected e.g. \"time (s),acceleration (g)\", found {:?}", header.trim()),
+        ));
+    }
+    let unit = cells[1]
+        .split_once('(')
+        .and_then(|(_, u)| u.strip_suffix(')'))
+        .map(|u| u.trim().to_ascii_lowercase().replace(' ', ""));
+    match unit.as_deref() {
+        Some("g") => Ok(STANDARD_GRAVITY),
+        Some("m/s2" | "m/s^2" | "m/s/s") => Ok(1.0),
+        Some("cm/s2" | "cm/s^2" | "cm/s/s" | "gal") => Ok(0.01),
+        Some(u) => Err((1, format!("unknown unit {u:?}: expected g, m/s2 or cm/s2 (gal)"))),
+        None => Err((1, format!("the acceleration column {:?} names no unit: e.g. \"acceleration (g)\"", cells[1]))),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A file in the system's temporary folder with `text`, named for the test.
+    fn write(name: &str, text: &str) -> PathBuf {
+        let path = std::env::temp_dir().join(format!("voussoir-record-{}-{name}", std::process::id()));
+        std::fs::write(&path, text).unwrap();
+        path
+    }
+
+    fn error(name: &str, text: &str) -> String {
+        let path = write(name, text);
+        let e = read_accelerogram(&path).unwrap_err().to_string();
+        std::fs::remove_file(&path).ok();
+        assert!(e.starts_with(&path.display().to_string()), "the error names the file: {e}");
+        e
+    }
+
+    const AT2: &str = "PEER NGA STRONG MOTION DATABASE RECORD\nImperial Valley, test station\n\
+        ACCELERATION TIME SERIES IN UNITS OF G\nNPTS=    7, DT=   .0100 SEC\n\
+        0.0 0.1 -0.2 0.3 0.4\n-0.5 .6\n";
+
+    /// Invariant: an .AT2 file's samples sit at k dt and convert from g by standard gravity.
+    #[test]
+    fn an_at2_record_is_read_at_its_step_in_metres_per_second_squared() {
+        let path = write("ok.AT2", AT2);
+        let r = read_accelerogram(&path).unwrap();
+        std::fs::remove_file(&path).ok();
+        assert_eq!(r.times.len(), 7);
+        assert!((r.times[6] - 0.06).abs() < 1e-15 && (r.duration() - 0.06).abs() < 1e-15);
+        assert!((r.acceleration[2] + 0.2 * STANDARD_GRAVITY).abs() < 1e-12);
+        assert!((r.peak() - 0.6 * STANDARD_GRAVITY).abs() < 1e-12);
+    }
+
+    /// Invariant: a CSV's unit converts as named (1 gal = 0.01 m/s²), its times kept as given.
+    #[test]
+    fn a_csv_record_converts_its_named_unit() {
+        let path = write("ok.csv", "time (s), acceleration (gal)\n0.0, 0.0\n0.02, 150.0\n0.05, -300\n");
+        let r = read_accelerogram(&path).unwrap();
+        std::fs::remove_file(&path).ok();
+        assert_eq!(r.times, vec![0.0, 0.02, 0.05]);
+        assert_eq!(r.acceleration, vec![0.0, 1.5, -3.0]);
+    }
+
+    /// Invariant: every bad record gets one error naming the file and, where it has one, the
+    /// line and what is wrong.
+    #[test]
+    fn bad_records_name_the_file_the_line_and_the_fault() {
+        let at2 = |n: &str, t: &str| error(&format!("{n}.at2"), t);
+        let csv = |n: &str, t: &str| error(&format!("{n}.csv"), t);
+        assert!(at2("nan", &AT2.replace("0.3", "NaN")).contains(":5: \"NaN\" is not a finite"));
+        assert!(at2("count", &AT2.replace("NPTS=    7", "NPTS=    8")).contains("NPTS= 8 but 7 samples"));
+        assert!(at2("unit", &AT2.replace("UNITS OF G", "UNITS OF CM/S/S")).contains(":3: unknown unit"));
+        assert!(at2("short", "PEER\nonly two lines\n").contains("missing header"));
+        assert!(at2("dt", &AT2.replace(".0100", "-1")).contains(":4: expected \"NPTS= n, DT= dt SEC\""));
+        assert!(at2("large", &AT2.replace("0.4", "45")).contains(":5: 45 g is beyond 20 g"));
+        assert!(csv("header", "0.0,0.1\n0.1,0.2\n").contains(":1: missing header"));
+        assert!(csv("unknown", "time (s),acc (furlongs)\n0,0\n").contains(":1: unknown unit \"furlongs\""));
+        assert!(csv("nounit", "time,acc\n0,0\n").contains(":1: the acceleration column \"acc\" names no unit"));
+        assert!(csv("unsorted", "time (s),acc (g)\n0,0\n0.2,0.1\n0.1,0.1\n").contains(":4: time 0.1 s goes back"));
+        assert!(csv("repeated", "time (s),acc (g)\n0,0\n0,0.1\n").contains(":3: time 0 s repeats"));
+        assert!(csv("columns", "time (s),acc (g)\n0,0,1\n").contains(":2: expected two columns"));
+        assert!(csv("empty", "time (s),acc (g)\n").contains("no samples"));
+        assert!(csv("inf", "time (s),acc (g)\n0,inf\n").contains(":2: \"inf\" is not a finite"));
+        assert!(error("x.txt", "1,2\n").contains("unknown record format"));
+        let missing = read_accelerogram(Path::new("/nonexistent/record.at2")).unwrap_err().to_string();
+        assert!(missing.starts_with("/nonexistent/record.at2: cannot read"), "{missing}");
+    }
+}
