@@ -15,7 +15,7 @@ pub enum Reached {
     Refused(String),
     /// Read, then refused by validation, detection or the statics' settings with this error.
     Rejected(String),
-    /// Detection ran (the mesh target stops there).
+    /// Detection ran (the mesh target stops there; the record target: the record was read).
     Detected,
     /// The equilibrium was solved.
     Solved,
@@ -26,7 +26,7 @@ pub enum Reached {
 /// The targets by name, as `fuzz/Cargo.toml` lists them (the replay test walks them; each
 /// fuzz binary runs one).
 #[allow(dead_code)]
-pub const TARGETS: [&str; 7] = ["scene_json", "compas", "obj", "stl", "mesh", "perturbed", "motion"];
+pub const TARGETS: [&str; 8] = ["scene_json", "compas", "obj", "stl", "mesh", "perturbed", "motion", "record"];
 
 /// Runs the body of `target` on `data`.
 pub fn run(target: &str, data: &[u8]) -> Reached {
@@ -37,6 +37,7 @@ pub fn run(target: &str, data: &[u8]) -> Reached {
         "mesh" => mesh(data),
         "perturbed" => perturbed(data),
         "motion" => motion(data),
+        "record" => record(data),
         other => panic!("no fuzz target '{other}'"),
     }
 }
@@ -149,6 +150,20 @@ pub fn motion(data: &[u8]) -> Reached {
     match outcome {
         Err(e) => Reached::Rejected(e),
         Ok(()) => Reached::Assessed,
+    }
+}
+
+/// A ground-motion record through its reader: an `.AT2` file when the first byte is even, else a
+/// CSV, the rest of the bytes its text. A record read is as deep as this target goes.
+pub fn record(data: &[u8]) -> Reached {
+    let (name, text) = match data.split_first() {
+        Some((b, rest)) if b.is_multiple_of(2) => ("fuzz.at2", rest),
+        Some((_, rest)) => ("fuzz.csv", rest),
+        None => ("fuzz.at2", data),
+    };
+    match voussoir::io::accelerogram::parse_accelerogram(Path::new(name), &String::from_utf8_lossy(text)) {
+        Err(e) => Reached::Refused(e.to_string()),
+        Ok(_) => Reached::Detected,
     }
 }
 

@@ -71,11 +71,17 @@ pub enum RecordError {
 /// Reads a record, its format by its extension (`.at2`, `.csv`, any case).
 pub fn read_accelerogram(path: &Path) -> Result<Accelerogram, RecordError> {
     let text = std::fs::read_to_string(path).map_err(|source| RecordError::Read { path: path.into(), source })?;
+    parse_accelerogram(path, &text)
+}
+
+/// A record from its text, its format by `path`'s extension (`.at2`, `.csv`, any case); errors
+/// name `path`.
+pub fn parse_accelerogram(path: &Path, text: &str) -> Result<Accelerogram, RecordError> {
     let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
     let fail = |line, message: String| RecordError::Format { path: path.into(), line, message };
     match ext.as_deref() {
-        Some("at2") => parse_at2(&text).map_err(|(line, m)| fail(line, m)),
-        Some("csv") => parse_csv(&text).map_err(|(line, m)| fail(line, m)),
+        Some("at2") => parse_at2(text).map_err(|(line, m)| fail(line, m)),
+        Some("csv") => parse_csv(text).map_err(|(line, m)| fail(line, m)),
         _ => Err(fail(0, "unknown record format: expected a .AT2 (PEER NGA) or .csv file".into())),
     }
 }

@@ -66,7 +66,7 @@ fn the_crashes_found_are_clear_errors() {
 /// perturbed 93 %), so a reader or check that started refusing what it took
 /// fails here. STL's share is low by nature: a binary STL from random bytes is rarely a closed
 /// solid.
-const DEEP_FLOOR: [(&str, f64); 7] = [
+const DEEP_FLOOR: [(&str, f64); 8] = [
     ("scene_json", 0.2),
     ("compas", 0.15),
     ("obj", 0.3),
@@ -74,6 +74,7 @@ const DEEP_FLOOR: [(&str, f64); 7] = [
     ("mesh", 0.15),
     ("perturbed", 0.45),
     ("motion", 0.5),
+    ("record", 0.05),
 ];
 
 /// The kept corpora run without a panic, and a floor of each reaches detection (the fuzzers
