@@ -12,36 +12,13 @@
 //! Every sample must be finite and within [`LARGEST`] g; a bad file gets one error naming the
 //! file, the line and what is wrong.
 
+pub use crate::dynamics::ground_motion::{Accelerogram, STANDARD_GRAVITY};
 use std::path::{Path, PathBuf};
 use thiserror::Error;
-
-/// Standard gravity, m/s² (a record in g is converted with it).
-pub const STANDARD_GRAVITY: f64 = 9.80665;
 
 /// The largest acceleration a record may hold, in g (strong-motion peaks stay below 5 g; a
 /// larger value is a wrong unit or a corrupt file).
 pub const LARGEST: f64 = 20.0;
-
-/// A base acceleration history.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Accelerogram {
-    /// Sample times, s, strictly increasing from the record's first.
-    pub times: Vec<f64>,
-    /// Acceleration at each time, m/s².
-    pub acceleration: Vec<f64>,
-}
-
-impl Accelerogram {
-    /// The largest |acceleration|, m/s².
-    pub fn peak(&self) -> f64 {
-        self.acceleration.iter().fold(0.0, |m, a| m.max(a.abs()))
-    }
-
-    /// The record's length, s.
-    pub fn duration(&self) -> f64 {
-        self.times.last().copied().unwrap_or(0.0) - self.times.first().copied().unwrap_or(0.0)
-    }
-}
 
 /// Why a record could not be read.
 #[derive(Debug, Error)]
