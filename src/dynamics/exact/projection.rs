@@ -33,6 +33,18 @@ const PASSES: usize = 20;
 /// that length × the component's mass, per the time unit, as an impulse).
 const TOLERANCE: f64 = 1e-9;
 
+/// One component's projection problem: the bodies held still (no velocity, no load), the
+/// component's bodies and their local indices, its contacts, and the time unit (s) its
+/// displacements are per.
+#[derive(Clone, Copy)]
+struct Problem<'a> {
+    still: &'a [Body],
+    comp: &'a [usize],
+    local: &'a [usize],
+    active: &'a [Active],
+    unit: f64,
+}
+
 impl World {
     /// Projects out the overlaps deeper than the setting among `near`'s contacts at the poses
     /// now, component by component.
@@ -77,9 +89,9 @@ impl World {
         // an unbounded push-out lets the gaps enter whole.
         let unit = self.ctx.units.time();
         self.stats.projections += 1;
-        let by_active_set = self.settings.by_states.then(|| self.by_active_set(&still, comp, &local, active, unit));
-        let Some(moves) = by_active_set.flatten().or_else(|| self.on_clarabel(&still, comp, &local, active, unit))
-        else {
+        let projection = Problem { still: &still, comp, local: &local, active, unit };
+        let by_active_set = self.settings.by_states.then(|| self.by_active_set(&projection));
+        let Some(moves) = by_active_set.flatten().or_else(|| self.on_clarabel(&projection)) else {
             return;
         };
         for (&k, &(dx, dq)) in comp.iter().zip(&moves) {
@@ -101,14 +113,8 @@ impl World {
     /// still overlapping held, until the answer meets the problem's optimality conditions
     /// (M Δ = Σ n λ, λ ≥ 0, gaps ≥ 0, λ × gap = 0: the QP's unique Δ). None where it does not
     /// settle within [`PASSES`].
-    fn by_active_set(
-        &self,
-        still: &[Body],
-        comp: &[usize],
-        local: &[usize],
-        active: &[Active],
-        unit: f64,
-    ) -> Option<Vec<(Vector3, Vector3)>> {
+    fn by_active_set(&self, projection: &Problem) -> Option<Vec<(Vector3, Vector3)>> {
+        let Problem { still, comp, local, active, unit } = *projection;
         let parts = Component::new(still, comp, local, unit);
         let smallest = active.iter().map(|a| self.contacts[a.contact].scale).fold(f64::INFINITY, f64::min);
         let mass: f64 = comp.iter().map(|&k| still[k].mass).sum();
@@ -147,14 +153,8 @@ impl World {
 
     /// The projection's displacements per `unit` s by one interior-point solve (clarabel),
     /// counted in the run's solves; None where it reaches no answer (its status is kept).
-    fn on_clarabel(
-        &mut self,
-        still: &[Body],
-        comp: &[usize],
-        local: &[usize],
-        active: &[Active],
-        unit: f64,
-    ) -> Option<Vec<(Vector3, Vector3)>> {
+    fn on_clarabel(&mut self, projection: &Problem) -> Option<Vec<(Vector3, Vector3)>> {
+        let Problem { still, comp, local, active, unit } = *projection;
         let ctx = StepContext { h: unit, recovery: f64::INFINITY, coulomb: Coulomb::Exact, strength: None, ..self.ctx };
         let p = problem::build(&ctx, still, comp, local, &self.contacts, active, None);
         let out = solve_conic(&p.conic, self.acc, self.settings.max_iterations);
@@ -238,7 +238,8 @@ mod tests {
         let mut world = stack();
         world.bodies.iter_mut().for_each(|b| b.x.z -= 2e-3);
         let (still, active, unit) = problem(&world);
-        let moves = world.by_active_set(&still, &[0, 1], &[0, 1], &active, unit).expect("settles");
+        let projection = Problem { still: &still, comp: &[0, 1], local: &[0, 1], active: &active, unit };
+        let moves = world.by_active_set(&projection).expect("settles");
         for (dx, dq) in &moves {
             let d = dx * unit;
             assert!((d - Vector3::new(0.0, 0.0, 2e-3)).norm() < 1e-9, "{d:?}");
@@ -255,8 +256,9 @@ mod tests {
         world.bodies[0].x.z -= 1e-3;
         world.bodies[1].q = UnitQuaternion::from_axis_angle(&Vector3::x_axis(), 0.02);
         let (still, active, unit) = problem(&world);
-        let by_set = world.by_active_set(&still, &[0, 1], &[0, 1], &active, unit).expect("settles");
-        let by_ip = world.clone().on_clarabel(&still, &[0, 1], &[0, 1], &active, unit).expect("solves");
+        let projection = Problem { still: &still, comp: &[0, 1], local: &[0, 1], active: &active, unit };
+        let by_set = world.by_active_set(&projection).expect("settles");
+        let by_ip = world.clone().on_clarabel(&projection).expect("solves");
         let (cost, least) = measure(&world, &still, &active, unit, &by_set);
         let (ip_cost, ip_least) = measure(&world, &still, &active, unit, &by_ip);
         assert!(least >= -1e-9, "least gap {least}");

@@ -48,15 +48,10 @@ impl World {
         let mut local = vec![usize::MAX; self.bodies.len()];
         comp.iter().enumerate().for_each(|(j, &k)| local[k] = j);
         let mu = self.ctx.mu;
-        let force = self.ctx.units.force;
-        let mut active: Vec<Active> = near
-            .iter()
-            .filter(|a| comp.iter().any(|&k| self.contacts[a.contact].touches(k)))
-            .map(|a| Active { capacity: mu * self.contacts[a.contact].last_normal / force, ..*a })
-            .collect();
+        let mut active = self.component_contacts(comp, near);
         if active.is_empty() {
             let sol = self.free_flight(comp);
-            let rest = self.peak_speed(comp, &sol) <= self.settings.still * self.ctx.units.g * self.ctx.h;
+            let rest = self.stays_still(comp, &sol);
             self.accept(comp, &active, sol, rest);
             return;
         }
@@ -89,7 +84,7 @@ impl World {
             let round = first_round.take().or_else(|| self.round(comp, &local, &active, &bound));
             let Some((p, out)) = round else { break None };
             let sol = p.read(&self.ctx, &self.bodies, comp, &active, &out.x);
-            let rest = self.peak_speed(comp, &sol) <= self.settings.still * self.ctx.units.g * self.ctx.h;
+            let rest = self.stays_still(comp, &sol);
             // Each later round's states may settle where the first round's did not.
             if exact && moving && self.by_states() && rounds > 1 {
                 let states = self.states_of(&sol, &local, &active);
@@ -144,6 +139,16 @@ impl World {
             Some((sol, rest)) => self.accept(comp, &active, sol, rest),
             None => self.stats.failed_steps += 1,
         }
+    }
+
+    /// `near`'s contacts of component `comp`, each with its capacity from the last step's
+    /// normal force (μ f_n, non-dimensional): the rounds' start.
+    fn component_contacts(&self, comp: &[usize], near: &[Active]) -> Vec<Active> {
+        let (mu, force) = (self.ctx.mu, self.ctx.units.force);
+        near.iter()
+            .filter(|a| comp.iter().any(|&k| self.contacts[a.contact].touches(k)))
+            .map(|a| Active { capacity: mu * self.contacts[a.contact].last_normal / force, ..*a })
+            .collect()
     }
 
     /// How far a round's capacities `next` moved from `active`'s, relative to the largest
@@ -216,11 +221,7 @@ impl World {
             // A joint the forces would crush: the rounds with its stress block decide.
             return FromRest::Moves(sol.normal);
         }
-        if self.peak_speed(comp, &sol) <= self.settings.still * self.ctx.units.g * self.ctx.h {
-            FromRest::Stays(sol)
-        } else {
-            FromRest::Moves(sol.normal)
-        }
+        if self.stays_still(comp, &sol) { FromRest::Stays(sol) } else { FromRest::Moves(sol.normal) }
     }
 
     /// With a strength: adds the closed joints whose forces in `sol` come near it to `bound`
@@ -303,7 +304,7 @@ impl World {
     /// Accepts a step the contacts' states settled, counted as such.
     fn accept_by_states(&mut self, comp: &[usize], active: &[Active], sol: Solution) {
         self.stats.state_steps += 1;
-        let rest = self.peak_speed(comp, &sol) <= self.settings.still * self.ctx.units.g * self.ctx.h;
+        let rest = self.stays_still(comp, &sol);
         self.accept(comp, active, sol, rest);
     }
 
@@ -405,6 +406,12 @@ impl World {
             })
             .collect();
         Solution { velocities, normal: Vec::new(), impulses: Vec::new(), work: Vec::new(), residual: 0.0 }
+    }
+
+    /// Whether the component's every vertex after the step is slower than the rest criterion's
+    /// speed, `still` g h.
+    fn stays_still(&self, comp: &[usize], sol: &Solution) -> bool {
+        self.peak_speed(comp, sol) <= self.settings.still * self.ctx.units.g * self.ctx.h
     }
 
     /// The fastest vertex of the component after the step, m/s (bounded by |v| + |ω| r).
