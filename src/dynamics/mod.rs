@@ -14,7 +14,7 @@ pub mod scene;
 pub(crate) mod settings;
 
 pub use exact::{EnergyBalance, ExactStats};
-pub use ground_motion::Accelerogram;
+pub use ground_motion::{Accelerogram, Component, Excitation, GroundMotion, GroundMotionError, PulseShape, Record};
 pub use rapier::Simulation;
 pub use run::{BlockMotion, DropResult, DropRun, Stepper, Trajectory, drop_test, record};
 pub use scene::{SupportPath, floor_level};

@@ -4,6 +4,7 @@
 //! ([`Trajectory`]). Units SI, z up.
 
 use super::exact::{self, ExactStats};
+use super::ground_motion::GroundMotion;
 use super::rapier::Simulation;
 use super::scene::SupportPath;
 use super::settings::{DropError, DropSettings, Engine};
@@ -26,6 +27,15 @@ pub struct BlockMotion {
     pub final_kinetic_energy: f64,
     /// When the block first moved more than a tenth of the tolerances, s.
     pub first_motion: Option<f64>,
+    /// Its centroid's displacement at the end, m (a shake's residual displacement).
+    pub final_drift: f64,
+    /// Its rotation at the end, rad.
+    pub final_rotation: f64,
+    /// The largest fall of its centroid below its start, m.
+    pub max_drop: f64,
+    /// When it fell — turned by more than [`DropSettings::fall_rotation`] or dropped by more
+    /// than [`DropSettings::fall_drop`] of its size, beyond any recovery — s.
+    pub fell: Option<f64>,
 }
 
 /// The drop test's outcome.
@@ -42,6 +52,8 @@ pub struct DropResult {
     pub max_rotation: f64,
     /// The block that moved most (relative to the tolerances), if any block is free.
     pub worst_block: Option<String>,
+    /// When the first block fell (see [`BlockMotion::fell`]), s: a shake's collapse.
+    pub fell: Option<f64>,
     /// Simulated time, s.
     pub simulated_s: f64,
     /// Wall time of the run, s.
@@ -94,6 +106,15 @@ impl Stepper {
         match self {
             Self::Rapier(s) => s.step(),
             Self::Exact(w) => w.step(),
+        }
+    }
+
+    /// The base's acceleration for the next steps (m/s²): the engines step in its frame
+    /// ([`super::ground_motion`]).
+    pub fn set_base_acceleration(&mut self, a: crate::geometry::Vector3) {
+        match self {
+            Self::Rapier(s) => s.set_base_acceleration(a),
+            Self::Exact(w) => w.set_base_acceleration(a),
         }
     }
 
@@ -161,13 +182,22 @@ pub fn record(assembly: &Assembly, settings: &DropSettings, fps: f64) -> Result<
     if !(fps > 0.0 && fps.is_finite()) {
         return Err(DropError::NotPositive { name: "frames per second", value: fps });
     }
-    let mut run = DropRun::new(assembly, settings)?;
-    let every = ((1.0 / (fps * settings.dt)).round() as usize).max(1);
+    record_run(DropRun::new(assembly, settings)?, assembly, fps)
+}
+
+/// Runs `run` to its end, recording every block's pose about `fps` times per simulated
+/// second (see [`record`]).
+pub fn record_run(mut run: DropRun, assembly: &Assembly, fps: f64) -> Result<(DropResult, Trajectory), DropError> {
+    if !(fps > 0.0 && fps.is_finite()) {
+        return Err(DropError::NotPositive { name: "frames per second", value: fps });
+    }
+    let dt = run.dt();
+    let every = ((1.0 / (fps * dt)).round() as usize).max(1);
     let frame = |run: &DropRun| (0..assembly.blocks.len()).map(|i| run.pose(i)).collect();
-    let mut motion = Trajectory { engine: settings.engine, times: vec![0.0], poses: vec![frame(&run)] };
+    let mut motion = Trajectory { engine: run.engine(), times: vec![0.0], poses: vec![frame(&run)] };
     while !run.finished() {
         run.advance(every);
-        motion.times.push(run.steps_done() as f64 * settings.dt);
+        motion.times.push(run.steps_done() as f64 * dt);
         motion.poses.push(frame(&run));
     }
     Ok((run.result(), motion))
@@ -185,6 +215,8 @@ pub struct DropRun {
     /// Free weight (N) times the median free block size (m): the scale of `at_rest`.
     energy_scale: f64,
     motions: Vec<BlockMotion>,
+    /// The ground motion that shakes the base, if any.
+    ground: Option<GroundMotion>,
     steps: usize,
     total: usize,
     wall: f64,
@@ -212,6 +244,10 @@ impl DropRun {
                 max_rotation: 0.0,
                 final_kinetic_energy: 0.0,
                 first_motion: None,
+                final_drift: 0.0,
+                final_rotation: 0.0,
+                max_drop: 0.0,
+                fell: None,
             })
             .collect();
         let total = (settings.duration / settings.dt).ceil() as usize;
@@ -224,10 +260,20 @@ impl DropRun {
             size,
             energy_scale,
             motions,
+            ground: None,
             steps: 0,
             total,
             wall,
         })
+    }
+
+    /// A drop test of `assembly` whose base moves by `motion` (checked first): the run of a
+    /// shake ([`super::ground_motion`]). A fall stops it when the settings say so.
+    pub fn shaken(assembly: &Assembly, settings: &DropSettings, motion: GroundMotion) -> Result<Self, DropError> {
+        let motion = motion.validated()?;
+        let mut run = Self::new(assembly, settings)?;
+        run.ground = Some(motion);
+        Ok(run)
     }
 
     /// The steps the whole duration takes (fewer once it stops at a fall).
@@ -258,34 +304,54 @@ impl DropRun {
     /// Advances by up to `n` steps (not past the duration), tracking every block's motion.
     pub fn advance(&mut self, n: usize) {
         let start = Instant::now();
-        let s = &self.settings;
+        let dt = self.settings.dt;
         for _ in 0..n.min(self.total - self.steps) {
+            if let Some(ground) = &self.ground {
+                let t = self.steps as f64 * dt;
+                self.sim.set_base_acceleration(ground.mean_acceleration(t, t + dt));
+            }
             self.sim.step();
             self.steps += 1;
-            let t = self.steps as f64 * s.dt;
-            for (k, &i) in self.free.iter().enumerate() {
-                let (drift, rotation) = self.sim.displacement(i);
-                let m = &mut self.motions[k];
-                m.max_drift = m.max_drift.max(drift);
-                m.max_drift_ratio = m.max_drift / self.size[k];
-                m.max_rotation = m.max_rotation.max(rotation);
-                if m.first_motion.is_none()
-                    && (drift > 0.1 * s.drift_tolerance * self.size[k] || rotation > 0.1 * s.rotation_tolerance)
-                {
-                    m.first_motion = Some(t);
-                }
-            }
-            if s.stop_when_falls
-                && self
-                    .motions
+            self.track();
+            let s = &self.settings;
+            // A shake's blocks rock beyond the tolerances and come back: it stops at a fall.
+            let stop = if self.ground.is_some() {
+                self.motions.iter().any(|m| m.fell.is_some())
+            } else {
+                self.motions
                     .iter()
                     .any(|m| m.max_drift_ratio > s.drift_tolerance || m.max_rotation > s.rotation_tolerance)
-            {
+            };
+            if s.stop_when_falls && stop {
                 self.total = self.steps;
                 break;
             }
         }
         self.wall += start.elapsed().as_secs_f64();
+    }
+
+    /// Every free block's motion after a step.
+    fn track(&mut self) {
+        let s = &self.settings;
+        let t = self.steps as f64 * s.dt;
+        for (k, &i) in self.free.iter().enumerate() {
+            let (drift, rotation) = self.sim.displacement(i);
+            let drop = self.start[i].z - self.pose(i).0.z;
+            let m = &mut self.motions[k];
+            m.max_drift = m.max_drift.max(drift);
+            m.max_drift_ratio = m.max_drift / self.size[k];
+            m.max_rotation = m.max_rotation.max(rotation);
+            (m.final_drift, m.final_rotation) = (drift, rotation);
+            m.max_drop = m.max_drop.max(drop);
+            if m.first_motion.is_none()
+                && (drift > 0.1 * s.drift_tolerance * self.size[k] || rotation > 0.1 * s.rotation_tolerance)
+            {
+                m.first_motion = Some(t);
+            }
+            if m.fell.is_none() && (rotation > s.fall_rotation || drop > s.fall_drop * self.size[k]) {
+                m.fell = Some(t);
+            }
+        }
     }
 
     /// Block `i`'s centroid (m) and rotation since the start (unit quaternion [w, x, y, z]).
@@ -318,6 +384,7 @@ impl DropRun {
             max_drift: motions.iter().map(|m| m.max_drift_ratio).fold(0.0, f64::max),
             max_rotation: motions.iter().map(|m| m.max_rotation).fold(0.0, f64::max),
             worst_block: worst.map(|m| m.name.clone()),
+            fell: motions.iter().filter_map(|m| m.fell).min_by(f64::total_cmp),
             simulated_s: self.steps as f64 * s.dt,
             wall_s: self.wall,
             steps: self.steps,

@@ -271,6 +271,11 @@ pub struct DropSettings {
     pub drift_tolerance: f64,
     /// … or turned more than this angle, rad.
     pub rotation_tolerance: f64,
+    /// A block has fallen (beyond recovery: a shake's collapse) when it turned more than this
+    /// angle, rad …
+    pub fall_rotation: f64,
+    /// … or its centroid dropped more than this fraction of its size below its start.
+    pub fall_drop: f64,
 }
 
 impl Default for DropSettings {
@@ -301,6 +306,11 @@ impl Default for DropSettings {
             drift_tolerance: 0.02,
             // ≈ 2.9°: above what a standing arch settles by, far below what a falling block turns.
             rotation_tolerance: 0.05,
+            // ≈ 29°: past the tipping angle of any block up to twice as wide as tall, ten
+            // times what an arch rocks by and comes back from.
+            fall_rotation: 0.5,
+            // A voussoir a quarter of its size below its place has left the arch.
+            fall_drop: 0.25,
         }
     }
 }
@@ -329,6 +339,9 @@ pub enum DropError {
         "drop test: solver_iterations (and the exact engine's max_rounds, stall_rounds, max_iterations) must be at least 1"
     )]
     NoIterations,
+    /// The ground motion is not valid.
+    #[error(transparent)]
+    GroundMotion(#[from] crate::dynamics::ground_motion::GroundMotionError),
     /// The duration takes more steps than the limit.
     #[error("drop test: {steps} steps (duration / dt) is more than the limit of 10 000 000")]
     TooManySteps {
@@ -347,6 +360,8 @@ impl DropSettings {
             ("contact_damping", self.contact_damping),
             ("drift_tolerance", self.drift_tolerance),
             ("rotation_tolerance", self.rotation_tolerance),
+            ("fall_rotation", self.fall_rotation),
+            ("fall_drop", self.fall_drop),
             ("max_contact_depth", self.max_contact_depth),
         ] {
             if !(value > 0.0 && value.is_finite()) {

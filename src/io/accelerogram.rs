@@ -12,13 +12,9 @@
 //! Every sample must be finite and within [`LARGEST`] g; a bad file gets one error naming the
 //! file, the line and what is wrong.
 
-pub use crate::dynamics::ground_motion::{Accelerogram, STANDARD_GRAVITY};
+pub use crate::dynamics::ground_motion::{Accelerogram, LARGEST, STANDARD_GRAVITY};
 use std::path::{Path, PathBuf};
 use thiserror::Error;
-
-/// The largest acceleration a record may hold, in g (strong-motion peaks stay below 5 g; a
-/// larger value is a wrong unit or a corrupt file).
-pub const LARGEST: f64 = 20.0;
 
 /// Why a record could not be read.
 #[derive(Debug, Error)]

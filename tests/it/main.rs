@@ -46,6 +46,7 @@ mod real_data_interfaces;
 mod report_html;
 mod sequence;
 mod settlement;
+mod shake;
 mod statics_backends;
 mod statics_closed_forms;
 mod statics_feasible_minima;

@@ -200,6 +200,10 @@ pub struct World {
     /// Per interface vertex contact, its tangential offset at the last [`Self::mark_slips`] (m,
     /// in a's axes; empty before any).
     slip_marks: Vec<Vector3>,
+    /// The base's acceleration (m/s²) and each free body's force without it (N): a shaken
+    /// design steps in the base's frame ([`Self::set_base_acceleration`]).
+    base_acceleration: Vector3,
+    steady_force: Vec<Vector3>,
     stats: ExactStats,
 }
 
@@ -274,6 +278,7 @@ impl World {
         };
         let acc = Accuracy::uniform(s.solver_tolerance);
         let reactions = vec![[Vector3::zeros(); 2]; movers.len()];
+        let steady_force = bodies.iter().map(|b| Vector3::new(b.load[0], b.load[1], b.load[2])).collect();
         Self {
             bodies,
             movers,
@@ -291,7 +296,24 @@ impl World {
             size,
             deepest: 0.0,
             slip_marks: Vec::new(),
+            base_acceleration: Vector3::zeros(),
+            steady_force,
             stats,
+        }
+    }
+
+    /// The base's acceleration `a` (m/s², world axes) for the next steps: the engine steps in
+    /// the base's frame, where every free block carries the inertial load −m a beside its
+    /// weight (its work counts in the energy account's load work). A change wakes every block.
+    pub fn set_base_acceleration(&mut self, a: Vector3) {
+        if a == self.base_acceleration {
+            return;
+        }
+        self.base_acceleration = a;
+        for (b, steady) in self.bodies.iter_mut().zip(&self.steady_force) {
+            let force = steady - a * b.mass;
+            b.load[..3].copy_from_slice(force.as_slice());
+            b.asleep = false;
         }
     }
 

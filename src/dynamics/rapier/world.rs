@@ -26,6 +26,8 @@ pub struct Simulation {
     deep: DeepContacts,
     /// The supports on prescribed paths (kinematic bodies), with the fraction covered.
     paths: Vec<(SupportPath, f64)>,
+    /// The design's gravity, m/s².
+    gravity: Vector3,
 }
 
 impl Simulation {
@@ -61,7 +63,8 @@ impl Simulation {
         let start = bodies.iter().map(|&h| (world.bodies[h].translation(), *world.bodies[h].rotation())).collect();
         let deep = DeepContacts { depth: (settings.max_contact_depth * unit) as f32, ground };
         let paths = paths.iter().map(|p| (*p, 0.0)).collect();
-        Self { world, bodies, offset, start, max_volume_error, initial_overlap, deep, paths }
+        let gravity = assembly.gravity;
+        Self { world, bodies, offset, start, max_volume_error, initial_overlap, deep, paths, gravity }
     }
 
     /// One step of dt.
@@ -81,6 +84,12 @@ impl Simulation {
             }
         }
         self.step();
+    }
+
+    /// The base's acceleration `a` (m/s², world axes) for the next steps: the world steps in
+    /// the base's frame, its gravity g − a (no body sleeps).
+    pub fn set_base_acceleration(&mut self, a: Vector3) {
+        self.world.gravity = v32(self.gravity - a);
     }
 
     /// The speed of block `i`'s centroid (m/s) and its angular speed (rad/s).

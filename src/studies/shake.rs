@@ -1,0 +1,276 @@
+//! The shake table: a design under a ground motion ([`crate::dynamics::ground_motion`]) on
+//! either engine, the static load factor λ* beside it, and collapse spectra.
+//!
+//! - [`shake`]: one run; the motion, then `after` × √(D / g) more (D the free blocks' bounding
+//!   box diagonal: a block's rocking and falling go with √(size / g)) for what it set going to
+//!   fall or come to rest. It collapsed when a block fell ([`crate::dynamics::BlockMotion::fell`]); drifts
+//!   and rotations are relative to the ground.
+//! - [`static_load_factor`]: λ* of a horizontal field opposite the base's acceleration — the
+//!   inertial load a base accelerated along `azimuth` puts on the blocks. A rectangular pulse
+//!   of λ* g held forever is the statics' collapse: λ* is the long-pulse limit of the spectrum.
+//! - [`collapse_spectrum`]: for a pulse shape, the least amplitude that collapses the design
+//!   at each duration, by bisection from λ* g (no pulse whose peak is below it moves a block)
+//!   to a doubling upper bound, the durations shared between two threads.
+//!
+//! Amplitudes in g (standard gravity), durations in s, azimuths in degrees from +x towards +y.
+
+use crate::dynamics::ground_motion::{Excitation, GroundMotion, LARGEST, PulseShape, STANDARD_GRAVITY};
+use crate::dynamics::{DropError, DropResult, DropRun, DropSettings, Engine};
+use crate::model::Assembly;
+use crate::pipeline::Analysis;
+use crate::stability::{RobustnessError, assess_parts, with_horizontal_field};
+use crate::statics::StaticsSettings;
+use serde::Serialize;
+use std::sync::Mutex;
+use thiserror::Error;
+
+/// Why a shake or a spectrum cannot run.
+#[derive(Debug, Error, Clone, PartialEq)]
+pub enum ShakeError {
+    /// The motion or the engine's settings are not valid.
+    #[error(transparent)]
+    Drop(#[from] DropError),
+    /// The static load factor cannot be computed.
+    #[error(transparent)]
+    Robustness(#[from] RobustnessError),
+    /// A spectrum setting is out of range (the message names it).
+    #[error("spectrum: {0}")]
+    Spectrum(String),
+}
+
+/// How a shake runs.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ShakeSettings {
+    /// The engine and its settings (its `duration` is replaced by the motion's end + the time
+    /// after it).
+    pub drop: DropSettings,
+    /// Time simulated after the motion ends, in the design's time scale √(D / g).
+    pub after: f64,
+}
+
+impl Default for ShakeSettings {
+    fn default() -> Self {
+        // A block that ends a pulse near its tipping point takes several 1/p (≈ √(D / g)) to
+        // fall or come back: 4.8 s for a 1 m block.
+        Self { drop: DropSettings { engine: Engine::Exact, ..DropSettings::default() }, after: 15.0 }
+    }
+}
+
+impl ShakeSettings {
+    /// The engine's settings for `motion` on `assembly`: its duration the motion's end + the
+    /// time after it.
+    fn for_motion(&self, assembly: &Assembly, motion: &GroundMotion) -> Result<DropSettings, ShakeError> {
+        if !(self.after >= 0.0 && self.after.is_finite()) {
+            return Err(DropError::Negative { name: "after", value: self.after }.into());
+        }
+        let after = self.after * time_scale(assembly);
+        Ok(DropSettings { duration: (motion.end() + after).max(self.drop.dt), ..self.drop.clone() })
+    }
+}
+
+/// √(D / g), s: D the free blocks' bounding box diagonal (m), g the design's gravity.
+pub fn time_scale(assembly: &Assembly) -> f64 {
+    let mut free = crate::geometry::Aabb3::empty();
+    assembly.blocks.iter().filter(|b| !b.support).for_each(|b| free.merge(&b.aabb));
+    let g = assembly.gravity.norm();
+    let scale = (free.diagonal() / g).sqrt();
+    if scale.is_finite() { scale } else { 0.0 }
+}
+
+/// Shakes `assembly` by `motion` (see the module docs).
+pub fn shake(assembly: &Assembly, settings: &ShakeSettings, motion: &GroundMotion) -> Result<DropResult, ShakeError> {
+    let mut run = shake_run(assembly, settings, motion)?;
+    run.advance(run.total_steps());
+    Ok(run.result())
+}
+
+/// The run of a shake, to be advanced step by step (the ECS plugin, a recording).
+pub fn shake_run(assembly: &Assembly, settings: &ShakeSettings, motion: &GroundMotion) -> Result<DropRun, ShakeError> {
+    Ok(DropRun::shaken(assembly, &settings.for_motion(assembly, motion)?, motion.clone())?)
+}
+
+/// λ* (in g) of the inertial load of a base accelerated along the horizontal `azimuth`: a
+/// 1 g field along azimuth + 180°, on the analysis's assembly and interfaces. +∞ when no
+/// multiple collapses it; NaN when it does not stand or a solve failed.
+pub fn static_load_factor(analysis: &Analysis, statics: &StaticsSettings, azimuth: f64) -> Result<f64, ShakeError> {
+    let field = with_horizontal_field(&analysis.assembly, azimuth + 180.0);
+    Ok(assess_parts(&field, &analysis.interfaces, analysis.statics.stands, statics)?.load_factor)
+}
+
+/// How a collapse spectrum is found.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SpectrumSettings {
+    /// The pulse's shape.
+    pub shape: PulseShape,
+    /// The pulse durations, s.
+    pub durations: Vec<f64>,
+    /// The base's direction, degrees from +x towards +y.
+    pub azimuth: f64,
+    /// Each run's settings (a run stops at the first fall).
+    pub shake: ShakeSettings,
+    /// The bisection ends when the bracket is within this fraction of its upper end.
+    pub tolerance: f64,
+}
+
+impl Default for SpectrumSettings {
+    fn default() -> Self {
+        Self {
+            shape: PulseShape::Rectangular,
+            durations: vec![0.1, 0.2, 0.5, 1.0, 2.0, 5.0],
+            azimuth: 0.0,
+            shake: ShakeSettings::default(),
+            // 0.2 %: finer than the engines' agreement with the closed forms (1 %).
+            tolerance: 2e-3,
+        }
+    }
+}
+
+/// The least collapsing amplitude at one pulse duration.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct SpectrumPoint {
+    /// The pulse's duration, s.
+    pub duration: f64,
+    /// The largest amplitude found that does not collapse the design, g.
+    pub stands_g: f64,
+    /// The least amplitude found that does, g; `None` when none up to the largest allowed
+    /// ([`LARGEST`] g) does.
+    pub collapses_g: Option<f64>,
+    /// Runs taken.
+    pub runs: usize,
+}
+
+/// A collapse spectrum and the static load factor beside it.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Spectrum {
+    /// The pulse's shape.
+    pub shape: PulseShape,
+    /// The engine that ran it.
+    pub engine: Engine,
+    /// The base's direction, degrees.
+    pub azimuth: f64,
+    /// λ* of the statics (g): the long-pulse limit.
+    pub static_load_factor: f64,
+    /// One point per duration, in the settings' order.
+    pub points: Vec<SpectrumPoint>,
+}
+
+/// The collapse spectrum of `assembly` (module docs) with `static_load_factor` (λ*, g) as the
+/// bisection's lower end; `tick` is called after each duration (from either thread).
+pub fn collapse_spectrum(
+    assembly: &Assembly,
+    static_load_factor: f64,
+    settings: &SpectrumSettings,
+    tick: &(dyn Fn() + Sync),
+) -> Result<Spectrum, ShakeError> {
+    check_spectrum(settings)?;
+    let results: Mutex<Vec<Option<Result<SpectrumPoint, ShakeError>>>> =
+        Mutex::new(vec![None; settings.durations.len()]);
+    let next = Mutex::new(0usize);
+    std::thread::scope(|scope| {
+        for _ in 0..2 {
+            scope.spawn(|| {
+                loop {
+                    let k = {
+                        let mut n = next.lock().expect("not poisoned");
+                        *n += 1;
+                        *n - 1
+                    };
+                    let Some(&duration) = settings.durations.get(k) else { break };
+                    let point = least_collapsing(assembly, static_load_factor, duration, settings);
+                    let failed = point.is_err();
+                    results.lock().expect("not poisoned")[k] = Some(point);
+                    tick();
+                    if failed {
+                        break;
+                    }
+                }
+            });
+        }
+    });
+    let points = results.into_inner().expect("not poisoned");
+    let points = points.into_iter().flatten().collect::<Result<Vec<_>, _>>()?;
+    if points.len() != settings.durations.len() {
+        return Err(ShakeError::Spectrum("a duration was not run".into()));
+    }
+    Ok(Spectrum {
+        shape: settings.shape,
+        engine: settings.shake.drop.engine,
+        azimuth: settings.azimuth,
+        static_load_factor,
+        points,
+    })
+}
+
+/// The spectrum's durations and tolerance checked.
+fn check_spectrum(settings: &SpectrumSettings) -> Result<(), ShakeError> {
+    if settings.durations.is_empty() || settings.durations.len() > 200 {
+        return Err(ShakeError::Spectrum(format!("{} durations (one to 200)", settings.durations.len())));
+    }
+    if let Some(d) = settings.durations.iter().find(|d| !(**d > 0.0 && d.is_finite() && **d <= 600.0)) {
+        return Err(ShakeError::Spectrum(format!("duration {d} s must be finite, > 0 and at most 600 s")));
+    }
+    if !(settings.tolerance > 0.0 && settings.tolerance < 1.0) {
+        return Err(ShakeError::Spectrum(format!("tolerance {} must be in (0, 1)", settings.tolerance)));
+    }
+    Ok(())
+}
+
+/// Whether a pulse of `amplitude_g` and `duration` collapses `assembly`.
+fn collapses(
+    assembly: &Assembly,
+    settings: &SpectrumSettings,
+    amplitude_g: f64,
+    duration: f64,
+) -> Result<bool, ShakeError> {
+    let pulse = Excitation::Pulse { shape: settings.shape, amplitude: amplitude_g * STANDARD_GRAVITY, duration };
+    let motion = GroundMotion::horizontal(pulse, settings.azimuth);
+    let shake_settings = ShakeSettings {
+        drop: DropSettings { stop_when_falls: true, ..settings.shake.drop.clone() },
+        ..settings.shake.clone()
+    };
+    Ok(shake(assembly, &shake_settings, &motion)?.fell.is_some())
+}
+
+/// The bracket of the least collapsing amplitude at `duration`: up from λ* g by doubling, then
+/// bisected to the tolerance.
+fn least_collapsing(
+    assembly: &Assembly,
+    lambda: f64,
+    duration: f64,
+    settings: &SpectrumSettings,
+) -> Result<SpectrumPoint, ShakeError> {
+    let mut runs = 0;
+    let mut test = |a: f64| {
+        runs += 1;
+        collapses(assembly, settings, a, duration)
+    };
+    let mut lo = if lambda.is_finite() && lambda > 0.0 { lambda } else { 0.1 };
+    while test(lo)? {
+        lo *= 0.5;
+        if lo < 1e-6 {
+            return Ok(SpectrumPoint { duration, stands_g: 0.0, collapses_g: Some(lo), runs });
+        }
+    }
+    let mut hi = 2.0 * lo;
+    while !test(hi)? {
+        lo = hi;
+        hi *= 2.0;
+        if hi > LARGEST {
+            let top = LARGEST;
+            if !test(top)? {
+                return Ok(SpectrumPoint { duration, stands_g: top, collapses_g: None, runs });
+            }
+            hi = top;
+            break;
+        }
+    }
+    while hi - lo > settings.tolerance * hi {
+        let mid = 0.5 * (lo + hi);
+        if test(mid)? {
+            hi = mid;
+        } else {
+            lo = mid;
+        }
+    }
+    Ok(SpectrumPoint { duration, stands_g: lo, collapses_g: Some(hi), runs })
+}

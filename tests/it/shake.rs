@@ -1,0 +1,187 @@
+//! The shake table against closed forms: Newmark's sliding block, Housner's rectangular pulse
+//! (the rocking equation integrated here independently), the static load factor as the long
+//! pulse's limit, the size effect, and a motion of zero amplitude as the drop test bit for bit.
+//! All on the exact-contact engine at the default step (1/240 s).
+
+use crate::common::{assembly, cuboid};
+use voussoir::dynamics::ground_motion::STANDARD_GRAVITY;
+use voussoir::dynamics::{
+    DropRun, DropSettings, Engine, Excitation, GroundMotion, PulseShape, drop_test, run::record_run,
+};
+use voussoir::geometry::{Mesh, Point3};
+use voussoir::model::{Block, Scene};
+use voussoir::studies::shake::{ShakeSettings, SpectrumSettings, collapse_spectrum, shake};
+
+/// The scenes' gravity, m/s².
+fn gravity(scene: &Scene) -> f64 {
+    scene.gravity.norm()
+}
+
+/// A rectangular pulse of `g` (in g) for `duration` s along +x.
+fn rect(g: f64, duration: f64) -> GroundMotion {
+    GroundMotion::horizontal(
+        Excitation::Pulse { shape: PulseShape::Rectangular, amplitude: g * STANDARD_GRAVITY, duration },
+        0.0,
+    )
+}
+
+/// A 2b × 2b × 2h block standing on the ground plane (or on a wide support slab 0.2 thick).
+fn standing(b: f64, h: f64, on_slab: bool) -> Scene {
+    let z0 = if on_slab { 0.2 } else { 0.0 };
+    let mut blocks = vec![cuboid("block", [-b, -b, z0], [b, b, z0 + 2.0 * h])];
+    if on_slab {
+        let mut slab: Block = cuboid("slab", [-20.0 * b, -20.0 * b, 0.0], [20.0 * b, 20.0 * b, 0.2]);
+        slab.support = true;
+        blocks.push(slab);
+    }
+    let mut scene = Scene::new("block", blocks);
+    scene.ground = !on_slab;
+    scene
+}
+
+/// Invariant (Newmark 1965): a squat block (b/h 2.5, so it slides, not rocks) with friction μ
+/// on a base that a rectangular pulse A > μg accelerates for t₀ slides relative to the base
+/// by A t₀² (A − μg) / (2 μ g) within 1 %; under A < μg it does not move (drift ≤ 1e-9 of its
+/// size) — on the ground plane and on a support slab.
+#[test]
+fn a_block_slides_as_newmark_says() {
+    let mu = 0.3;
+    for on_slab in [false, true] {
+        let scene = standing(0.5, 0.2, on_slab);
+        let asm = assembly(&scene);
+        let g = gravity(&scene);
+        let settings = ShakeSettings {
+            drop: DropSettings { engine: Engine::Exact, friction: Some(mu), ..DropSettings::default() },
+            // ≈ 1.2 s after the pulse: it stops sliding within 0.42 s of the pulse's end.
+            after: 3.0,
+        };
+        for (a_g, t0) in [(0.5, 0.4), (0.8, 0.25)] {
+            let a = a_g * STANDARD_GRAVITY;
+            let expected = a * t0 * t0 * (a - mu * g) / (2.0 * mu * g);
+            let r = shake(&asm, &settings, &rect(a_g, t0)).expect("the shake runs");
+            let slid = r.blocks[0].final_drift;
+            assert!(
+                (slid / expected - 1.0).abs() < 0.01,
+                "slab {on_slab}, {a_g} g for {t0} s: slid {slid:.5} m vs Newmark's {expected:.5} m"
+            );
+            assert!(r.fell.is_none() && r.blocks[0].max_rotation < 1e-6, "slab {on_slab}: {r:?}");
+        }
+        let r = shake(&asm, &settings, &rect(0.25, 0.4)).expect("the shake runs");
+        let size = asm.blocks[0].aabb.diagonal();
+        assert!(r.blocks[0].max_drift < 1e-9 * size, "slab {on_slab}: below μg it drifted {:e}", r.blocks[0].max_drift);
+    }
+}
+
+/// Whether the rocking equation θ'' = p² (A/g cos(α − θ) − sin(α − θ)) during a rectangular
+/// pulse of A (m/s²) for `tp`, free after it, overturns a block (α, p² = 3g / 4R) from rest:
+/// RK4 at 1e-6 s through the pulse, then the free rocking's energy ½θ'² − p² cos(α − θ) against
+/// the top's (θ = α). After the pulse the block either passes θ = α on its first swing or comes
+/// back and loses energy at every impact, so that is the whole question.
+fn rocking_overturns(alpha: f64, p: f64, a_over_g: f64, tp: f64) -> bool {
+    if a_over_g <= alpha.tan() {
+        return false;
+    }
+    let f = |th: f64, w: f64| (w, p * p * (a_over_g * (alpha - th).cos() - (alpha - th).sin()));
+    let steps = (tp / 1e-6).ceil() as usize;
+    let dt = tp / steps as f64;
+    let (mut th, mut w) = (0.0f64, 0.0f64);
+    for _ in 0..steps {
+        let k1 = f(th, w);
+        let k2 = f(th + 0.5 * dt * k1.0, w + 0.5 * dt * k1.1);
+        let k3 = f(th + 0.5 * dt * k2.0, w + 0.5 * dt * k2.1);
+        let k4 = f(th + dt * k3.0, w + dt * k3.1);
+        th += dt / 6.0 * (k1.0 + 2.0 * k2.0 + 2.0 * k3.0 + k4.0);
+        w += dt / 6.0 * (k1.1 + 2.0 * k2.1 + 2.0 * k3.1 + k4.1);
+        if th >= alpha {
+            return true;
+        }
+    }
+    0.5 * w * w >= p * p * (1.0 - (alpha - th).cos())
+}
+
+/// The least A/g that overturns by [`rocking_overturns`], bisected to 1e-9.
+fn rocking_threshold(alpha: f64, p: f64, tp: f64) -> f64 {
+    let (mut lo, mut hi) = (alpha.tan(), 100.0);
+    while hi - lo > 1e-9 * hi {
+        let mid = 0.5 * (lo + hi);
+        if rocking_overturns(alpha, p, mid, tp) {
+            hi = mid;
+        } else {
+            lo = mid;
+        }
+    }
+    hi
+}
+
+/// Invariant (Housner 1963): a slender block (b/h 0.1) overturns under a rectangular pulse
+/// exactly from the amplitude at which the rocking equation, integrated independently, says
+/// it does — within 1 % for p t_p ∈ {0.5, 1, 2, 4}; the same block ×4 needs the larger
+/// amplitude the equation gives at the same duration (the size effect: p halves). The small-α
+/// closed form a / (g α) = 1 / (1 − e^(−p t_p)) is within 2 % of the equation's threshold.
+#[test]
+fn a_slender_block_overturns_as_housner_says() {
+    let mut small = Vec::new();
+    for scale in [1.0, 4.0] {
+        let (b, h) = (0.05 * scale, 0.5 * scale);
+        let scene = standing(b, h, false);
+        let asm = assembly(&scene);
+        let g = gravity(&scene);
+        let (alpha, r) = (b.atan2(h), b.hypot(h));
+        let p = (3.0 * g / (4.0 * r)).sqrt();
+        let pts: &[f64] = if scale == 1.0 { &[0.5, 1.0, 2.0, 4.0] } else { &[1.0] };
+        let settings =
+            SpectrumSettings { durations: pts.iter().map(|pt| pt / p).collect(), ..SpectrumSettings::default() };
+        let spectrum = collapse_spectrum(&asm, b / h, &settings, &|| {}).expect("the spectrum runs");
+        for point in &spectrum.points {
+            let reference = rocking_threshold(alpha, p, point.duration) * g / STANDARD_GRAVITY;
+            let got = point.collapses_g.expect("it overturns");
+            let what = format!("×{scale}, p t_p {:.2}", p * point.duration);
+            assert!(
+                (got / reference - 1.0).abs() < 0.01,
+                "{what}: {got:.5} g vs the rocking equation's {reference:.5} g"
+            );
+            let closed = alpha / (1.0 - (-p * point.duration).exp()) * g / STANDARD_GRAVITY;
+            assert!((closed / reference - 1.0).abs() < 0.02, "{what}: closed form {closed} vs {reference}");
+            if scale == 1.0 {
+                small.push((point.duration, got, reference));
+            } else {
+                // The small block at this duration is its p t_p = 2 point.
+                let (d, engine_small, reference_small) = small[2];
+                assert!((d / point.duration - 1.0).abs() < 1e-12);
+                let (ratio, expected) = (got / engine_small, reference / reference_small);
+                assert!(
+                    expected > 1.2 && (ratio / expected - 1.0).abs() < 0.02,
+                    "size effect ×4: {ratio} vs {expected}"
+                );
+            }
+        }
+    }
+}
+
+/// Invariant: a motion of zero amplitude is the drop test bit for bit: the same verdict,
+/// motions and energy account, and every recorded pose equal.
+#[test]
+fn a_motion_of_zero_amplitude_is_the_drop_test() {
+    // Leaning on its edge 8°, so that it rocks.
+    let (s, c) = 8f64.to_radians().sin_cos();
+    let mesh = Mesh::cuboid(Point3::new(-0.1, -0.1, 0.0), Point3::new(0.1, 0.1, 1.0)).map_points(|q| {
+        let x = q.x - 0.1;
+        Point3::new(0.1 + c * x + s * q.z, q.y, -s * x + c * q.z)
+    });
+    let mut scene = Scene::new("leaning", vec![Block::new("block", mesh)]);
+    scene.ground = true;
+    let asm = assembly(&scene);
+    let settings = DropSettings { engine: Engine::Exact, duration: 1.5, ..DropSettings::default() };
+    let plain = record_run(DropRun::new(&asm, &settings).expect("runs"), &asm, 60.0).expect("records");
+    let shaken =
+        record_run(DropRun::shaken(&asm, &settings, rect(0.0, 1.0)).expect("runs"), &asm, 60.0).expect("records");
+    assert_eq!(plain.1, shaken.1, "the poses");
+    let strip = |mut r: voussoir::dynamics::DropResult| {
+        r.wall_s = 0.0;
+        r
+    };
+    assert_eq!(strip(plain.0.clone()), strip(shaken.0), "the verdicts");
+    assert!(plain.0.blocks[0].max_rotation > 0.1, "it rocked: {:?}", plain.0.blocks[0]);
+    let dropped = drop_test(&asm, &settings).expect("drops");
+    assert_eq!(strip(dropped), strip(plain.0));
+}
