@@ -1,5 +1,5 @@
 //! Derivative-free optimisers, argmin's: the crate's one touchpoint (and rand_xoshiro's, which
-//! seeds it). A function of numbers in, the best point out; the callers own their problems
+//! seeds it, and gives the synthetic records their noise: [`uniform`]). A function of numbers in, the best point out; the callers own their problems
 //! (the worst load direction in [`crate::stability`], cut placements in [`crate::synthesis`]).
 //!
 //! No units of its own: the callers' parameters and costs.
@@ -8,7 +8,14 @@ use argmin::core::{CostFunction, Error as ArgminError, Executor};
 use argmin::solver::brent::BrentRoot;
 use argmin::solver::particleswarm::ParticleSwarm;
 use rand_xoshiro::Xoshiro256PlusPlus;
-use rand_xoshiro::rand_core::SeedableRng;
+use rand_xoshiro::rand_core::{RngCore, SeedableRng};
+
+/// Uniform doubles in (0, 1) from `seed` (xoshiro256++'s 53 high bits): the same stream on
+/// every machine.
+pub fn uniform(seed: u64) -> impl FnMut() -> f64 {
+    let mut rng = Xoshiro256PlusPlus::seed_from_u64(seed);
+    move || ((rng.next_u64() >> 11) as f64 + 0.5) / (1u64 << 53) as f64
+}
 
 /// A root of `f` in [a, b], where f(a) and f(b) have opposite signs, by Brent's method to
 /// `tolerance`, in at most `max_iters` iterations. An `Err` of `f` ends the search with it.

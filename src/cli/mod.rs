@@ -1,7 +1,7 @@
 //! Command line: `voussoir [analyze] [SCENE] [options]`. Exit codes: 0 the assembly stands,
 //! 1 it does not (or the solver could not tell), 2 bad input.
 //!
-//! One file per command ([`analyze`], [`cut`], [`decompose`], [`export`], [`infill`], [`repair`], [`report`], [`robustness`], [`sequence`], [`sweep`],
+//! One file per command ([`analyze`], [`cut`], [`decompose`], [`export`], [`infill`], [`repair`], [`report`], [`robustness`], [`sequence`], [`settle`], [`shake`], [`sweep`],
 //! [`view`]);
 //! the options several commands share are flattened structs in [`options`] that turn into the
 //! library's settings in one place. Every default is the library's (`default_value_t` reads its
@@ -29,6 +29,7 @@ pub mod report;
 pub mod robustness;
 pub mod sequence;
 pub mod settle;
+pub mod shake;
 pub mod sweep;
 pub mod view;
 
@@ -43,6 +44,7 @@ pub use report::ReportArgs;
 pub use robustness::RobustnessArgs;
 pub use sequence::SequenceArgs;
 pub use settle::SettleArgs;
+pub use shake::ShakeArgs;
 pub use sweep::{FamilyName, SweepArgs};
 pub use view::ViewArgs;
 
@@ -61,7 +63,7 @@ pub const DEFAULT_SCENE: &str = include_str!("../../assets/default.json");
 
 /// One example per command, as `voussoir <command> --help` shows it (and `voussoir --help` all
 /// of them): each runs from the repository's root (tests/it/cli.rs runs them, but `view`).
-pub const EXAMPLES: [(&str, &str); 13] = [
+pub const EXAMPLES: [(&str, &str); 14] = [
     ("analyze", r#"voussoir analyze "builtin:arch?n=15&t=0.15" --json report.json"#),
     ("drop", r#"voussoir drop "builtin:arch?n=15&t=0.15" --engine exact --duration 1"#),
     ("robustness", r#"voussoir robustness "builtin:arch?n=15&t=0.15" --plot polar.png --mechanism mechanism.png"#),
@@ -69,6 +71,7 @@ pub const EXAMPLES: [(&str, &str); 13] = [
         "settle",
         r#"voussoir settle "builtin:arch?n=15&t=0.15" --move springer_left:-0.15,0,0 --move springer_right:0.15,0,0 --quasi-static"#,
     ),
+    ("shake", r#"voussoir shake "builtin:arch?n=15&t=0.15" --pulse rect:0.5,0.2 --engine both --plot shake.png"#),
     ("sequence", "voussoir sequence assets/cases/fig6_dmsc_sequence.json --search"),
     ("sweep", "voussoir sweep slope --iterations 6"),
     ("cut", r#"voussoir cut "builtin:stack?n=2" --plane 0,0,1.5,0,0,1 -o cut.json"#),
@@ -123,6 +126,10 @@ pub enum Command {
     /// quasi-statically and in both engines; the movement at collapse, hinges, thrust.
     #[command(after_help = example("settle"))]
     Settle(SettleArgs),
+    /// The design on a shaking ground (a pulse, a harmonic or a record) in both engines, the
+    /// static load factor beside it; `--spectrum` the least collapsing pulse per duration.
+    #[command(after_help = example("shake"))]
+    Shake(ShakeArgs),
     /// Check every step of an assembly order (static, and with --dynamic the drop test).
     #[command(after_help = example("sequence"))]
     Sequence(SequenceArgs),
@@ -174,6 +181,7 @@ pub fn run(cli: Cli) -> i32 {
         Some(Command::Sequence(args)) => sequence::run(&args),
         Some(Command::Robustness(args)) => robustness::run(&args),
         Some(Command::Settle(args)) => settle::run(&args),
+        Some(Command::Shake(args)) => shake::run(&args),
         Some(Command::Repair(args)) => repair::run(&args),
         Some(Command::Decompose(args)) => decompose::run(&args),
         Some(Command::Infill(args)) => infill::run(&args),

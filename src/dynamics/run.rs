@@ -276,6 +276,13 @@ impl DropRun {
         Ok(run)
     }
 
+    /// Ends the run by `t` s (no later than its duration): a shake that has collapsed needs only
+    /// the time for its debris to land.
+    pub fn end_by(&mut self, t: f64) {
+        let steps = (t / self.settings.dt).ceil().max(0.0) as usize;
+        self.total = self.total.min(steps.max(self.steps));
+    }
+
     /// The steps the whole duration takes (fewer once it stops at a fall).
     pub fn total_steps(&self) -> usize {
         self.total
@@ -352,6 +359,20 @@ impl DropRun {
                 m.fell = Some(t);
             }
         }
+    }
+
+    /// When the first block fell so far, s.
+    pub fn fell(&self) -> Option<f64> {
+        self.motions.iter().filter_map(|m| m.fell).min_by(f64::total_cmp)
+    }
+
+    /// The largest drift (a fraction of the block's size) and rotation (rad) of a free block
+    /// now.
+    pub fn largest_now(&self) -> (f64, f64) {
+        self.free.iter().zip(&self.size).fold((0.0, 0.0), |(d, r), (&i, size)| {
+            let (drift, rotation) = self.sim.displacement(i);
+            (f64::max(d, drift / size), f64::max(r, rotation))
+        })
     }
 
     /// Block `i`'s centroid (m) and rotation since the start (unit quaternion [w, x, y, z]).

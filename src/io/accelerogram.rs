@@ -12,6 +12,7 @@
 //! Every sample must be finite and within [`LARGEST`] g; a bad file gets one error naming the
 //! file, the line and what is wrong.
 
+use crate::dynamics::ground_motion::synthetic::{SyntheticRecord, synthetic};
 pub use crate::dynamics::ground_motion::{Accelerogram, LARGEST, STANDARD_GRAVITY};
 use std::path::{Path, PathBuf};
 use thiserror::Error;
@@ -39,6 +40,57 @@ pub enum RecordError {
         /// What is wrong.
         message: String,
     },
+}
+
+/// The 1940 El Centro north–south record (PEER NGA RSN 6, 180°), embedded: a U.S.
+/// government record (assets/records/README.md says where from and under which licence).
+pub const ELCENTRO: &str = include_str!("../../assets/records/elcentro_1940_ns.AT2");
+
+/// A record by name: `builtin:elcentro` (the embedded [`ELCENTRO`]),
+/// `builtin:synthetic?seed=N&pga=G&duration=S` (a generated record,
+/// [`crate::dynamics::ground_motion::synthetic`]; every key optional), or a file path.
+pub fn load_record(spec: &str) -> Result<Accelerogram, RecordError> {
+    match spec.strip_prefix("builtin:") {
+        Some("elcentro") => parse_accelerogram(Path::new("builtin:elcentro.AT2"), ELCENTRO),
+        Some(query) if query.split('?').next() == Some("synthetic") => {
+            let spec = synthetic_spec(query).map_err(|message| RecordError::Format {
+                path: PathBuf::from(format!("builtin:{query}")),
+                line: 0,
+                message,
+            })?;
+            Ok(synthetic(&spec))
+        }
+        Some(other) => Err(RecordError::Format {
+            path: PathBuf::from(format!("builtin:{other}")),
+            line: 0,
+            message: "unknown built-in record: expected builtin:elcentro or builtin:synthetic?seed=N&pga=G&duration=S"
+                .into(),
+        }),
+        None => read_accelerogram(Path::new(spec)),
+    }
+}
+
+/// The synthetic record's parameters from `synthetic?seed=N&pga=G&duration=S` (each bounded).
+fn synthetic_spec(query: &str) -> Result<SyntheticRecord, String> {
+    let mut spec = SyntheticRecord::default();
+    let params = query.split_once('?').map_or("", |q| q.1);
+    for kv in params.split('&').filter(|kv| !kv.is_empty()) {
+        let (key, value) = kv.split_once('=').unwrap_or((kv, ""));
+        let number = value.trim().parse::<f64>().ok().filter(|v| v.is_finite() && *v > 0.0);
+        match (key.trim(), number) {
+            ("seed", _) => {
+                spec.seed = value.trim().parse().map_err(|_| format!("seed '{value}': expected a whole number"))?
+            }
+            ("pga", Some(g)) if g <= LARGEST => spec.pga = g,
+            ("duration", Some(s)) if (1.0..=600.0).contains(&s) => spec.duration = s,
+            ("pga", _) => return Err(format!("pga '{value}': expected a number of g in (0, {LARGEST}]")),
+            ("duration", _) => return Err(format!("duration '{value}': expected seconds in [1, 600]")),
+            (other, _) => {
+                return Err(format!("unknown parameter '{other}': the synthetic record takes seed, pga, duration"));
+            }
+        }
+    }
+    Ok(spec)
 }
 
 /// Reads a record, its format by its extension (`.at2`, `.csv`, any case).

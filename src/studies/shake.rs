@@ -3,7 +3,8 @@
 //!
 //! - [`shake`]: one run; the motion, then `after` × √(D / g) more (D the free blocks' bounding
 //!   box diagonal: a block's rocking and falling go with √(size / g)) for what it set going to
-//!   fall or come to rest. It collapsed when a block fell ([`crate::dynamics::BlockMotion::fell`]); drifts
+//!   fall or come to rest. [`shake_traced`] (the CLI's run, with its history) ends that long
+//!   after a collapse: the debris has landed. It collapsed when a block fell ([`crate::dynamics::BlockMotion::fell`]); drifts
 //!   and rotations are relative to the ground.
 //! - [`static_load_factor`]: λ* of a horizontal field opposite the base's acceleration — the
 //!   inertial load a base accelerated along `azimuth` puts on the blocks. A rectangular pulse
@@ -15,7 +16,8 @@
 //! Amplitudes in g (standard gravity), durations in s, azimuths in degrees from +x towards +y.
 
 use crate::dynamics::ground_motion::{Excitation, GroundMotion, LARGEST, PulseShape, STANDARD_GRAVITY};
-use crate::dynamics::{DropError, DropResult, DropRun, DropSettings, Engine};
+use crate::dynamics::{DropError, DropResult, DropRun, DropSettings, Engine, Trajectory};
+use crate::geometry::Vector3;
 use crate::model::Assembly;
 use crate::pipeline::Analysis;
 use crate::stability::{RobustnessError, assess_parts, with_horizontal_field};
@@ -44,15 +46,17 @@ pub struct ShakeSettings {
     /// The engine and its settings (its `duration` is replaced by the motion's end + the time
     /// after it).
     pub drop: DropSettings,
-    /// Time simulated after the motion ends, in the design's time scale √(D / g).
+    /// Time simulated after the motion ends, in the design's time scale √(D / g) …
     pub after: f64,
+    /// … unless the whole simulated time is given, s.
+    pub duration: Option<f64>,
 }
 
 impl Default for ShakeSettings {
     fn default() -> Self {
         // A block that ends a pulse near its tipping point takes several 1/p (≈ √(D / g)) to
         // fall or come back: 4.8 s for a 1 m block.
-        Self { drop: DropSettings { engine: Engine::Exact, ..DropSettings::default() }, after: 15.0 }
+        Self { drop: DropSettings { engine: Engine::Exact, ..DropSettings::default() }, after: 15.0, duration: None }
     }
 }
 
@@ -63,8 +67,9 @@ impl ShakeSettings {
         if !(self.after >= 0.0 && self.after.is_finite()) {
             return Err(DropError::Negative { name: "after", value: self.after }.into());
         }
-        let after = self.after * time_scale(assembly);
-        Ok(DropSettings { duration: (motion.end() + after).max(self.drop.dt), ..self.drop.clone() })
+        let duration =
+            self.duration.unwrap_or_else(|| (motion.end() + self.after * time_scale(assembly)).max(self.drop.dt));
+        Ok(DropSettings { duration, ..self.drop.clone() })
     }
 }
 
@@ -87,6 +92,65 @@ pub fn shake(assembly: &Assembly, settings: &ShakeSettings, motion: &GroundMotio
 /// The run of a shake, to be advanced step by step (the ECS plugin, a recording).
 pub fn shake_run(assembly: &Assembly, settings: &ShakeSettings, motion: &GroundMotion) -> Result<DropRun, ShakeError> {
     Ok(DropRun::shaken(assembly, &settings.for_motion(assembly, motion)?, motion.clone())?)
+}
+
+/// A shake's history, one sample per step (and the start).
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct ShakeTrace {
+    /// Times, s.
+    pub times: Vec<f64>,
+    /// The base's acceleration along the first component's direction over the step, g.
+    pub ground_g: Vec<f64>,
+    /// The largest rotation of a free block, rad.
+    pub rotation: Vec<f64>,
+    /// The largest drift of a free block, a fraction of its size.
+    pub drift: Vec<f64>,
+}
+
+/// [`shake`] with its history, and with `fps` every block's pose about `fps` times per
+/// simulated second (for [`crate::viz::gltf::animation_glb`] and the frame strip).
+pub fn shake_traced(
+    assembly: &Assembly,
+    settings: &ShakeSettings,
+    motion: &GroundMotion,
+    fps: Option<f64>,
+) -> Result<(DropResult, ShakeTrace, Option<Trajectory>), ShakeError> {
+    let mut run = shake_run(assembly, settings, motion)?;
+    let direction = motion.components.first().map_or(Vector3::x(), |c| c.direction.normalize());
+    let dt = run.dt();
+    let every = match fps {
+        Some(f) if f > 0.0 && f.is_finite() => Some(((1.0 / (f * dt)).round() as usize).max(1)),
+        Some(f) => return Err(DropError::NotPositive { name: "frames per second", value: f }.into()),
+        None => None,
+    };
+    let frame = |run: &DropRun| (0..assembly.blocks.len()).map(|i| run.pose(i)).collect();
+    let mut motion_frames =
+        every.map(|_| Trajectory { engine: run.engine(), times: vec![0.0], poses: vec![frame(&run)] });
+    let mut trace = ShakeTrace { times: vec![0.0], ground_g: vec![0.0], rotation: vec![0.0], drift: vec![0.0] };
+    let after = settings.after * time_scale(assembly);
+    let mut fell = false;
+    while !run.finished() {
+        if !fell && let Some(t) = run.fell() {
+            // What follows a collapse is the debris landing: the time after a motion, no more.
+            fell = true;
+            run.end_by(t + after);
+        }
+        let t = run.steps_done() as f64 * dt;
+        let a = motion.mean_acceleration(t, t + dt).dot(&direction) / STANDARD_GRAVITY;
+        run.advance(1);
+        let (drift, rotation) = run.largest_now();
+        trace.times.push(t + dt);
+        trace.ground_g.push(a);
+        trace.rotation.push(rotation);
+        trace.drift.push(drift);
+        if let (Some(k), Some(m)) = (every, motion_frames.as_mut())
+            && (run.steps_done() % k == 0 || run.finished())
+        {
+            m.times.push(run.steps_done() as f64 * dt);
+            m.poses.push(frame(&run));
+        }
+    }
+    Ok((run.result(), trace, motion_frames))
 }
 
 /// λ* (in g) of the inertial load of a base accelerated along the horizontal `azimuth`: a

@@ -54,6 +54,7 @@ fn a_block_slides_as_newmark_says() {
             drop: DropSettings { engine: Engine::Exact, friction: Some(mu), ..DropSettings::default() },
             // ≈ 1.2 s after the pulse: it stops sliding within 0.42 s of the pulse's end.
             after: 3.0,
+            duration: None,
         };
         for (a_g, t0) in [(0.5, 0.4), (0.8, 0.25)] {
             let a = a_g * STANDARD_GRAVITY;

@@ -7,12 +7,14 @@
 pub mod diagram;
 pub mod mechanism;
 pub mod settlement;
+pub mod shake;
 pub mod strip;
 pub mod threshold;
 
 pub use diagram::{DiagramPicture, write_diagram};
 pub use mechanism::{MechanismPicture, PolarPlot, write_mechanism, write_polar};
 pub use settlement::{ThrustPlot, write_thrust};
+pub use shake::{ShakePlot, SpectrumPlot, write_shake, write_spectrum};
 pub use strip::{Clock, FrameStrip, write_strip};
 pub use threshold::{ThresholdPlot, write_thresholds};
 

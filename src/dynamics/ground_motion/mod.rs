@@ -19,6 +19,8 @@
 //! - record: its samples joined linearly, zero before the first and after the last (times
 //!   from its first).
 
+pub mod synthetic;
+
 use crate::geometry::Vector3;
 use std::sync::Arc;
 use thiserror::Error;
