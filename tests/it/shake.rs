@@ -6,11 +6,14 @@
 use crate::common::{assembly, cuboid};
 use voussoir::dynamics::ground_motion::STANDARD_GRAVITY;
 use voussoir::dynamics::{
-    DropRun, DropSettings, Engine, Excitation, GroundMotion, PulseShape, drop_test, run::record_run,
+    DropRun, DropSettings, Engine, Excitation, GroundMotion, PulseShape, Stepper, drop_test, run::record_run,
 };
-use voussoir::geometry::{Mesh, Point3};
+use voussoir::geometry::{Mesh, Point3, Vector3};
 use voussoir::model::{Block, Scene};
-use voussoir::studies::shake::{ShakeSettings, SpectrumSettings, collapse_spectrum, shake};
+use voussoir::stability::{JointState, assess_parts, with_horizontal_field};
+use voussoir::studies::shake::{
+    ShakeSettings, SpectrumSettings, collapse_spectrum, shake, static_load_factor, time_scale,
+};
 
 /// The scenes' gravity, m/s².
 fn gravity(scene: &Scene) -> f64 {
@@ -185,4 +188,62 @@ fn a_motion_of_zero_amplitude_is_the_drop_test() {
     assert!(plain.0.blocks[0].max_rotation > 0.1, "it rocked: {:?}", plain.0.blocks[0]);
     let dropped = drop_test(&asm, &settings).expect("drops");
     assert_eq!(strip(dropped), strip(plain.0));
+}
+
+/// A column of four blocks 0.5 tall narrowing upwards (0.3, 0.25, 0.2, 0.15 wide) on a
+/// support base.
+fn column() -> Scene {
+    let mut blocks = Vec::new();
+    for (k, w) in [0.3, 0.25, 0.2, 0.15].into_iter().enumerate() {
+        let z = 0.2 + 0.5 * k as f64;
+        blocks.push(cuboid(&format!("c{k}"), [-w / 2.0, -0.15, z], [w / 2.0, 0.15, z + 0.5]));
+    }
+    let mut base = cuboid("base", [-1.0, -1.0, 0.0], [1.0, 1.0, 0.2]);
+    base.support = true;
+    blocks.push(base);
+    Scene::new("column", blocks)
+}
+
+/// Invariant: for long pulses (p t_p = 20, p = √(3g / 4R), R half the free blocks' size) the
+/// least amplitude of a rectangular pulse that collapses a slender block, a tapered column and
+/// a 16-voussoir arch is the statics' horizontal load factor λ* within 0.5 %, and the joints
+/// the exact engine opens at the first instant of a pulse 1 % above it are the statics'
+/// mechanism's.
+#[test]
+fn the_long_pulse_limit_is_the_static_load_factor() {
+    let mut on_base = standing(0.05, 0.5, true);
+    on_base.name = "slender block".into();
+    let arch = voussoir::model::builtin("arch?n=16&t=0.15").expect("the arch");
+    let settings = voussoir::pipeline::AnalysisSettings::default();
+    for scene in [on_base, column(), arch] {
+        let analysis = voussoir::pipeline::analyze(&scene, &settings).expect("analyses");
+        let asm = &analysis.assembly;
+        let lambda = static_load_factor(&analysis, &settings.statics, 0.0).expect("λ*");
+        let g = gravity(&scene);
+        let r = 0.5 * (time_scale(asm).powi(2) * g);
+        let p = (3.0 * g / (4.0 * r)).sqrt();
+        let spectrum_settings = SpectrumSettings { durations: vec![20.0 / p], ..SpectrumSettings::default() };
+        let spectrum = collapse_spectrum(asm, lambda, &spectrum_settings, &|| {}).expect("the spectrum runs");
+        let got = spectrum.points[0].collapses_g.expect("a long pulse collapses it");
+        let what = &scene.name;
+        assert!((got / lambda - 1.0).abs() < 0.005, "{what}: collapses from {got:.5} g, λ* = {lambda:.5} g");
+
+        let field = with_horizontal_field(asm, 180.0);
+        let robustness = assess_parts(&field, &analysis.interfaces, true, &settings.statics).expect("λ*");
+        let mechanism = robustness.mechanism.expect("a mechanism");
+        let mut statics: Vec<usize> =
+            mechanism.interfaces.iter().filter(|j| j.state != JointState::Closed).map(|j| j.index).collect();
+        statics.sort();
+        let drop = DropSettings { engine: Engine::Exact, ..DropSettings::default() };
+        let Stepper::Exact(mut world) = Stepper::with_paths(asm, &drop, &[]) else { unreachable!() };
+        world.set_base_acceleration(Vector3::new(1.01 * lambda * STANDARD_GRAVITY, 0.0, 0.0));
+        (0..3).for_each(|_| world.step());
+        let rates = world.joint_rates();
+        let largest = rates.iter().map(|r| r.2.abs().max(r.3)).fold(0.0, f64::max);
+        let mut engine: Vec<usize> =
+            rates.iter().filter(|r| r.2.abs().max(r.3) > 1e-3 * largest).map(|r| r.0).collect();
+        engine.sort();
+        engine.dedup();
+        assert!(largest > 0.0 && engine == statics, "{what}: the engine opens {engine:?}, the statics {statics:?}");
+    }
 }
