@@ -7,7 +7,7 @@
 use super::choice::Choice;
 use super::options::SolverOptions;
 use super::{BadInput, load, numbers, refuse_overwrite, scene_name, write_output};
-use crate::dynamics::ground_motion::{Excitation, GroundMotion, PulseShape, Record, STANDARD_GRAVITY};
+use crate::dynamics::ground_motion::{Excitation, GroundMotion, PulseShape, Record};
 use crate::dynamics::{DropResult, DropSettings, Engine};
 use crate::pipeline::{Analysis, analyze};
 use crate::studies::shake::{
@@ -125,17 +125,22 @@ pub fn run(args: &ShakeArgs) -> Result<i32, BadInput> {
         println!("SHAKE '{}': does not stand as drawn (the statics); nothing to shake", analysis.assembly.name);
         return Ok(1);
     }
-    let lambda = static_load_factor(&analysis, &args.solver.settings().statics, args.direction)
-        .map_err(|e| BadInput(format!("{name}: {e}")))?;
+    let statics = args.solver.settings().statics;
+    let factor =
+        |azimuth: f64| static_load_factor(&analysis, &statics, azimuth).map_err(|e| BadInput(format!("{name}: {e}")));
     if let Some(shape) = &args.spectrum {
-        return spectrum(args, &analysis, shape, lambda);
+        return spectrum(args, &analysis, shape, factor(args.direction)?);
     }
-    let (motion, label) = motion(args)?;
+    let g = analysis.assembly.gravity.norm();
+    let (motion, label) = motion(args, &scene, g)?;
+    // λ* along the first component's horizontal direction (the scene's motion names its own).
+    let d = motion.components[0].direction;
+    let azimuth = if d.x.hypot(d.y) > 0.0 { d.y.atan2(d.x).to_degrees() } else { args.direction };
+    let lambda = factor(azimuth)?;
     println!(
-        "SHAKE '{}': {label}, peak {:.4} g along {}°; static load factor λ* = {}",
+        "SHAKE '{}': {label}, peak {:.4} g along {azimuth}°; static load factor λ* = {}",
         analysis.assembly.name,
-        peak_g(&motion),
-        args.direction,
+        peak_g(&motion, g),
         lambda_text(lambda)
     );
     let engines: &[Engine] = match args.engine {
@@ -156,12 +161,13 @@ pub fn run(args: &ShakeArgs) -> Result<i32, BadInput> {
         }
         runs.push((result, trace));
     }
-    write_reports(args, &analysis, &motion, &label, lambda, &runs)?;
+    write_reports(args, &analysis, &motion, &label, (azimuth, lambda), &runs)?;
     Ok(if runs.iter().any(|(r, _)| r.fell.is_some()) { 1 } else { 0 })
 }
 
-/// The motion the options name (one of --pulse, --sine, --record) and how to call it.
-fn motion(args: &ShakeArgs) -> Result<(GroundMotion, String), BadInput> {
+/// The motion the options name (one of --pulse, --sine, --record; amplitudes in the design's
+/// g, `g` m/s²), else the scene's `ground_motion`, and how to call it.
+fn motion(args: &ShakeArgs, scene: &crate::model::Scene, g: f64) -> Result<(GroundMotion, String), BadInput> {
     let (excitation, label) = match (&args.pulse, &args.sine, &args.record) {
         (Some(p), _, _) => {
             let (shape, rest) = p.split_once(':').ok_or_else(|| {
@@ -172,12 +178,12 @@ fn motion(args: &ShakeArgs) -> Result<(GroundMotion, String), BadInput> {
             })?;
             let [a, d] = numbers::<2>("--pulse", rest, "AMP_G,DURATION_S")?;
             let label = format!("{} pulse of {a} g for {d} s", shape.name());
-            (Excitation::Pulse { shape, amplitude: a * STANDARD_GRAVITY, duration: d }, label)
+            (Excitation::Pulse { shape, amplitude: a * g, duration: d }, label)
         }
         (None, Some(s), _) => {
             let [a, period, cycles] = numbers::<3>("--sine", s, "AMP_G,PERIOD_S,CYCLES")?;
             let label = format!("{cycles} cycles of {a} g at a period of {period} s");
-            (Excitation::Harmonic { amplitude: a * STANDARD_GRAVITY, period, cycles }, label)
+            (Excitation::Harmonic { amplitude: a * g, period, cycles }, label)
         }
         (None, None, Some(r)) => {
             let record = crate::io::accelerogram::load_record(r).map_err(|e| BadInput(e.to_string()))?;
@@ -185,7 +191,17 @@ fn motion(args: &ShakeArgs) -> Result<(GroundMotion, String), BadInput> {
             (Excitation::Record(Arc::new(Record::new(record))), label)
         }
         (None, None, None) => {
-            return Err(BadInput("shake: name a motion: --pulse, --sine, --record (or --spectrum SHAPE)".into()));
+            let Some(shaking) = &scene.ground_motion else {
+                return Err(BadInput(
+                    "shake: name a motion: --pulse, --sine, --record (or --spectrum SHAPE), or give the scene a `ground_motion`".into(),
+                ));
+            };
+            let path = std::path::Path::new(args.scene.as_deref().unwrap_or("."));
+            let mut motion = crate::io::accelerogram::ground_motion(shaking, path, g)
+                .map_err(|e| BadInput(format!("{}: ground_motion: {e}", path.display())))?;
+            motion.scale *= args.scale;
+            let motion = motion.validated().map_err(|e| BadInput(format!("{e} (--scale)")))?;
+            return Ok((motion, "the scene's ground motion".into()));
         }
     };
     let mut motion = GroundMotion::horizontal(excitation, args.direction);
@@ -195,9 +211,9 @@ fn motion(args: &ShakeArgs) -> Result<(GroundMotion, String), BadInput> {
     Ok((motion, label))
 }
 
-/// The largest |acceleration| of `motion`, g.
-fn peak_g(motion: &GroundMotion) -> f64 {
-    motion.components.iter().map(|c| c.excitation.peak()).fold(0.0, f64::max) * motion.scale.abs() / STANDARD_GRAVITY
+/// The largest |acceleration| of `motion`, in the design's g (`g`, m/s²).
+fn peak_g(motion: &GroundMotion, g: f64) -> f64 {
+    motion.components.iter().map(|c| c.excitation.peak()).fold(0.0, f64::max) * motion.scale.abs() / g
 }
 
 /// λ* as text: a number, unlimited or none.
@@ -264,16 +280,16 @@ fn write_reports(
     analysis: &Analysis,
     motion: &GroundMotion,
     label: &str,
-    lambda: f64,
+    (azimuth, lambda): (f64, f64),
     runs: &[(DropResult, ShakeTrace)],
 ) -> Result<(), BadInput> {
     if let Some(out) = &args.json {
         let report = ShakeReport {
             scene: &analysis.assembly.name,
             motion: label.to_string(),
-            peak_g: peak_g(motion),
+            peak_g: peak_g(motion, analysis.assembly.gravity.norm()),
             motion_end_s: motion.end(),
-            direction_deg: args.direction,
+            direction_deg: azimuth,
             static_load_factor: lambda,
             runs: runs
                 .iter()

@@ -14,7 +14,11 @@
 
 use crate::dynamics::ground_motion::synthetic::{SyntheticRecord, synthetic};
 pub use crate::dynamics::ground_motion::{Accelerogram, LARGEST, STANDARD_GRAVITY};
+use crate::dynamics::ground_motion::{Component, Excitation, GroundMotion, PulseShape, Record};
+use crate::geometry::Vector3;
+use crate::model::Shaking;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 use thiserror::Error;
 
 /// Why a record could not be read.
@@ -68,6 +72,46 @@ pub fn load_record(spec: &str) -> Result<Accelerogram, RecordError> {
         }),
         None => read_accelerogram(Path::new(spec)),
     }
+}
+
+/// The engines' ground motion of a scene's `shaking` (read from `scene` — records by paths
+/// relative to its folder — amplitudes in the design's g, `g` m/s²), checked: one message
+/// naming the component and what is wrong.
+pub fn ground_motion(shaking: &Shaking, scene: &Path, g: f64) -> Result<GroundMotion, String> {
+    let mut components = Vec::new();
+    for (k, c) in shaking.components.iter().enumerate() {
+        let at = format!("component {}", k + 1);
+        let excitation = match (&c.pulse, &c.harmonic, &c.record) {
+            (Some(p), None, None) => {
+                let shape = PulseShape::from_name(&p.shape)
+                    .ok_or_else(|| format!("{at}: pulse shape '{}': expected rect, sine or ricker", p.shape))?;
+                Excitation::Pulse { shape, amplitude: p.amplitude * g, duration: p.duration }
+            }
+            (None, Some(h), None) => {
+                Excitation::Harmonic { amplitude: h.amplitude * g, period: h.period, cycles: h.cycles }
+            }
+            (None, None, Some(r)) => {
+                let spec = if r.starts_with("builtin:") || Path::new(r).is_absolute() {
+                    r.clone()
+                } else {
+                    scene.parent().unwrap_or(Path::new("")).join(r).to_string_lossy().into_owned()
+                };
+                Excitation::Record(Arc::new(Record::new(load_record(&spec).map_err(|e| format!("{at}: {e}"))?)))
+            }
+            _ => return Err(format!("{at}: give exactly one of `pulse`, `harmonic`, `record`")),
+        };
+        let direction = match (c.azimuth, c.direction) {
+            (Some(_), Some(_)) => return Err(format!("{at}: give `azimuth` or `direction`, not both")),
+            (Some(deg), None) => {
+                let (s, c) = deg.to_radians().sin_cos();
+                Vector3::new(c, s, 0.0)
+            }
+            (None, Some(d)) => Vector3::new(d[0], d[1], d[2]),
+            (None, None) => Vector3::x(),
+        };
+        components.push(Component { excitation, direction });
+    }
+    GroundMotion { components, scale: shaking.scale }.validated().map_err(|e| e.to_string())
 }
 
 /// The synthetic record's parameters from `synthetic?seed=N&pga=G&duration=S` (each bounded).

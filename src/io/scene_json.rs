@@ -19,7 +19,11 @@
 //! forces in N, accelerations in g, `kind` dead or live — the default; [`crate::model::loads`]),
 //! `movements` (default none: `[{"block": "left", "translation": [dx,dy,dz], "rotation":
 //! [rx,ry,rz]}, …]`, a support's whole path in model units and degrees about its centroid;
-//! [`crate::model::movement`]),
+//! [`crate::model::movement`]), `ground_motion` (default none: `{"components": [{"pulse":
+//! {"shape": "rect", "amplitude": 0.3, "duration": 0.5}, "azimuth": 0}, …], "scale": 1}`, a
+//! component `pulse`, `harmonic` (`{"amplitude", "period", "cycles"}`) or `record` (a path
+//! relative to the scene file, or `builtin:elcentro`), amplitudes in g; checked on reading,
+//! records read; [`crate::model::shaking`]),
 //! and per block `support` (false) and `density` (a number, or k³ numbers: one per cell of the
 //! block's box, [`crate::model::Density`]) are optional, so the neutral shape without
 //! `schema` and `ground` loads as is.
@@ -74,6 +78,8 @@ struct SceneFile {
     loads: Vec<LoadFile>,
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     movements: Vec<Movement>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    ground_motion: Option<crate::model::Shaking>,
 }
 
 /// A load: `block`, `point` and `force` (a point load) or `acceleration` (a field, in g);
@@ -172,6 +178,7 @@ const SCENE_KEYS: &[&str] = &[
     "order",
     "loads",
     "movements",
+    "ground_motion",
 ];
 const BLOCK_KEYS: &[&str] = &["name", "vertices", "faces", "support", "density"];
 const CUT_KEYS: &[&str] = &["point", "normal", "apex", "segments", "target"];
@@ -295,6 +302,11 @@ pub(crate) fn scene_from_value(path: &Path, mut value: serde_json::Value) -> Res
     scene.order = file.order;
     scene.loads = file.loads.iter().enumerate().map(|(i, l)| l.to_load(path, i)).collect::<Result<_, _>>()?;
     scene.movements = file.movements;
+    if let Some(shaking) = &file.ground_motion {
+        super::accelerogram::ground_motion(shaking, path, scene.gravity.norm())
+            .map_err(|e| IoError::format(path, format!("ground_motion: {e}")))?;
+    }
+    scene.ground_motion = file.ground_motion;
     scene.warnings = warnings;
     scene.blocks = file
         .blocks
@@ -338,6 +350,7 @@ pub fn scene_to_string(scene: &Scene) -> String {
         order: scene.order.clone(),
         loads: scene.loads.iter().map(LoadFile::from_load).collect(),
         movements: scene.movements.clone(),
+        ground_motion: scene.ground_motion.clone(),
     };
     serde_json::to_string_pretty(&file).expect("a scene always serialises")
 }

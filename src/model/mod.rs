@@ -12,6 +12,7 @@ pub mod edit;
 mod friction;
 pub mod loads;
 pub mod movement;
+pub mod shaking;
 
 pub(crate) use crate::geometry::format::significant;
 pub use assembly::{Assembly, AssemblyBlock, ModelError, Overlap, Warning};
@@ -20,6 +21,7 @@ pub use cut::{Cut, CutShape};
 pub use friction::FrictionModel;
 pub use loads::{BlockLoads, Load, LoadKind};
 pub use movement::Movement;
+pub use shaking::Shaking;
 
 /// Which blocks are supports ([`Scene::choose_supports`]).
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -155,6 +157,8 @@ pub struct Scene {
     pub loads: Vec<Load>,
     /// Prescribed support paths for a settlement analysis ([`movement`]); empty when none.
     pub movements: Vec<Movement>,
+    /// The ground motion `voussoir shake` runs when none is named ([`shaking`]).
+    pub ground_motion: Option<Shaking>,
     /// What reading the file let pass (unknown keys ignored); the [`Assembly`] carries them
     /// on, ahead of its repair warnings. Never written back to a file.
     pub warnings: Vec<Warning>,
@@ -177,6 +181,7 @@ impl Scene {
             order: Vec::new(),
             loads: Vec::new(),
             movements: Vec::new(),
+            ground_motion: None,
             warnings: Vec::new(),
         }
     }

@@ -13,9 +13,11 @@
 //!   at each duration, by bisection from λ* g (no pulse whose peak is below it moves a block)
 //!   to a doubling upper bound, the durations shared between two threads.
 //!
-//! Amplitudes in g (standard gravity), durations in s, azimuths in degrees from +x towards +y.
+//! Amplitudes in g — the design's gravity, the unit of λ* (a record's g, read in standard
+//! gravity, is converted to m/s² on reading) — durations in s, azimuths in degrees from +x
+//! towards +y.
 
-use crate::dynamics::ground_motion::{Excitation, GroundMotion, LARGEST, PulseShape, STANDARD_GRAVITY};
+use crate::dynamics::ground_motion::{Excitation, GroundMotion, LARGEST, PulseShape};
 use crate::dynamics::{DropError, DropResult, DropRun, DropSettings, Engine, Trajectory};
 use crate::geometry::Vector3;
 use crate::model::Assembly;
@@ -99,7 +101,8 @@ pub fn shake_run(assembly: &Assembly, settings: &ShakeSettings, motion: &GroundM
 pub struct ShakeTrace {
     /// Times, s.
     pub times: Vec<f64>,
-    /// The base's acceleration along the first component's direction over the step, g.
+    /// The base's acceleration along the first component's direction over the step, in the
+    /// design's g.
     pub ground_g: Vec<f64>,
     /// The largest rotation of a free block, rad.
     pub rotation: Vec<f64>,
@@ -118,6 +121,7 @@ pub fn shake_traced(
     let mut run = shake_run(assembly, settings, motion)?;
     let direction = motion.components.first().map_or(Vector3::x(), |c| c.direction.normalize());
     let dt = run.dt();
+    let g = assembly.gravity.norm();
     let every = match fps {
         Some(f) if f > 0.0 && f.is_finite() => Some(((1.0 / (f * dt)).round() as usize).max(1)),
         Some(f) => return Err(DropError::NotPositive { name: "frames per second", value: f }.into()),
@@ -136,7 +140,7 @@ pub fn shake_traced(
             run.end_by(t + after);
         }
         let t = run.steps_done() as f64 * dt;
-        let a = motion.mean_acceleration(t, t + dt).dot(&direction) / STANDARD_GRAVITY;
+        let a = motion.mean_acceleration(t, t + dt).dot(&direction) / g;
         run.advance(1);
         let (drift, rotation) = run.largest_now();
         trace.times.push(t + dt);
@@ -286,7 +290,8 @@ fn collapses(
     amplitude_g: f64,
     duration: f64,
 ) -> Result<bool, ShakeError> {
-    let pulse = Excitation::Pulse { shape: settings.shape, amplitude: amplitude_g * STANDARD_GRAVITY, duration };
+    let g = assembly.gravity.norm();
+    let pulse = Excitation::Pulse { shape: settings.shape, amplitude: amplitude_g * g, duration };
     let motion = GroundMotion::horizontal(pulse, settings.azimuth);
     let shake_settings = ShakeSettings {
         drop: DropSettings { stop_when_falls: true, ..settings.shake.drop.clone() },

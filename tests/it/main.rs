@@ -47,6 +47,7 @@ mod report_html;
 mod sequence;
 mod settlement;
 mod shake;
+mod shake_cli;
 mod statics_backends;
 mod statics_closed_forms;
 mod statics_feasible_minima;

@@ -4,7 +4,6 @@
 //! All on the exact-contact engine at the default step (1/240 s).
 
 use crate::common::{assembly, cuboid};
-use voussoir::dynamics::ground_motion::STANDARD_GRAVITY;
 use voussoir::dynamics::{
     DropRun, DropSettings, Engine, Excitation, GroundMotion, PulseShape, Stepper, drop_test, run::record_run,
 };
@@ -20,12 +19,9 @@ fn gravity(scene: &Scene) -> f64 {
     scene.gravity.norm()
 }
 
-/// A rectangular pulse of `g` (in g) for `duration` s along +x.
-fn rect(g: f64, duration: f64) -> GroundMotion {
-    GroundMotion::horizontal(
-        Excitation::Pulse { shape: PulseShape::Rectangular, amplitude: g * STANDARD_GRAVITY, duration },
-        0.0,
-    )
+/// A rectangular pulse of `a` m/s² for `duration` s along +x.
+fn rect(a: f64, duration: f64) -> GroundMotion {
+    GroundMotion::horizontal(Excitation::Pulse { shape: PulseShape::Rectangular, amplitude: a, duration }, 0.0)
 }
 
 /// A 2b × 2b × 2h block standing on the ground plane (or on a wide support slab 0.2 thick).
@@ -60,9 +56,9 @@ fn a_block_slides_as_newmark_says() {
             duration: None,
         };
         for (a_g, t0) in [(0.5, 0.4), (0.8, 0.25)] {
-            let a = a_g * STANDARD_GRAVITY;
+            let a = a_g * g;
             let expected = a * t0 * t0 * (a - mu * g) / (2.0 * mu * g);
-            let r = shake(&asm, &settings, &rect(a_g, t0)).expect("the shake runs");
+            let r = shake(&asm, &settings, &rect(a, t0)).expect("the shake runs");
             let slid = r.blocks[0].final_drift;
             assert!(
                 (slid / expected - 1.0).abs() < 0.01,
@@ -70,7 +66,7 @@ fn a_block_slides_as_newmark_says() {
             );
             assert!(r.fell.is_none() && r.blocks[0].max_rotation < 1e-6, "slab {on_slab}: {r:?}");
         }
-        let r = shake(&asm, &settings, &rect(0.25, 0.4)).expect("the shake runs");
+        let r = shake(&asm, &settings, &rect(0.25 * g, 0.4)).expect("the shake runs");
         let size = asm.blocks[0].aabb.diagonal();
         assert!(r.blocks[0].max_drift < 1e-9 * size, "slab {on_slab}: below μg it drifted {:e}", r.blocks[0].max_drift);
     }
@@ -137,14 +133,14 @@ fn a_slender_block_overturns_as_housner_says() {
             SpectrumSettings { durations: pts.iter().map(|pt| pt / p).collect(), ..SpectrumSettings::default() };
         let spectrum = collapse_spectrum(&asm, b / h, &settings, &|| {}).expect("the spectrum runs");
         for point in &spectrum.points {
-            let reference = rocking_threshold(alpha, p, point.duration) * g / STANDARD_GRAVITY;
+            let reference = rocking_threshold(alpha, p, point.duration);
             let got = point.collapses_g.expect("it overturns");
             let what = format!("×{scale}, p t_p {:.2}", p * point.duration);
             assert!(
                 (got / reference - 1.0).abs() < 0.01,
                 "{what}: {got:.5} g vs the rocking equation's {reference:.5} g"
             );
-            let closed = alpha / (1.0 - (-p * point.duration).exp()) * g / STANDARD_GRAVITY;
+            let closed = alpha / (1.0 - (-p * point.duration).exp());
             assert!((closed / reference - 1.0).abs() < 0.02, "{what}: closed form {closed} vs {reference}");
             if scale == 1.0 {
                 small.push((point.duration, got, reference));
@@ -236,7 +232,7 @@ fn the_long_pulse_limit_is_the_static_load_factor() {
         statics.sort();
         let drop = DropSettings { engine: Engine::Exact, ..DropSettings::default() };
         let Stepper::Exact(mut world) = Stepper::with_paths(asm, &drop, &[]) else { unreachable!() };
-        world.set_base_acceleration(Vector3::new(1.01 * lambda * STANDARD_GRAVITY, 0.0, 0.0));
+        world.set_base_acceleration(Vector3::new(1.01 * lambda * gravity(&scene), 0.0, 0.0));
         (0..3).for_each(|_| world.step());
         let rates = world.joint_rates();
         let largest = rates.iter().map(|r| r.2.abs().max(r.3)).fold(0.0, f64::max);
