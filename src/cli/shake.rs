@@ -6,12 +6,12 @@
 
 use super::choice::Choice;
 use super::options::SolverOptions;
-use super::{BadInput, load, numbers, refuse_overwrite, scene_name, write_output};
+use super::{BadInput, load, refuse_overwrite, scene_name, write_output};
 use crate::dynamics::ground_motion::{Excitation, GroundMotion, PulseShape, Record};
 use crate::dynamics::{DropResult, DropSettings, Engine};
 use crate::pipeline::{Analysis, analyze};
 use crate::studies::shake::{
-    ShakeSettings, ShakeTrace, Spectrum, SpectrumSettings, collapse_spectrum, shake_traced, static_load_factor,
+    ShakeSettings, ShakeStudy, Spectrum, SpectrumSettings, collapse_spectrum, shake_study, static_load_factor,
 };
 use crate::viz::plot::{FrameStrip, ShakePlot, SpectrumPlot, write_shake, write_spectrum, write_strip};
 use clap::{Args, ValueEnum};
@@ -92,25 +92,13 @@ pub struct ShakeArgs {
     pub strip: Option<PathBuf>,
 }
 
-/// The JSON report of one shake.
+/// The JSON report of one shake: the study with the scene and the motion named.
 #[derive(Serialize)]
 struct ShakeReport<'a> {
     scene: &'a str,
-    motion: String,
-    peak_g: f64,
-    motion_end_s: f64,
-    direction_deg: f64,
-    static_load_factor: f64,
-    runs: Vec<EngineRun<'a>>,
-}
-
-/// One engine's answer.
-#[derive(Serialize)]
-struct EngineRun<'a> {
-    collapsed: bool,
-    collapse_time_s: Option<f64>,
-    result: &'a DropResult,
-    trace: &'a ShakeTrace,
+    motion: &'a str,
+    #[serde(flatten)]
+    study: &'a ShakeStudy,
 }
 
 /// Runs `shake`: prints each engine's answer; exit code 0 when it survives.
@@ -126,43 +114,35 @@ pub fn run(args: &ShakeArgs) -> Result<i32, BadInput> {
         return Ok(1);
     }
     let statics = args.solver.settings().statics;
-    let factor =
-        |azimuth: f64| static_load_factor(&analysis, &statics, azimuth).map_err(|e| BadInput(format!("{name}: {e}")));
     if let Some(shape) = &args.spectrum {
-        return spectrum(args, &analysis, shape, factor(args.direction)?);
+        let lambda =
+            static_load_factor(&analysis, &statics, args.direction).map_err(|e| BadInput(format!("{name}: {e}")))?;
+        return spectrum(args, &analysis, shape, lambda);
     }
-    let g = analysis.assembly.gravity.norm();
-    let (motion, label) = motion(args, &scene, g)?;
-    // λ* along the first component's horizontal direction (the scene's motion names its own).
-    let d = motion.components[0].direction;
-    let azimuth = if d.x.hypot(d.y) > 0.0 { d.y.atan2(d.x).to_degrees() } else { args.direction };
-    let lambda = factor(azimuth)?;
-    println!(
-        "SHAKE '{}': {label}, peak {:.4} g along {azimuth}°; static load factor λ* = {}",
-        analysis.assembly.name,
-        peak_g(&motion, g),
-        lambda_text(lambda)
-    );
+    let (motion, label) = motion(args, &scene, analysis.assembly.gravity.norm())?;
     let engines: &[Engine] = match args.engine {
         Engines::Exact => &[Engine::Exact],
         Engines::Rapier => &[Engine::Rapier],
         Engines::Both => &[Engine::Exact, Engine::Rapier],
     };
-    let want_frames = args.frames.is_some() || args.strip.is_some();
-    let mut runs = Vec::new();
-    for (k, &engine) in engines.iter().enumerate() {
-        let settings = shake_settings(args, engine);
-        let fps = (want_frames && k == 0).then_some(30.0);
-        let (result, trace, frames) =
-            shake_traced(&analysis.assembly, &settings, &motion, fps).map_err(|e| BadInput(format!("{name}: {e}")))?;
-        println!("{}", line(&result));
-        if let Some(frames) = frames {
-            write_frames(args, &analysis, &frames)?;
-        }
-        runs.push((result, trace));
+    let fps = (args.frames.is_some() || args.strip.is_some()).then_some(30.0);
+    let study = shake_study(&analysis, &statics, &motion, &shake_settings(args, engines[0]), engines, fps)
+        .map_err(|e| BadInput(format!("{name}: {e}")))?;
+    println!(
+        "SHAKE '{}': {label}, peak {:.4} g along {}°; static load factor λ* = {}",
+        analysis.assembly.name,
+        study.peak_g,
+        study.azimuth,
+        lambda_text(study.static_load_factor)
+    );
+    for run in &study.runs {
+        println!("{}", line(&run.result));
     }
-    write_reports(args, &analysis, &motion, &label, (azimuth, lambda), &runs)?;
-    Ok(if runs.iter().any(|(r, _)| r.fell.is_some()) { 1 } else { 0 })
+    if let Some(frames) = study.runs.first().and_then(|r| r.frames.as_ref()) {
+        write_frames(args, &analysis, frames)?;
+    }
+    write_reports(args, &analysis, &label, &study)?;
+    Ok(if study.runs.iter().any(|r| r.collapsed) { 1 } else { 0 })
 }
 
 /// The motion the options name (one of --pulse, --sine, --record; amplitudes in the design's
@@ -170,20 +150,12 @@ pub fn run(args: &ShakeArgs) -> Result<i32, BadInput> {
 fn motion(args: &ShakeArgs, scene: &crate::model::Scene, g: f64) -> Result<(GroundMotion, String), BadInput> {
     let (excitation, label) = match (&args.pulse, &args.sine, &args.record) {
         (Some(p), _, _) => {
-            let (shape, rest) = p.split_once(':').ok_or_else(|| {
-                BadInput(format!("--pulse '{p}': expected SHAPE:AMP_G,DURATION_S (SHAPE rect, sine or ricker)"))
-            })?;
-            let shape = PulseShape::from_name(shape.trim()).ok_or_else(|| {
-                BadInput(format!("--pulse '{p}': unknown shape '{shape}': expected rect, sine or ricker"))
-            })?;
-            let [a, d] = numbers::<2>("--pulse", rest, "AMP_G,DURATION_S")?;
-            let label = format!("{} pulse of {a} g for {d} s", shape.name());
-            (Excitation::Pulse { shape, amplitude: a * g, duration: d }, label)
+            let pulse = Excitation::parse_pulse(p, g).map_err(|e| BadInput(format!("--pulse {e}")))?;
+            (pulse, format!("pulse {p} (g, s)"))
         }
         (None, Some(s), _) => {
-            let [a, period, cycles] = numbers::<3>("--sine", s, "AMP_G,PERIOD_S,CYCLES")?;
-            let label = format!("{cycles} cycles of {a} g at a period of {period} s");
-            (Excitation::Harmonic { amplitude: a * g, period, cycles }, label)
+            let harmonic = Excitation::parse_harmonic(s, g).map_err(|e| BadInput(format!("--sine {e}")))?;
+            (harmonic, format!("harmonic {s} (g, s, cycles)"))
         }
         (None, None, Some(r)) => {
             let record = crate::io::accelerogram::load_record(r).map_err(|e| BadInput(e.to_string()))?;
@@ -209,11 +181,6 @@ fn motion(args: &ShakeArgs, scene: &crate::model::Scene, g: f64) -> Result<(Grou
     let label = if args.scale != 1.0 { format!("{label}, scaled by {}", args.scale) } else { label };
     let motion = motion.validated().map_err(|e| BadInput(format!("{e} (--scale, --direction, the motion)")))?;
     Ok((motion, label))
-}
-
-/// The largest |acceleration| of `motion`, in the design's g (`g`, m/s²).
-fn peak_g(motion: &GroundMotion, g: f64) -> f64 {
-    motion.components.iter().map(|c| c.excitation.peak()).fold(0.0, f64::max) * motion.scale.abs() / g
 }
 
 /// λ* as text: a number, unlimited or none.
@@ -275,34 +242,15 @@ fn write_frames(args: &ShakeArgs, analysis: &Analysis, frames: &crate::dynamics:
 }
 
 /// `--json` and `--plot` of a shake.
-fn write_reports(
-    args: &ShakeArgs,
-    analysis: &Analysis,
-    motion: &GroundMotion,
-    label: &str,
-    (azimuth, lambda): (f64, f64),
-    runs: &[(DropResult, ShakeTrace)],
-) -> Result<(), BadInput> {
+fn write_reports(args: &ShakeArgs, analysis: &Analysis, label: &str, study: &ShakeStudy) -> Result<(), BadInput> {
     if let Some(out) = &args.json {
-        let report = ShakeReport {
-            scene: &analysis.assembly.name,
-            motion: label.to_string(),
-            peak_g: peak_g(motion, analysis.assembly.gravity.norm()),
-            motion_end_s: motion.end(),
-            direction_deg: azimuth,
-            static_load_factor: lambda,
-            runs: runs
-                .iter()
-                .map(|(r, t)| EngineRun { collapsed: r.fell.is_some(), collapse_time_s: r.fell, result: r, trace: t })
-                .collect(),
-        };
+        let report = ShakeReport { scene: &analysis.assembly.name, motion: label, study };
         let text = serde_json::to_string_pretty(&report).map_err(|e| BadInput(e.to_string()))?;
         write_output(out, text.as_bytes())?;
         println!("report written to {}", out.display());
     }
     if let Some(out) = &args.plot {
-        let plot =
-            ShakePlot { title: format!("{}: {label}", analysis.assembly.name), static_load_factor: lambda, runs };
+        let plot = ShakePlot { title: format!("{}: {label}", analysis.assembly.name), study };
         write_shake(&plot, out).map_err(|e| BadInput(e.to_string()))?;
         println!("plot written to {}", out.display());
     }

@@ -18,6 +18,7 @@ pub mod repair;
 pub mod robustness;
 pub mod sequence;
 pub mod settle;
+pub mod shake;
 mod systems;
 
 pub use diagram::{DiagramPlugin, DiagramSettings, InterfaceColors, SetDiagram};
@@ -27,6 +28,7 @@ pub use repair::{ANIMATION_FRAMES, RepairPlugin, RepairStatus, RunRepair};
 pub use robustness::{JointMotion, MechanismMotion, RobustnessPlugin, RobustnessRequest, RobustnessStatus};
 pub use sequence::{Placed, SequencePlugin, SequenceSettings, SequenceStatus, StartSequence, StepSequence};
 pub use settle::{PLAY_SECONDS, RunSettlement, SettlePlugin, SettlePose, SettleStatus};
+pub use shake::{RunShake, SHAKE_FPS, ShakePlugin, ShakePose, ShakeStatus};
 
 use crate::geometry::{Mesh, Point3};
 use crate::model::Scene;
@@ -51,6 +53,7 @@ impl PluginGroup for VoussoirPlugins {
             .add(KinematicPlugin)
             .add(RepairPlugin)
             .add(SettlePlugin)
+            .add(ShakePlugin)
     }
 }
 

@@ -165,6 +165,68 @@ pub fn static_load_factor(analysis: &Analysis, statics: &StaticsSettings, azimut
     Ok(assess_parts(&field, &analysis.interfaces, analysis.statics.stands, statics)?.load_factor)
 }
 
+/// One engine's answer to a shake.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct ShakeOutcome {
+    /// A block fell.
+    pub collapsed: bool,
+    /// When the first block fell, s.
+    pub collapse_time_s: Option<f64>,
+    /// The run's verdict and every block's motion (rocking, sliding, residual displacement).
+    pub result: DropResult,
+    /// Its history.
+    pub trace: ShakeTrace,
+    /// Its motion for playback, when asked for.
+    #[serde(skip)]
+    pub frames: Option<Trajectory>,
+}
+
+/// A shake with the statics beside it.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct ShakeStudy {
+    /// The horizontal direction λ* is taken along: the first component's, degrees.
+    pub azimuth: f64,
+    /// λ* (in g) of the inertial load opposite it ([`static_load_factor`]).
+    pub static_load_factor: f64,
+    /// The motion's largest acceleration, in the design's g.
+    pub peak_g: f64,
+    /// When the motion ends, s.
+    pub motion_end_s: f64,
+    /// Each engine's answer, in the order asked.
+    pub runs: Vec<ShakeOutcome>,
+}
+
+/// Shakes `analysis`'s design by `motion` on each of `engines` (the rest of `settings` the
+/// same), with λ* along the motion's first horizontal direction beside it; the first engine's
+/// motion kept at `fps` frames a second when asked.
+pub fn shake_study(
+    analysis: &Analysis,
+    statics: &StaticsSettings,
+    motion: &GroundMotion,
+    settings: &ShakeSettings,
+    engines: &[Engine],
+    fps: Option<f64>,
+) -> Result<ShakeStudy, ShakeError> {
+    let d = motion.components.first().map_or(Vector3::x(), |c| c.direction);
+    let azimuth = if d.x.hypot(d.y) > 0.0 { d.y.atan2(d.x).to_degrees() } else { 0.0 };
+    let static_load_factor = static_load_factor(analysis, statics, azimuth)?;
+    let g = analysis.assembly.gravity.norm();
+    let peak = motion.components.iter().map(|c| c.excitation.peak()).fold(0.0, f64::max) * motion.scale.abs();
+    let mut runs = Vec::new();
+    for (k, &engine) in engines.iter().enumerate() {
+        let settings = ShakeSettings { drop: DropSettings { engine, ..settings.drop.clone() }, ..settings.clone() };
+        let (result, trace, frames) = shake_traced(&analysis.assembly, &settings, motion, fps.filter(|_| k == 0))?;
+        runs.push(ShakeOutcome {
+            collapsed: result.fell.is_some(),
+            collapse_time_s: result.fell,
+            result,
+            trace,
+            frames,
+        });
+    }
+    Ok(ShakeStudy { azimuth, static_load_factor, peak_g: peak / g, motion_end_s: motion.end(), runs })
+}
+
 /// How a collapse spectrum is found.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SpectrumSettings {

@@ -512,3 +512,67 @@ fn settle_plugin_follows_the_design_s_movements_and_plays_them() {
     let error = app.world().resource::<SettleStatus>().error.clone().expect("an error");
     assert!(error.contains("moves no support"), "{error}");
 }
+
+/// Invariant: the plugin's shake is the library's on the same design, motion and settings (the
+/// same input, the same output: λ* and each run's result bar the wall time), and its playback
+/// ends on the run's last frame — the arch's voussoirs where the library's run left them — with
+/// the ground's acceleration read from the trace at the clock; a request with no engine gets
+/// one clear error.
+#[test]
+fn shake_plugin_shakes_the_design_and_plays_it() {
+    use voussoir::dynamics::{Engine, Excitation, GroundMotion, PulseShape};
+    use voussoir::studies::shake::{ShakeSettings, shake_study};
+    let scene = builtin("arch?n=9&t=0.15").unwrap();
+    let g = scene.gravity.norm();
+    let motion = GroundMotion::horizontal(
+        Excitation::Pulse { shape: PulseShape::Rectangular, amplitude: 0.6 * g, duration: 0.3 },
+        0.0,
+    );
+    let settings = ShakeSettings { duration: Some(1.0), ..Default::default() };
+    let mut app = app();
+    app.insert_resource(bevy::time::TimeUpdateStrategy::ManualDuration(std::time::Duration::from_secs_f64(0.1)));
+    send(&mut app, Edit::Load(Box::new(scene.clone())));
+    let request = RunShake { motion: motion.clone(), settings: settings.clone(), engines: vec![Engine::Exact] };
+    app.world_mut().write_message(request);
+    for _ in 0..6000 {
+        app.update();
+        let s = app.world().resource::<ShakeStatus>();
+        if s.result.is_some() || s.error.is_some() {
+            break;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(10));
+    }
+    let analysis = analyze(&scene, &Settings::default().0).unwrap();
+    let direct =
+        shake_study(&analysis, &Settings::default().0.statics, &motion, &settings, &[Engine::Exact], None).unwrap();
+    let last = {
+        let status = app.world().resource::<ShakeStatus>();
+        let got = status.result.as_ref().expect("a shake");
+        assert_eq!(got.static_load_factor, direct.static_load_factor);
+        let (mut a, mut b) = (got.runs[0].result.clone(), direct.runs[0].result.clone());
+        (a.wall_s, b.wall_s) = (0.0, 0.0);
+        assert_eq!(a, b);
+        assert!(got.runs[0].collapsed, "0.6 g for 0.3 s brings the arch (λ* ≈ 0.15) down");
+        got.runs[0].frames.as_ref().unwrap().poses.last().unwrap().clone()
+    };
+    for _ in 0..12 {
+        app.update();
+    }
+    let status = app.world().resource::<ShakeStatus>();
+    assert!(status.played());
+    assert_eq!(status.ground_now(), Some(0.0), "the pulse is over at the end");
+    let names: Vec<String> = analysis.assembly.blocks.iter().map(|b| b.name.clone()).collect();
+    let mut q = app.world_mut().query::<(&BlockName, &ShakePose)>();
+    let poses: std::collections::HashMap<String, BlockPose> =
+        q.iter(app.world()).map(|(n, p)| (n.0.clone(), p.0)).collect();
+    for (name, (centroid, _)) in names.iter().zip(&last) {
+        if let Some(p) = poses.get(name) {
+            assert_eq!(p.centroid, *centroid, "{name}");
+        }
+    }
+    assert!(!poses.is_empty());
+    app.world_mut().write_message(RunShake { motion, settings, engines: vec![] });
+    app.update();
+    let error = app.world().resource::<ShakeStatus>().error.clone().expect("an error");
+    assert!(error.contains("no engine"), "{error}");
+}

@@ -389,6 +389,27 @@ def test_drop_on_the_exact_engine():
         voussoir.drop(voussoir.Scene.builtin("stack?n=2"), engine="soft")
 
 
+def test_shake_returns_the_response_as_numpy_arrays():
+    # A 0.5 g pulse of 0.2 s brings the thin arch (λ* 0.1505 g, the robustness command's) down
+    # in both engines; the trace is one sample per step, the ground's 0.5 g held for the pulse.
+    thin = voussoir.Scene.builtin("arch?n=15&t=0.15")
+    report = voussoir.shake(thin, pulse="rect:0.5,0.2", engine="both", duration=1.0)
+    assert abs(report["static_load_factor"] - 0.1505) < 5e-4
+    assert [r["result"]["engine"] for r in report["runs"]] == ["exact", "rapier"]
+    for run in report["runs"]:
+        trace = run["trace"]
+        assert isinstance(trace["times"], np.ndarray) and trace["rotation"].shape == trace["times"].shape
+        assert np.allclose(np.diff(trace["times"]), 1 / 240)
+        during = trace["times"][1:] <= 0.2 - 1 / 240
+        assert np.allclose(trace["ground_g"][1:][during], 0.5)
+        assert run["collapsed"] and 0.2 < run["collapse_time_s"] < trace["times"][-1]
+    # The thicker arch (λ* 0.41 g) does not move under El Centro's 0.28 g in the exact engine.
+    standing = voussoir.shake(voussoir.Scene.builtin("arch?n=15&t=0.25"), record="builtin:elcentro", duration=2.0)
+    assert not standing["runs"][0]["collapsed"] and standing["runs"][0]["trace"]["rotation"].max() == 0.0
+    with pytest.raises(voussoir.InputError, match="unknown shape 'heat'"):
+        voussoir.shake(thin, pulse="heat:0.5,0.2")
+
+
 def test_the_exact_engine_s_switches():
     # The collapsing arch lands on the floor: its impacts split steps, unless split_impacts is
     # off (then no step is split, and the run still balances its energy).

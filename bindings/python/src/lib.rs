@@ -34,6 +34,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(tasks::settle, m)?)?;
     m.add_function(wrap_pyfunction!(tasks::sequence, m)?)?;
     m.add_function(wrap_pyfunction!(tasks::drop, m)?)?;
+    m.add_function(wrap_pyfunction!(tasks::shake, m)?)?;
     m.add_function(wrap_pyfunction!(design::repair, m)?)?;
     m.add_function(wrap_pyfunction!(design::decompose, m)?)?;
     m.add_function(wrap_pyfunction!(design::infill, m)?)?;

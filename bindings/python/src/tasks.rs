@@ -245,3 +245,93 @@ solve_function! {
         json_to_python(py, &text)
     }
 }
+
+/// The ground motion the keywords name (one of `pulse`, `sine`, `record`), else the scene's
+/// `ground_motion` (records relative to `source`'s folder); amplitudes in the design's g.
+fn motion_of(
+    design: &voussoir::model::Scene,
+    source: &str,
+    (pulse, sine, record): (Option<String>, Option<String>, Option<String>),
+    scale: f64,
+    direction: f64,
+) -> Result<voussoir::dynamics::GroundMotion, String> {
+    use voussoir::dynamics::{Excitation, GroundMotion, Record};
+    let g = design.gravity.norm();
+    let excitation = match (pulse, sine, record) {
+        (Some(p), None, None) => Excitation::parse_pulse(&p, g).map_err(|e| format!("pulse {e}"))?,
+        (None, Some(s), None) => Excitation::parse_harmonic(&s, g).map_err(|e| format!("sine {e}"))?,
+        (None, None, Some(r)) => Excitation::Record(std::sync::Arc::new(Record::new(
+            voussoir::io::accelerogram::load_record(&r).map_err(|e| e.to_string())?,
+        ))),
+        (None, None, None) => {
+            let shaking = design.ground_motion.as_ref().ok_or(
+                "name a motion: pulse=\"rect:AMP_G,DURATION_S\", sine=\"AMP_G,PERIOD_S,CYCLES\" or record=FILE (or give the scene a ground_motion)",
+            )?;
+            let mut motion = voussoir::io::accelerogram::ground_motion(shaking, std::path::Path::new(source), g)?;
+            motion.scale *= scale;
+            return motion.validated().map_err(|e| e.to_string());
+        }
+        _ => return Err("give one of pulse, sine, record".into()),
+    };
+    let mut motion = GroundMotion::horizontal(excitation, direction);
+    motion.scale = scale;
+    motion.validated().map_err(|e| e.to_string())
+}
+
+solve_function! {
+    /// The design on a shaking ground (`voussoir shake --json` as a dict): `pulse`
+    /// ("rect:AMP_G,DURATION_S", "sine:…", "ricker:…"), `sine` ("AMP_G,PERIOD_S,CYCLES") or
+    /// `record` (an .AT2 or .csv path, "builtin:elcentro", "builtin:synthetic?seed=N&pga=G&duration=S"),
+    /// else the scene's `ground_motion`; times `scale`, along `direction` (degrees from +x), on
+    /// `engine` "exact" (the default), "rapier" or "both", for `duration` s (default: the
+    /// motion's end and time for what it set going to land) at step `dt`. Beside the static
+    /// load factor `static_load_factor` (g), each of `runs` has `collapsed`, `collapse_time_s`,
+    /// `result` (every block's largest rotation, drift, residual displacement) and `trace`
+    /// with numpy arrays `times` (s), `ground_g`, `rotation` (rad, the largest of a block) and
+    /// `drift` (a fraction of the block's size), one sample per step.
+    pub fn shake<'py>(
+        py, scene,
+        pulse: Option<String> = None, sine: Option<String> = None, record: Option<String> = None,
+        scale: f64 = 1.0, direction: f64 = 0.0, engine: Option<String> = None,
+        duration: Option<f64> = None, dt: Option<f64> = None,
+        ..options(mu, friction_model, solver, supports, ground, density)
+    ) -> PyResult<Bound<'py, PyAny>> {
+        use voussoir::studies::shake::{ShakeSettings, shake_study};
+        let (design, settings) = options.apply(scene)?;
+        let source = scene.source.as_str();
+        let motion = motion_of(&design, source, (pulse, sine, record), scale, direction)
+            .map_err(|e| errors::input(source, e))?;
+        let engines = match engine.as_deref() {
+            None | Some("exact") => vec![Engine::Exact],
+            Some("rapier") => vec![Engine::Rapier],
+            Some("both") => vec![Engine::Exact, Engine::Rapier],
+            Some(other) => {
+                return Err(errors::setting(format!("engine: '{other}' is neither \"exact\", \"rapier\" nor \"both\"")));
+            }
+        };
+        let mut study = ShakeSettings { duration, ..ShakeSettings::default() };
+        study.drop.dt = dt.unwrap_or(study.drop.dt);
+        study.drop.friction = options.mu;
+        study.drop.exact.friction_model = settings.statics.friction_model;
+        let statics = settings.statics.clone();
+        let report = py
+            .detach(|| {
+                let analysis = analyze(&design, &settings).map_err(|e| e.to_string())?;
+                if !analysis.statics.stands {
+                    return Err("does not stand as drawn (the statics): nothing to shake".to_string());
+                }
+                shake_study(&analysis, &statics, &motion, &study, &engines, None).map_err(|e| e.to_string())
+            })
+            .map_err(|e: String| errors::input(source, e))?;
+        let out = json_to_python(py, &serde_json::to_string(&report).unwrap_or_default())?;
+        let runs = out.get_item("runs")?;
+        for (k, run) in report.runs.iter().enumerate() {
+            let trace = runs.get_item(k)?.get_item("trace")?;
+            let t = &run.trace;
+            for (key, values) in [("times", &t.times), ("ground_g", &t.ground_g), ("rotation", &t.rotation), ("drift", &t.drift)] {
+                trace.set_item(key, crate::arrays::vector(py, values.clone()))?;
+            }
+        }
+        Ok(out)
+    }
+}

@@ -35,6 +35,7 @@ from ._native import (
     report,
     sequence,
     settle,
+    shake,
     tolerance,
 )
 
@@ -54,5 +55,6 @@ __all__ = [
     "report",
     "sequence",
     "settle",
+    "shake",
     "tolerance",
 ]

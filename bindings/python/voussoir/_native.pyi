@@ -250,6 +250,27 @@ def drop(
 ) -> dict[str, Any]:
     """The drop test's result on rapier (default) or the exact engine ("exact")."""
 
+def shake(
+    scene: Scene,
+    *,
+    pulse: Optional[str] = None,
+    sine: Optional[str] = None,
+    record: Optional[str] = None,
+    scale: float = 1.0,
+    direction: float = 0.0,
+    engine: Optional[str] = None,
+    duration: Optional[float] = None,
+    dt: Optional[float] = None,
+    mu: Optional[float] = None,
+    friction_model: Optional[FrictionModel] = None,
+    solver: Optional[Solver] = None,
+    supports: Optional[Supports] = None,
+    ground: Optional[bool] = None,
+    density: Optional[float] = None,
+) -> dict[str, Any]:
+    """`voussoir shake --json`: the static load factor and each engine's run, its trace as
+    numpy arrays (times, ground_g, rotation, drift)."""
+
 def repair(
     scene: Scene,
     *,

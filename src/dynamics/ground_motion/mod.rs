@@ -224,6 +224,37 @@ impl Excitation {
     }
 }
 
+impl Excitation {
+    /// A pulse from `SHAPE:AMP_G,DURATION_S` (SHAPE rect, sine or ricker; the amplitude in g of
+    /// `g` m/s²); the message names what is wrong.
+    pub fn parse_pulse(text: &str, g: f64) -> Result<Self, String> {
+        let (shape, rest) = text
+            .split_once(':')
+            .ok_or_else(|| format!("'{text}': expected SHAPE:AMP_G,DURATION_S (SHAPE rect, sine or ricker)"))?;
+        let shape = PulseShape::from_name(shape.trim())
+            .ok_or_else(|| format!("'{text}': unknown shape '{shape}': expected rect, sine or ricker"))?;
+        let [amplitude, duration] = numbers::<2>(text, rest, "AMP_G,DURATION_S")?;
+        Ok(Self::Pulse { shape, amplitude: amplitude * g, duration })
+    }
+
+    /// A harmonic from `AMP_G,PERIOD_S,CYCLES` (the amplitude in g of `g` m/s²).
+    pub fn parse_harmonic(text: &str, g: f64) -> Result<Self, String> {
+        let [amplitude, period, cycles] = numbers::<3>(text, text, "AMP_G,PERIOD_S,CYCLES")?;
+        Ok(Self::Harmonic { amplitude: amplitude * g, period, cycles })
+    }
+}
+
+/// `N` comma-separated numbers in `part` of `text` (`form` names them in the message).
+fn numbers<const N: usize>(text: &str, part: &str, form: &str) -> Result<[f64; N], String> {
+    let v: Vec<f64> = part
+        .split(',')
+        .map(|x| x.trim().parse::<f64>())
+        .collect::<Result<_, _>>()
+        .map_err(|_| format!("'{text}': expected {N} numbers {form}"))?;
+    let n = v.len();
+    v.try_into().map_err(|_| format!("'{text}': expected {N} numbers {form}, got {n}"))
+}
+
 /// One component: a shape along a direction.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Component {

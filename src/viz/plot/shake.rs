@@ -3,8 +3,7 @@
 //! pulse's duration, λ* its long-pulse limit).
 
 use super::PlotError;
-use crate::dynamics::DropResult;
-use crate::studies::shake::{ShakeTrace, Spectrum};
+use crate::studies::shake::{ShakeStudy, Spectrum};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use std::path::Path;
@@ -13,10 +12,8 @@ use std::path::Path;
 pub struct ShakePlot<'a> {
     /// The plot's title (the design and the motion).
     pub title: String,
-    /// λ*, g (not drawn when not finite).
-    pub static_load_factor: f64,
-    /// Each engine's result and history.
-    pub runs: &'a [(DropResult, ShakeTrace)],
+    /// The shake: λ* (not drawn when not finite) and each engine's result and history.
+    pub study: &'a ShakeStudy,
 }
 
 /// What a spectrum plot shows.
@@ -66,9 +63,10 @@ fn history<DB: DrawingBackend>(root: DrawingArea<DB, Shift>, plot: &ShakePlot) -
     root.fill(&WHITE)?;
     let root = root.titled(&plot.title, ("sans-serif", 20))?;
     let (top, bottom) = root.split_vertically(300);
-    let Some((_, first)) = plot.runs.first() else { return root.present() };
-    let end = plot.runs.iter().filter_map(|(_, t)| t.times.last()).fold(f64::MIN_POSITIVE, |a, b| a.max(*b));
-    let lambda = plot.static_load_factor.is_finite().then_some(plot.static_load_factor);
+    let runs = &plot.study.runs;
+    let Some(first) = runs.first().map(|r| &r.trace) else { return root.present() };
+    let end = runs.iter().filter_map(|r| r.trace.times.last()).fold(f64::MIN_POSITIVE, |a, b| a.max(*b));
+    let lambda = plot.study.static_load_factor.is_finite().then_some(plot.study.static_load_factor);
     let peak = first.ground_g.iter().fold(lambda.unwrap_or(0.0), |m, a| m.max(a.abs())).max(1e-6) * 1.15;
     let mut c = ChartBuilder::on(&top)
         .margin(12)
@@ -94,14 +92,16 @@ fn history<DB: DrawingBackend>(root: DrawingArea<DB, Shift>, plot: &ShakePlot) -
 
 /// The largest rotation of a block (degrees) per engine, each collapse marked.
 fn response<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, plot: &ShakePlot, end: f64) -> Drawn<DB> {
-    let top = plot.runs.iter().flat_map(|(_, t)| &t.rotation).fold(0.0f64, |m, r| m.max(r.to_degrees())).max(0.1) * 1.1;
+    let runs = &plot.study.runs;
+    let top = runs.iter().flat_map(|r| &r.trace.rotation).fold(0.0f64, |m, r| m.max(r.to_degrees())).max(0.1) * 1.1;
     let mut c = ChartBuilder::on(area)
         .margin(12)
         .x_label_area_size(40)
         .y_label_area_size(80)
         .build_cartesian_2d(0.0..end, 0.0..top)?;
     c.configure_mesh().x_desc("time (s)").y_desc("largest rotation of a block (°)").draw()?;
-    for ((result, trace), color) in plot.runs.iter().zip(ENGINES) {
+    for (run, color) in runs.iter().zip(ENGINES) {
+        let (result, trace) = (&run.result, &run.trace);
         let label = match result.fell {
             Some(t) => format!("{}: collapses at {t:.2} s", result.engine.name()),
             None => format!("{}: survives", result.engine.name()),
