@@ -231,6 +231,14 @@ fn main() {
         Act(A::Settle),
         Settle(3),
         Shot(path("settle")),
+        // A slender block on the ground under its scene's 1.5 s pulse of 0.3 g (W): λ* = 0.2,
+        // it overturns; its fall played in the pane, the ground's trace and λ* under it.
+        Act(A::ResetDrop),
+        Load(Box::new(shaken_block())),
+        Settle(3),
+        Act(A::Shake),
+        Settle(3),
+        Shot(path("shake")),
     ];
     let report_path = dir.join("report.json");
     let mut options = ViewerOptions::new(default_scene);
@@ -571,6 +579,33 @@ fn check(report: &Value, saved: &Path, logical_width: u32) {
     let c = picture(&s, "physics_viewport");
     println!("settlement view: {c:?}");
     assert!(c.violet > c.total / 100 && c.blue > 0, "the moved blocks and the thrust curve: {c:?}");
+
+    let s = shot(report, "shake");
+    let shake = &s["shake"];
+    assert!((shake["static_load_factor"].as_f64().unwrap() - 0.2).abs() < 1e-4, "{s}");
+    assert_eq!((shake["collapsed"].as_bool(), shake["played"].as_bool()), (Some(true), Some(true)), "{s}");
+    assert_eq!(s["thrust_plot_shown"], true, "{s}");
+    assert!(s["caption"].as_str().unwrap().starts_with("shake (exact)"), "{s}");
+    assert!(physics_beside_main(&s), "{s}");
+    let c = picture(&s, "physics_viewport");
+    println!("shake view: {c:?}");
+    assert!(c.violet > c.total / 200, "the fallen block: {c:?}");
+}
+
+/// A 0.2 × 0.2 × 1 m block on the ground (λ* = 0.2) whose scene shakes it by a 0.3 g
+/// rectangular pulse of 1.5 s.
+fn shaken_block() -> voussoir::model::Scene {
+    use voussoir::model::shaking::{PulseSpec, Shaking, ShakingComponent};
+    let mesh = voussoir::geometry::Mesh::cuboid(
+        voussoir::geometry::Point3::new(-0.1, -0.1, 0.0),
+        voussoir::geometry::Point3::new(0.1, 0.1, 1.0),
+    );
+    let mut scene = voussoir::model::Scene::new("shaken block", vec![voussoir::model::Block::new("block", mesh)]);
+    scene.ground = true;
+    let pulse = PulseSpec { shape: "rect".into(), amplitude: 0.3, duration: 1.5 };
+    scene.ground_motion =
+        Some(Shaking { components: vec![ShakingComponent { pulse: Some(pulse), ..Default::default() }], scale: 1.0 });
+    scene
 }
 
 /// The motion pane is right of the design's view.

@@ -7,8 +7,8 @@ use super::ViewerOptions;
 use crate::dynamics::{DropSettings, Engine};
 use crate::ecs::{
     CompareDropTests, Design, DropStatus, EditDesign, KinematicRequest, PipelineState, RepairStatus, RobustnessRequest,
-    RunDropTest, RunRepair, RunSettlement, SequenceStatus, SetDiagram, SettleStatus, StartSequence, StepSequence,
-    VoussoirSet,
+    RunDropTest, RunRepair, RunSettlement, RunShake, SequenceStatus, SetDiagram, SettleStatus, ShakeStatus,
+    StartSequence, StepSequence, VoussoirSet,
 };
 use crate::model::Scene;
 use crate::model::cut::{Cut, CutShape};
@@ -86,6 +86,9 @@ pub enum ViewerAction {
     CompareEngines,
     /// Move the design's supports along its `movements` and play the quasi-static motion (P).
     Settle,
+    /// Shake the design by its `ground_motion` (else the first 15 s of El Centro 1940) on the
+    /// exact engine and play it, the ground's trace and λ* under it (W).
+    Shake,
     /// Leave the drop-test view (the static diagram alone again).
     ResetDrop,
     /// Check the design's order (its `order`, else bottom-up) and show its first step.
@@ -154,6 +157,8 @@ pub struct ViewerState {
     pub sequence_view: bool,
     /// The settlement's motion is shown (P).
     pub settle_view: bool,
+    /// The shake's motion is shown (W).
+    pub shake_view: bool,
     /// The mechanism drawn beside the design, if any.
     pub overlay: Overlay,
     /// Set when the camera should fit the design at the next analysis.
@@ -183,6 +188,7 @@ impl ViewerState {
             drop_engine: Some(Engine::default()),
             sequence_view: false,
             settle_view: false,
+            shake_view: false,
             overlay: Overlay::None,
             frame_pending: true,
         }
@@ -260,6 +266,8 @@ struct Studies<'w> {
     comparisons: MessageWriter<'w, CompareDropTests>,
     settle: ResMut<'w, SettleStatus>,
     settlements: MessageWriter<'w, RunSettlement>,
+    shake: ResMut<'w, ShakeStatus>,
+    shakes: MessageWriter<'w, RunShake>,
     sequence: ResMut<'w, SequenceStatus>,
     starts: MessageWriter<'w, StartSequence>,
     steps: MessageWriter<'w, StepSequence>,
@@ -302,22 +310,23 @@ impl Effects<'_> {
             A::Save => s.save(),
             A::DropTest(engine) => {
                 s.drop_view = true;
-                s.settle_view = false;
+                (s.settle_view, s.shake_view) = (false, false);
                 s.drop_engine = Some(*engine);
                 self.studies.drops.write(RunDropTest(DropSettings { engine: *engine, ..Default::default() }));
             }
             A::CompareEngines => {
                 s.drop_view = true;
-                s.settle_view = false;
+                (s.settle_view, s.shake_view) = (false, false);
                 s.drop_engine = None;
                 self.studies.comparisons.write(CompareDropTests(DropSettings::default()));
             }
             A::Settle => {
-                s.drop_view = false;
+                (s.drop_view, s.shake_view) = (false, false);
                 s.settle_view = true;
                 let settings = SettleSettings { engines: false, ..Default::default() };
                 self.studies.settlements.write(RunSettlement(settings));
             }
+            A::Shake => self.shake(),
             A::ResetDrop => self.reset_drop(),
             A::StartSequence => self.start_sequence(),
             A::Step(k) => self.step_sequence(*k),
@@ -451,6 +460,32 @@ impl Effects<'_> {
         self.studies.drop.clear();
         self.state.settle_view = false;
         self.studies.settle.clear();
+        self.state.shake_view = false;
+        self.studies.shake.clear();
+    }
+
+    /// Shakes the design on the exact engine by its own ground motion, else by El Centro's
+    /// first 15 s (the strong part), and shows it.
+    fn shake(&mut self) {
+        use crate::dynamics::{Engine, Excitation, GroundMotion, Record};
+        let s = &mut *self.state;
+        let g = s.design.gravity.norm();
+        let scene_file = s.input.clone().unwrap_or_default();
+        let motion = match &s.design.ground_motion {
+            Some(shaking) => crate::io::accelerogram::ground_motion(shaking, &scene_file, g),
+            None => crate::io::accelerogram::load_record("builtin:elcentro")
+                .map(|r| GroundMotion::horizontal(Excitation::Record(std::sync::Arc::new(Record::new(r))), 0.0))
+                .map_err(|e| e.to_string()),
+        };
+        let duration = s.design.ground_motion.is_none().then_some(15.0);
+        match motion {
+            Ok(motion) => {
+                (s.drop_view, s.settle_view, s.shake_view) = (false, false, true);
+                let settings = crate::studies::shake::ShakeSettings { duration, ..Default::default() };
+                self.studies.shakes.write(RunShake { motion, settings, engines: vec![Engine::Exact] });
+            }
+            Err(e) => s.message = Some(format!("shake: {e}")),
+        }
     }
 
     /// Checks the design's order (its `order`, else bottom-up).

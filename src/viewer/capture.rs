@@ -119,6 +119,7 @@ struct Busy<'w, 's> {
     pipeline: Res<'w, PipelineState>,
     drop: Res<'w, DropStatus>,
     settle: Res<'w, SettleStatus>,
+    shake: Res<'w, crate::ecs::ShakeStatus>,
     sequence: Res<'w, SequenceStatus>,
     repair: Res<'w, RepairStatus>,
     coloured: Query<'w, 's, (), With<InterfaceColors>>,
@@ -135,6 +136,8 @@ impl Busy<'_, '_> {
             || self.drop.running()
             || settle.running()
             || (state.settle_view && settle.result.is_some() && !settle.played())
+            || self.shake.running()
+            || (state.shake_view && self.shake.result.is_some() && !self.shake.played())
             || self.repair.running()
             || self.repair.animating()
             || (state.sequence_view && sequence.error.is_none() && sequence.analysis.is_none())
@@ -237,7 +240,7 @@ struct ShotInfo<'w, 's> {
 
 impl ShotInfo<'_, '_> {
     fn describe(&self, path: &std::path::Path, size: (u32, u32)) -> Value {
-        let Shown { state, status, pipeline, drop, settle, sequence, robustness, kinematic } = &self.shown;
+        let Shown { state, status, pipeline, drop, settle, shake, sequence, robustness, kinematic } = &self.shown;
         let rect = |c: &Camera| {
             c.physical_viewport_rect().filter(|_| c.is_active).map(|r| [r.min.x, r.min.y, r.max.x, r.max.y])
         };
@@ -290,6 +293,13 @@ impl ShotInfo<'_, '_> {
                 "fraction": settle.frame().map(|f| f.1),
             })),
             "settle_error": settle.error,
+            "shake": shake.result.as_ref().map(|r| json!({
+                "static_load_factor": r.static_load_factor,
+                "collapsed": r.runs.first().map(|run| run.collapsed),
+                "played": shake.played(),
+                "ground_g": shake.ground_now(),
+            })),
+            "shake_error": shake.error,
             "thrust_plot_shown": self.thrust_plot.single().is_ok_and(|n| n.display != Display::None),
             "drop_lanes": drop.lanes.iter().filter_map(|l| l.result.as_ref().map(|r| json!({
                 "engine": r.engine,

@@ -63,6 +63,7 @@ fn keys(keys: Res<ButtonInput<KeyCode>>, mut actions: MessageWriter<ViewerAction
             (KeyCode::KeyE, _) => send(ViewerAction::DropTest(Engine::Exact)),
             (KeyCode::KeyB, _) => send(ViewerAction::CompareEngines),
             (KeyCode::KeyP, _) => send(ViewerAction::Settle),
+            (KeyCode::KeyW, _) => send(ViewerAction::Shake),
             (KeyCode::KeyQ, _) => send(ViewerAction::StartSequence),
             (KeyCode::Comma, _) => send(ViewerAction::Step(-1)),
             (KeyCode::Period, _) => send(ViewerAction::Step(1)),

@@ -9,7 +9,7 @@ use super::Overlay;
 use super::camera::{COMPARED_LAYER, PHYSICS_LAYER, PaneView};
 use super::draw::{Palette, coloured_mesh};
 use super::hud::Shown;
-use crate::ecs::{BlockName, BlockPose, ComparedPose, DropLane, MassCentre, SettlePose};
+use crate::ecs::{BlockName, BlockPose, ComparedPose, DropLane, MassCentre, SettlePose, ShakePose};
 use crate::ecs::{Support, VoussoirSet};
 use crate::model::{Load, LoadKind};
 use crate::report::words;
@@ -80,6 +80,8 @@ pub(super) enum Pane<'a> {
     Drop,
     /// The supports moving: the settlement's quasi-static motion.
     Settle,
+    /// The ground shaking: the first engine's run.
+    Shake,
     /// A mechanism, drawn `scale` × its motion.
     Mechanism {
         mechanism: &'a Mechanism,
@@ -96,6 +98,9 @@ impl Shown<'_> {
         }
         if self.state.settle_view {
             return Pane::Settle;
+        }
+        if self.state.shake_view {
+            return Pane::Shake;
         }
         let mechanism = match self.state.overlay {
             Overlay::None => None,
@@ -130,6 +135,7 @@ impl Shown<'_> {
             Pane::Hidden => self.nothing_moves().into(),
             Pane::Drop => self.drop.lead().map_or(String::new(), drop_caption),
             Pane::Settle => self.settle_caption(),
+            Pane::Shake => self.shake_caption(),
             Pane::Mechanism { mechanism, kinematic, .. } => {
                 let head = if kinematic {
                     "kinematic check: the first motion\nreleased from rest under gravity (arrow)".to_string()
@@ -190,6 +196,25 @@ impl Shown<'_> {
             "supports move (quasi-static), true scale\n{:.1} % of the path · {}\n{end}\nviolet: the blocks now · ghost: at the start",
             100.0 * fraction,
             words::length(fraction * r.path_movement),
+        )
+    }
+
+    /// The shake pane's caption: the clock, the ground's acceleration then, λ*, how it ends.
+    fn shake_caption(&self) -> String {
+        let s = &self.shake;
+        let (Some(r), Some((_, t))) = (&s.result, s.frame()) else {
+            return s.error.clone().unwrap_or_else(|| "shake: running the exact engine…".into());
+        };
+        let Some(run) = r.runs.first() else { return String::new() };
+        let end = match run.collapse_time_s {
+            Some(c) => format!("collapses at {c:.2} s"),
+            None => "survives".into(),
+        };
+        format!(
+            "shake ({}), true scale, relative to the ground\nt = {t:.2} s · ground {:+.3} g · λ* = {:.4} g\n{end}\nviolet: the blocks now · ghost: at the start",
+            run.result.engine.name(),
+            s.ground_now().unwrap_or(0.0),
+            r.static_load_factor,
         )
     }
 
@@ -254,6 +279,7 @@ type Source<'a> = (
     Option<&'a BlockPose>,
     Option<&'a ComparedPose>,
     Option<&'a SettlePose>,
+    Option<&'a ShakePose>,
     &'a BlockName,
     Has<Support>,
 );
@@ -272,6 +298,7 @@ fn copies(
         Pane::Hidden => 0,
         Pane::Drop if shown.drop.compared() => 2,
         Pane::Settle if shown.settle.result.is_none() => 0,
+        Pane::Shake if shown.shake.result.is_none() => 0,
         _ => 1,
     };
     let (mechanism, scale) = match pane {
@@ -282,7 +309,7 @@ fn copies(
         mechanism.iter().flat_map(|m| &m.blocks).map(|b| (b.block.as_str(), b)).collect();
     let mut have = HashSet::new();
     for (e, copy, mut transform, mut material) in &mut moved {
-        let Some((_, _, mass, pose, compared, settled, name, support)) =
+        let Some((_, _, mass, pose, compared, settled, shaken, name, support)) =
             blocks.get(copy.block).ok().filter(|_| copy.lane < lanes)
         else {
             commands.entity(e).despawn();
@@ -293,6 +320,7 @@ fn copies(
         let pose = match (mechanism, copy.lane) {
             (Some(_), _) => motion.map(|m| mechanism_pose(mass, m, scale)),
             (None, _) if matches!(pane, Pane::Settle) => settled.map(|s| s.0),
+            (None, _) if matches!(pane, Pane::Shake) => shaken.map(|s| s.0),
             (None, 0) => pose.copied(),
             (None, _) => compared.map(|c| c.0),
         };
@@ -459,7 +487,16 @@ fn caption(
     }
 }
 
-/// The settlement's thrust curve, at the bottom of the motion pane.
+/// Which plot the pane's plot node shows.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum PanePlot {
+    /// The settlement's thrust against the movement.
+    Thrust,
+    /// The shake's ground acceleration with ±λ*, and the response.
+    Shake,
+}
+
+/// The settlement's thrust curve or the shake's trace, at the bottom of the motion pane.
 #[derive(Component)]
 pub(super) struct ThrustPlotNode;
 
@@ -480,32 +517,49 @@ fn spawn_thrust_plot(mut commands: Commands) {
     ));
 }
 
-/// Draws the thrust curve when a settlement's result arrives, and keeps it at the bottom-left
-/// corner of the pane while the settlement is shown.
+/// Draws the thrust curve when a settlement's result arrives (the shake's trace when a
+/// shake's does), and keeps it at the bottom-left corner of the pane while it is shown.
 fn thrust_plot(
     shown: Shown,
     pane: Query<&Camera, With<super::camera::PhysicsCamera>>,
     window: Query<&Window, With<bevy::window::PrimaryWindow>>,
     mut images: ResMut<Assets<Image>>,
     mut node: Query<(&mut ImageNode, &mut Node), With<ThrustPlotNode>>,
-    mut drawn: Local<bool>,
+    mut drawn: Local<Option<PanePlot>>,
 ) {
     let Ok((mut image, mut node)) = node.single_mut() else { return };
-    let result = shown.settle.result.as_ref();
-    if result.is_none() {
-        *drawn = false;
+    let want = match shown.pane() {
+        Pane::Settle => shown.settle.result.as_ref().map(|_| PanePlot::Thrust),
+        Pane::Shake => shown.shake.result.as_ref().map(|_| PanePlot::Shake),
+        _ => None,
+    };
+    if want.is_none() || *drawn != want {
+        *drawn = None;
     }
-    if let (Some(settlement), false) = (result, *drawn) {
-        *drawn = true;
-        let plot = crate::viz::plot::ThrustPlot { title: "thrust against movement".into(), settlement };
-        if let Ok(rgb) = crate::viz::plot::render_rgb(&plot, THRUST_PLOT) {
+    if let (Some(what), None) = (want, *drawn) {
+        *drawn = want;
+        let rgb = match what {
+            PanePlot::Thrust => shown.settle.result.as_ref().map(|settlement| {
+                crate::viz::plot::render_rgb(
+                    &crate::viz::plot::ThrustPlot { title: "thrust against movement".into(), settlement },
+                    THRUST_PLOT,
+                )
+            }),
+            PanePlot::Shake => shown.shake.result.as_ref().map(|study| {
+                crate::viz::plot::render_rgb(
+                    &crate::viz::plot::ShakePlot { title: "ground acceleration, λ*, response".into(), study },
+                    THRUST_PLOT,
+                )
+            }),
+        };
+        if let Some(Ok(rgb)) = rgb {
             image.image = images.add(rgba_image(&rgb, THRUST_PLOT));
         }
     }
     let scale = window.single().map_or(1.0, |w| w.scale_factor());
     let at = pane.single().ok().filter(|c| c.is_active).and_then(|c| c.physical_viewport_rect());
     let (display, left, top) = match at {
-        Some(r) if *drawn && matches!(shown.pane(), Pane::Settle) => {
+        Some(r) if drawn.is_some() => {
             (Display::Flex, r.min.x as f32 / scale + 6.0, r.max.y as f32 / scale - THRUST_PLOT.1 as f32 / 2.0 - 6.0)
         }
         _ => (Display::None, 0.0, 0.0),

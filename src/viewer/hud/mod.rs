@@ -15,6 +15,7 @@ use crate::dynamics::Engine;
 use crate::ecs::SequenceStatus;
 use crate::ecs::{
     DropStatus, InterfaceForces, KinematicStatus, PipelineState, RobustnessStatus, SceneStatus, SettleStatus,
+    ShakeStatus,
 };
 use crate::viz::DiagramMode;
 use bevy::ecs::system::SystemParam;
@@ -83,6 +84,7 @@ arrows turn cut · Backspace drop cut\n\
 O repair · G support · X remove · R restore\n\
 Ctrl+Z/Y undo/redo · Ctrl+S save\n\
 D/E drop rapier/exact · B both · P settle\n\
+W shake (its ground motion, else El Centro)\n\
 Q sequence · , . step\n\
 K mechanism · J kinematic · Esc close";
 
@@ -104,6 +106,7 @@ const ACTION_ROWS: [&[(&str, ViewerAction)]; 3] = [
         ("E Drop (exact)", ViewerAction::DropTest(Engine::Exact)),
         ("B Both", ViewerAction::CompareEngines),
         ("P Settle", ViewerAction::Settle),
+        ("W Shake", ViewerAction::Shake),
         ("K Mechanism", ViewerAction::ToggleMechanism),
         ("J Kinematic", ViewerAction::ToggleKinematic),
         ("Q Sequence", ViewerAction::StartSequence),
@@ -228,6 +231,7 @@ fn is_on(action: &ViewerAction, state: &ViewerState) -> bool {
         A::DropTest(engine) => state.drop_view && state.drop_engine == Some(*engine),
         A::CompareEngines => state.drop_view && state.drop_engine.is_none(),
         A::Settle => state.settle_view,
+        A::Shake => state.shake_view,
         A::StartSequence => state.sequence_view,
         A::ToggleKeys => state.keys,
         _ => false,
@@ -252,6 +256,7 @@ pub(super) struct Shown<'w> {
     pub pipeline: Res<'w, PipelineState>,
     pub drop: Res<'w, DropStatus>,
     pub settle: Res<'w, SettleStatus>,
+    pub shake: Res<'w, ShakeStatus>,
     pub sequence: Res<'w, SequenceStatus>,
     pub robustness: Res<'w, RobustnessStatus>,
     pub kinematic: Res<'w, KinematicStatus>,

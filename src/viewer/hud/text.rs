@@ -5,7 +5,7 @@
 use super::super::actions::{Overlay, ViewerState};
 use super::Shown;
 use crate::dynamics::Engine;
-use crate::ecs::{DropLane, DropStatus, KinematicStatus, RobustnessStatus, SettleStatus};
+use crate::ecs::{DropLane, DropStatus, KinematicStatus, RobustnessStatus, SettleStatus, ShakeStatus};
 use crate::report::words::{self, count, duration, force, share_of_weight};
 use crate::stability::kinematic::KinematicVerdict;
 use crate::statics::Verdict;
@@ -139,6 +139,7 @@ impl Shown<'_> {
         let lines = [
             drop_text(&self.drop),
             settle_text(&self.state, &self.settle),
+            shake_text(&self.state, &self.shake),
             robustness_text(&self.state, &self.robustness),
             kinematic_text(&self.state, &self.kinematic),
             self.sequence_text(),
@@ -229,6 +230,27 @@ fn settle_text(state: &ViewerState, s: &SettleStatus) -> String {
     let open =
         if run.mechanism.is_empty() { run.stages.last().map_or(0, |st| st.joints.len()) } else { run.mechanism.len() };
     format!("supports move (quasi-static): {end}{thrusts}\n  {} not closed", count(open, "joint"))
+}
+
+/// The shake while its pane is on: the static load factor beside each engine's answer.
+fn shake_text(state: &ViewerState, s: &ShakeStatus) -> String {
+    if !state.shake_view {
+        return String::new();
+    }
+    let Some(r) = &s.result else {
+        return s.error.clone().unwrap_or_else(|| "shake: running…".into());
+    };
+    let runs: Vec<String> = r
+        .runs
+        .iter()
+        .map(|run| match run.collapse_time_s {
+            Some(t) => format!("{}: collapses at {t:.2} s", run.result.engine.name()),
+            None => {
+                format!("{}: survives, {:.2}° at most", run.result.engine.name(), run.result.max_rotation.to_degrees())
+            }
+        })
+        .collect();
+    format!("shake: peak {:.3} g · static λ* = {:.4} g\n  {}", r.peak_g, r.static_load_factor, runs.join("\n  "))
 }
 
 /// The load factor while the mechanism pane is on: λ* and the direction it is for.
