@@ -161,9 +161,9 @@ pub struct ExactSettings {
     pub selection: Selection,
     /// Take a moving component's step first by its contacts' last states (open, sticking,
     /// sliding): one linear solve, kept where it meets every exact-Coulomb condition, the
-    /// Tresca rounds otherwise (exact Coulomb with the round's selection, no crushing, not
-    /// `rest_when_admissible`: a drop's steps). `false` runs the rounds on every step (to
-    /// cross-check).
+    /// Tresca rounds otherwise (exact Coulomb with the round's selection, no crushing: a drop's
+    /// and a shake's steps). `false` runs the rounds on every step (to cross-check; a
+    /// settlement's runs, which take the rounds' pick where several answers are admissible).
     pub by_states: bool,
 }
 

@@ -477,7 +477,13 @@ fn engine_settings(settings: &SettleSettings, engine: Engine) -> DropSettings {
         friction: settings.friction,
         strength: settings.strength,
         perturbation: 0.0,
-        exact: ExactSettings { backend: settings.backend, rest_when_admissible: true, ..Default::default() },
+        // The rounds' pick where several answers are admissible (module docs).
+        exact: ExactSettings {
+            backend: settings.backend,
+            rest_when_admissible: true,
+            by_states: false,
+            ..Default::default()
+        },
         ..Default::default()
     }
 }

@@ -58,7 +58,11 @@ impl Default for ShakeSettings {
     fn default() -> Self {
         // A block that ends a pulse near its tipping point takes several 1/p (≈ √(D / g)) to
         // fall or come back: 4.8 s for a 1 m block.
-        Self { drop: DropSettings { engine: Engine::Exact, ..DropSettings::default() }, after: 15.0, duration: None }
+        // At rest, the static theorem's pick (an equilibrium within Coulomb's sets holds it):
+        // below λ* nothing moves, where a redundant dome's contacts admit motions too.
+        let mut drop = DropSettings { engine: Engine::Exact, ..DropSettings::default() };
+        drop.exact.rest_when_admissible = true;
+        Self { drop, after: 15.0, duration: None }
     }
 }
 

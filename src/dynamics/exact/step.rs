@@ -194,12 +194,11 @@ impl World {
     }
 
     /// Whether a moving component's step is first tried by its contacts' states: exact Coulomb
-    /// with the round's own force selection (a drop), no crushing. A settlement's runs pick the
-    /// limit-analysis model's answer where exact Coulomb admits several (Coulomb's selection, a
-    /// component at rest held where an equilibrium holds it): the rounds' pick, not the states'.
+    /// with the round's own force selection, no crushing. (A settlement's runs turn it off:
+    /// where exact Coulomb admits several answers they take the rounds' pick.)
     fn by_states(&self) -> bool {
         let s = &self.settings;
-        s.by_states && s.selection == Selection::Round && !s.rest_when_admissible && self.ctx.strength.is_none()
+        s.by_states && s.selection == Selection::Round && self.ctx.strength.is_none()
     }
 
     /// A component at rest: the step with Coulomb's coupled sets (friction bounded by μ f_n of
