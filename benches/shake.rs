@@ -8,7 +8,7 @@ use criterion::{Criterion, criterion_group, criterion_main};
 use std::hint::black_box;
 use std::sync::Arc;
 use std::time::Duration;
-use voussoir::dynamics::{DropSettings, Engine, Excitation, GroundMotion, Record};
+use voussoir::dynamics::{Engine, Excitation, GroundMotion, Record};
 use voussoir::geometry::{Mesh, Point3};
 use voussoir::model::{Assembly, Block, Scene, builtin};
 use voussoir::studies::shake::{ShakeSettings, SpectrumSettings, collapse_spectrum, shake};
@@ -20,7 +20,9 @@ fn elcentro() -> GroundMotion {
 }
 
 fn ten_seconds(engine: Engine) -> ShakeSettings {
-    ShakeSettings { drop: DropSettings { engine, ..Default::default() }, duration: Some(10.0), ..Default::default() }
+    let mut settings = ShakeSettings { duration: Some(10.0), ..Default::default() };
+    settings.drop.engine = engine;
+    settings
 }
 
 fn assembly(spec: &str) -> Assembly {
