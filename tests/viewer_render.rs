@@ -603,8 +603,11 @@ fn shaken_block() -> voussoir::model::Scene {
     let mut scene = voussoir::model::Scene::new("shaken block", vec![voussoir::model::Block::new("block", mesh)]);
     scene.ground = true;
     let pulse = PulseSpec { shape: "rect".into(), amplitude: 0.3, duration: 1.5 };
-    scene.ground_motion =
-        Some(Shaking { components: vec![ShakingComponent { pulse: Some(pulse), ..Default::default() }], scale: 1.0 });
+    scene.ground_motion = Some(Shaking {
+        components: vec![ShakingComponent { pulse: Some(pulse), ..Default::default() }],
+        scale: 1.0,
+        supports: Vec::new(),
+    });
     scene
 }
 

@@ -55,6 +55,10 @@ pub struct ShakeArgs {
     /// (1940, north–south), or builtin:synthetic?seed=N&pga=G&duration=S.
     #[arg(long, value_name = "FILE", conflicts_with = "spectrum")]
     pub record: Option<String>,
+    /// Shake only this support (repeat for several; the others and the floor stay still, and
+    /// drifts are in the world frame). Default: every support and the floor, as one base.
+    #[arg(long = "shake-support", value_name = "NAME")]
+    pub shake_supports: Vec<String>,
     /// A factor on the motion's acceleration.
     #[arg(long, default_value_t = 1.0)]
     pub scale: f64,
@@ -172,12 +176,16 @@ fn motion(args: &ShakeArgs, scene: &crate::model::Scene, g: f64) -> Result<(Grou
             let mut motion = crate::io::accelerogram::ground_motion(shaking, path, g)
                 .map_err(|e| BadInput(format!("{}: ground_motion: {e}", path.display())))?;
             motion.scale *= args.scale;
+            if !args.shake_supports.is_empty() {
+                motion.supports = args.shake_supports.clone();
+            }
             let motion = motion.validated().map_err(|e| BadInput(format!("{e} (--scale)")))?;
             return Ok((motion, "the scene's ground motion".into()));
         }
     };
     let mut motion = GroundMotion::horizontal(excitation, args.direction);
     motion.scale = args.scale;
+    motion.supports = args.shake_supports.clone();
     let label = if args.scale != 1.0 { format!("{label}, scaled by {}", args.scale) } else { label };
     let motion = motion.validated().map_err(|e| BadInput(format!("{e} (--scale, --direction, the motion)")))?;
     Ok((motion, label))

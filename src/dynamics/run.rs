@@ -118,6 +118,14 @@ impl Stepper {
         }
     }
 
+    /// One step in which every moved support translates by `displacement` (m).
+    pub fn step_supports_by(&mut self, displacement: crate::geometry::Vector3) {
+        match self {
+            Self::Rapier(s) => s.step_supports_by(displacement),
+            Self::Exact(w) => w.step_supports_by(displacement),
+        }
+    }
+
     /// One step in which every moved support covers `fraction` of its path.
     pub fn step_supports(&mut self, fraction: f64) {
         match self {
@@ -215,8 +223,9 @@ pub struct DropRun {
     /// Free weight (N) times the median free block size (m): the scale of `at_rest`.
     energy_scale: f64,
     motions: Vec<BlockMotion>,
-    /// The ground motion that shakes the base, if any.
+    /// The ground motion that shakes the base (or only its named supports: `shaken`), if any.
     ground: Option<GroundMotion>,
+    shaken: bool,
     steps: usize,
     total: usize,
     wall: f64,
@@ -261,6 +270,7 @@ impl DropRun {
             energy_scale,
             motions,
             ground: None,
+            shaken: false,
             steps: 0,
             total,
             wall,
@@ -271,7 +281,12 @@ impl DropRun {
     /// shake ([`super::ground_motion`]). A fall stops it when the settings say so.
     pub fn shaken(assembly: &Assembly, settings: &DropSettings, motion: GroundMotion) -> Result<Self, DropError> {
         let motion = motion.validated()?;
+        let paths = motion.shaken_supports(assembly)?;
         let mut run = Self::new(assembly, settings)?;
+        if !paths.is_empty() {
+            run.sim = Stepper::with_paths(assembly, settings, &paths);
+            run.shaken = true;
+        }
         run.ground = Some(motion);
         Ok(run)
     }
@@ -313,11 +328,15 @@ impl DropRun {
         let start = Instant::now();
         let dt = self.settings.dt;
         for _ in 0..n.min(self.total - self.steps) {
-            if let Some(ground) = &self.ground {
-                let t = self.steps as f64 * dt;
-                self.sim.set_base_acceleration(ground.mean_acceleration(t, t + dt));
+            let t = self.steps as f64 * dt;
+            match &self.ground {
+                Some(ground) if self.shaken => self.sim.step_supports_by(ground.displacement(t, t + dt)),
+                Some(ground) => {
+                    self.sim.set_base_acceleration(ground.mean_acceleration(t, t + dt));
+                    self.sim.step();
+                }
+                None => self.sim.step(),
             }
-            self.sim.step();
             self.steps += 1;
             self.track();
             let s = &self.settings;

@@ -111,7 +111,9 @@ pub fn ground_motion(shaking: &Shaking, scene: &Path, g: f64) -> Result<GroundMo
         };
         components.push(Component { excitation, direction });
     }
-    GroundMotion { components, scale: shaking.scale }.validated().map_err(|e| e.to_string())
+    GroundMotion { components, scale: shaking.scale, supports: shaking.supports.clone() }
+        .validated()
+        .map_err(|e| e.to_string())
 }
 
 /// The synthetic record's parameters from `synthetic?seed=N&pga=G&duration=S` (each bounded).

@@ -15,6 +15,9 @@ pub struct Shaking {
     /// A factor on every component.
     #[serde(default = "one")]
     pub scale: f64,
+    /// The supports it moves, by name (default: every support and the floor, as one base).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub supports: Vec<String>,
 }
 
 fn one() -> f64 {

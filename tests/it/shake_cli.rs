@@ -77,6 +77,7 @@ fn bad_motions_are_one_clear_error() {
         (vec!["--pulse", "rect:0.3,0.2", "--scale", "inf"], "scale"),
         (vec!["--pulse", "rect:0.3,0.2", "--duration", "1e9"], "steps"),
         (vec![], "name a motion"),
+        (vec!["--pulse", "rect:0.3,0.2", "--shake-support", "nothere"], "support 'nothere': no block has this name"),
         (vec!["--spectrum", "heat"], "--spectrum 'heat'"),
         (vec!["--spectrum", "rect", "--durations=0.5,-1"], "duration -1"),
     ];

@@ -254,6 +254,7 @@ fn motion_of(
     (pulse, sine, record): (Option<String>, Option<String>, Option<String>),
     scale: f64,
     direction: f64,
+    shake_supports: Option<Vec<String>>,
 ) -> Result<voussoir::dynamics::GroundMotion, String> {
     use voussoir::dynamics::{Excitation, GroundMotion, Record};
     let g = design.gravity.norm();
@@ -269,12 +270,16 @@ fn motion_of(
             )?;
             let mut motion = voussoir::io::accelerogram::ground_motion(shaking, std::path::Path::new(source), g)?;
             motion.scale *= scale;
+            if let Some(names) = shake_supports {
+                motion.supports = names;
+            }
             return motion.validated().map_err(|e| e.to_string());
         }
         _ => return Err("give one of pulse, sine, record".into()),
     };
     let mut motion = GroundMotion::horizontal(excitation, direction);
     motion.scale = scale;
+    motion.supports = shake_supports.unwrap_or_default();
     motion.validated().map_err(|e| e.to_string())
 }
 
@@ -288,18 +293,19 @@ solve_function! {
     /// load factor `static_load_factor` (g), each of `runs` has `collapsed`, `collapse_time_s`,
     /// `result` (every block's largest rotation, drift, residual displacement) and `trace`
     /// with numpy arrays `times` (s), `ground_g`, `rotation` (rad, the largest of a block) and
-    /// `drift` (a fraction of the block's size), one sample per step.
+    /// `drift` (a fraction of the block's size), one sample per step. `shake_supports` names
+    /// the supports to move alone (default: every support and the floor, as one base).
     pub fn shake<'py>(
         py, scene,
         pulse: Option<String> = None, sine: Option<String> = None, record: Option<String> = None,
         scale: f64 = 1.0, direction: f64 = 0.0, engine: Option<String> = None,
-        duration: Option<f64> = None, dt: Option<f64> = None,
+        duration: Option<f64> = None, dt: Option<f64> = None, shake_supports: Option<Vec<String>> = None,
         ..options(mu, friction_model, solver, supports, ground, density)
     ) -> PyResult<Bound<'py, PyAny>> {
         use voussoir::studies::shake::{ShakeSettings, shake_study};
         let (design, settings) = options.apply(scene)?;
         let source = scene.source.as_str();
-        let motion = motion_of(&design, source, (pulse, sine, record), scale, direction)
+        let motion = motion_of(&design, source, (pulse, sine, record), scale, direction, shake_supports)
             .map_err(|e| errors::input(source, e))?;
         let engines = match engine.as_deref() {
             None | Some("exact") => vec![Engine::Exact],

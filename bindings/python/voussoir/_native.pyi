@@ -261,6 +261,7 @@ def shake(
     engine: Optional[str] = None,
     duration: Optional[float] = None,
     dt: Optional[float] = None,
+    shake_supports: Optional[Sequence[str]] = None,
     mu: Optional[float] = None,
     friction_model: Optional[FrictionModel] = None,
     solver: Optional[Solver] = None,

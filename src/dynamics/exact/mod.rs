@@ -335,7 +335,23 @@ impl World {
             mover.v = path.translation * (fraction / h);
             mover.w = path.rotation * (fraction / h);
         }
-        if fraction != 0.0 {
+        self.step_movers(fraction != 0.0);
+    }
+
+    /// One step in which every moved support translates by `displacement` (m, at the constant
+    /// speed that takes it there within the step): named supports shaken by a ground motion.
+    pub fn step_supports_by(&mut self, displacement: Vector3) {
+        let h = self.ctx.h;
+        for mover in &mut self.movers {
+            (mover.v, mover.w) = (displacement / h, Vector3::zeros());
+        }
+        self.step_movers(displacement != Vector3::zeros());
+    }
+
+    /// One step with the movers' velocities set; `moving` wakes every block they touch.
+    fn step_movers(&mut self, moving: bool) {
+        let h = self.ctx.h;
+        if moving {
             for c in &self.contacts {
                 if c.mover().is_some() {
                     for side in [c.a, c.b] {

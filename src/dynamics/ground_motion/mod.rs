@@ -8,7 +8,10 @@
 //! of its weight ([`GroundMotion::mean_acceleration`] over each step). That is Newton's law of
 //! the same motion with the supports as kinematic bodies on the integrated path, without the
 //! integrated displacement's drift — and the blocks' reported drifts and rotations are the
-//! ones relative to the ground.
+//! ones relative to the ground. A motion that names its supports ([`GroundMotion::supports`])
+//! moves only those, as kinematic bodies along the integrated path (by
+//! [`GroundMotion::displacement`] each step), the other supports and the floor still; the
+//! drifts are then the ones in the world frame.
 //!
 //! Shapes, for amplitude A and duration (period) T, zero outside them:
 //! - rectangular pulse: A for 0 ≤ t < T;
@@ -271,6 +274,8 @@ pub struct GroundMotion {
     pub components: Vec<Component>,
     /// A factor on every component's acceleration.
     pub scale: f64,
+    /// The supports it moves, by name; empty: the whole base (every support and the floor).
+    pub supports: Vec<String>,
 }
 
 /// Why a ground motion cannot run; each names the component (1-based) and the value.
@@ -320,6 +325,14 @@ pub enum GroundMotionError {
     /// The scale is not finite.
     #[error("ground motion: scale {0} must be finite")]
     Scale(f64),
+    /// A shaken support that is no support of the design.
+    #[error("ground motion: support '{name}': {why}")]
+    Support {
+        /// The name given.
+        name: String,
+        /// What is wrong.
+        why: &'static str,
+    },
     /// A record with fewer than two samples.
     #[error("ground motion component {0}: a record needs at least two samples")]
     ShortRecord(usize),
@@ -329,7 +342,8 @@ impl GroundMotion {
     /// One component along the horizontal `azimuth` (degrees from +x towards +y).
     pub fn horizontal(excitation: Excitation, azimuth: f64) -> Self {
         let (s, c) = azimuth.to_radians().sin_cos();
-        Self { components: vec![Component { excitation, direction: Vector3::new(c, s, 0.0) }], scale: 1.0 }
+        let components = vec![Component { excitation, direction: Vector3::new(c, s, 0.0) }];
+        Self { components, scale: 1.0, supports: Vec::new() }
     }
 
     /// Every amplitude, length, direction and the scale checked (one error naming the first
@@ -385,6 +399,42 @@ impl GroundMotion {
     /// The base's velocity at `t`, m/s.
     pub fn velocity(&self, t: f64) -> Vector3 {
         self.components.iter().map(|c| c.direction * c.excitation.velocity(t)).sum::<Vector3>() * self.scale
+    }
+
+    /// A shaken support's displacement over the step [t0, t1] (m): the base's velocity at the
+    /// step's end times the step — symplectic Euler's own position update, the blocks'. Their
+    /// motion relative to the support is then the base frame's to round-off: the path's
+    /// trapezoid would leave the support ½ h V ahead of what the blocks, updated with their
+    /// end-of-step velocities, can follow (a sliding block's slip off by ½ μ g h t).
+    pub fn displacement(&self, t0: f64, t1: f64) -> Vector3 {
+        self.velocity(t1) * (t1 - t0)
+    }
+
+    /// The paths of the named supports it moves (their vectors unused: the run moves them by
+    /// [`Self::displacement`]); none when it moves the whole base. A name that is no block,
+    /// or a free block, is an error naming it.
+    pub fn shaken_supports(
+        &self,
+        assembly: &crate::model::Assembly,
+    ) -> Result<Vec<crate::dynamics::SupportPath>, GroundMotionError> {
+        let mut paths = Vec::new();
+        for name in &self.supports {
+            let block = assembly.blocks.iter().position(|b| &b.name == name);
+            let why = match block {
+                None => Some("no block has this name"),
+                Some(i) if !assembly.blocks[i].support => Some("it is a free block, not a support"),
+                Some(i) if paths.iter().any(|p: &crate::dynamics::SupportPath| p.block == i) => {
+                    Some("it is named twice")
+                }
+                Some(_) => None,
+            };
+            if let Some(why) = why {
+                return Err(GroundMotionError::Support { name: name.clone(), why });
+            }
+            let zero = Vector3::zeros();
+            paths.push(crate::dynamics::SupportPath { block: block.unwrap_or(0), translation: zero, rotation: zero });
+        }
+        Ok(paths)
     }
 
     /// The mean acceleration over [t0, t1] (m/s²): the velocity's change over the interval,

@@ -28,6 +28,8 @@ pub struct Simulation {
     paths: Vec<(SupportPath, f64)>,
     /// The design's gravity, m/s².
     gravity: Vector3,
+    /// How far the shaken supports have moved ([`Self::step_supports_by`]), m.
+    shaken: Vector3,
 }
 
 impl Simulation {
@@ -64,7 +66,8 @@ impl Simulation {
         let deep = DeepContacts { depth: (settings.max_contact_depth * unit) as f32, ground };
         let paths = paths.iter().map(|p| (*p, 0.0)).collect();
         let gravity = assembly.gravity;
-        Self { world, bodies, offset, start, max_volume_error, initial_overlap, deep, paths, gravity }
+        let shaken = Vector3::zeros();
+        Self { world, bodies, offset, start, max_volume_error, initial_overlap, deep, paths, gravity, shaken }
     }
 
     /// One step of dt.
@@ -81,6 +84,19 @@ impl Simulation {
             let turn = Rotation::from_scaled_axis(v32(path.rotation * *done));
             if let Some(body) = self.world.bodies.get_mut(self.bodies[path.block]) {
                 body.set_next_kinematic_position(Pose::from_parts(t0 + v32(path.translation * *done), turn * r0));
+            }
+        }
+        self.step();
+    }
+
+    /// One step in which every moved support translates by `displacement` (m) more: named
+    /// supports shaken by a ground motion (their paths' own vectors unused).
+    pub fn step_supports_by(&mut self, displacement: Vector3) {
+        self.shaken += displacement;
+        for (path, _) in &self.paths {
+            let (t0, r0) = self.start[path.block];
+            if let Some(body) = self.world.bodies.get_mut(self.bodies[path.block]) {
+                body.set_next_kinematic_position(Pose::from_parts(t0 + v32(self.shaken), r0));
             }
         }
         self.step();
