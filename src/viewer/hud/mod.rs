@@ -83,8 +83,7 @@ C cut selected · PgUp/PgDn move cut\n\
 arrows turn cut · Backspace drop cut\n\
 O repair · G support · X remove · R restore\n\
 Ctrl+Z/Y undo/redo · Ctrl+S save\n\
-D/E drop rapier/exact · B both · P settle\n\
-W shake (its ground motion, else El Centro)\n\
+D/E drop · B both · P settle · W shake\n\
 Q sequence · , . step\n\
 K mechanism · J kinematic · Esc close";
 
@@ -106,7 +105,6 @@ const ACTION_ROWS: [&[(&str, ViewerAction)]; 3] = [
         ("E Drop (exact)", ViewerAction::DropTest(Engine::Exact)),
         ("B Both", ViewerAction::CompareEngines),
         ("P Settle", ViewerAction::Settle),
-        ("W Shake", ViewerAction::Shake),
         ("K Mechanism", ViewerAction::ToggleMechanism),
         ("J Kinematic", ViewerAction::ToggleKinematic),
         ("Q Sequence", ViewerAction::StartSequence),
