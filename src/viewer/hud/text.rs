@@ -250,7 +250,7 @@ fn shake_text(state: &ViewerState, s: &ShakeStatus) -> String {
             }
         })
         .collect();
-    format!("shake: peak {:.3} g · static λ* = {:.4} g\n  {}", r.peak_g, r.static_load_factor, runs.join("\n  "))
+    format!("shake: peak {:.3} g, λ* {:.4} g\n  {}", r.peak_g, r.static_load_factor, runs.join("\n  "))
 }
 
 /// The load factor while the mechanism pane is on: λ* and the direction it is for.
