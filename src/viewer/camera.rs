@@ -187,7 +187,7 @@ fn set_viewports(
     let compared = state.drop_view && state.drop_engine.is_none();
     let views = if compared {
         3
-    } else if state.drop_view || state.settle_view || state.overlay != Overlay::None {
+    } else if state.drop_view || state.settle_view || state.shake_view || state.overlay != Overlay::None {
         2
     } else {
         1
