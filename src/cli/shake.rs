@@ -7,8 +7,9 @@
 use super::choice::Choice;
 use super::options::SolverOptions;
 use super::{BadInput, load, refuse_overwrite, scene_name, write_output};
-use crate::dynamics::ground_motion::{Excitation, GroundMotion, PulseShape, Record};
+use crate::dynamics::ground_motion::{GroundMotion, PulseShape};
 use crate::dynamics::{DropResult, DropSettings, Engine};
+use crate::io::accelerogram::{NamedMotion, named_motion};
 use crate::pipeline::{Analysis, analyze};
 use crate::studies::shake::{
     ShakeSettings, ShakeStudy, Spectrum, SpectrumSettings, collapse_spectrum, shake_study, static_load_factor,
@@ -17,7 +18,6 @@ use crate::viz::plot::{FrameStrip, ShakePlot, SpectrumPlot, write_shake, write_s
 use clap::{Args, ValueEnum};
 use serde::Serialize;
 use std::path::PathBuf;
-use std::sync::Arc;
 
 /// Which engines shake the design.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -123,7 +123,7 @@ pub fn run(args: &ShakeArgs) -> Result<i32, BadInput> {
             static_load_factor(&analysis, &statics, args.direction).map_err(|e| BadInput(format!("{name}: {e}")))?;
         return spectrum(args, &analysis, shape, lambda);
     }
-    let (motion, label) = motion(args, &scene, analysis.assembly.gravity.norm())?;
+    let (motion, label) = motion(args, &scene)?;
     let engines: &[Engine] = match args.engine {
         Engines::Exact => &[Engine::Exact],
         Engines::Rapier => &[Engine::Rapier],
@@ -150,45 +150,18 @@ pub fn run(args: &ShakeArgs) -> Result<i32, BadInput> {
 }
 
 /// The motion the options name (one of --pulse, --sine, --record; amplitudes in the design's
-/// g, `g` m/s²), else the scene's `ground_motion`, and how to call it.
-fn motion(args: &ShakeArgs, scene: &crate::model::Scene, g: f64) -> Result<(GroundMotion, String), BadInput> {
-    let (excitation, label) = match (&args.pulse, &args.sine, &args.record) {
-        (Some(p), _, _) => {
-            let pulse = Excitation::parse_pulse(p, g).map_err(|e| BadInput(format!("--pulse {e}")))?;
-            (pulse, format!("pulse {p} (g, s)"))
-        }
-        (None, Some(s), _) => {
-            let harmonic = Excitation::parse_harmonic(s, g).map_err(|e| BadInput(format!("--sine {e}")))?;
-            (harmonic, format!("harmonic {s} (g, s, cycles)"))
-        }
-        (None, None, Some(r)) => {
-            let record = crate::io::accelerogram::load_record(r).map_err(|e| BadInput(e.to_string()))?;
-            let label = format!("record {r} ({:.2} s)", record.duration());
-            (Excitation::Record(Arc::new(Record::new(record))), label)
-        }
-        (None, None, None) => {
-            let Some(shaking) = &scene.ground_motion else {
-                return Err(BadInput(
-                    "shake: name a motion: --pulse, --sine, --record (or --spectrum SHAPE), or give the scene a `ground_motion`".into(),
-                ));
-            };
-            let path = std::path::Path::new(args.scene.as_deref().unwrap_or("."));
-            let mut motion = crate::io::accelerogram::ground_motion(shaking, path, g)
-                .map_err(|e| BadInput(format!("{}: ground_motion: {e}", path.display())))?;
-            motion.scale *= args.scale;
-            if !args.shake_supports.is_empty() {
-                motion.supports = args.shake_supports.clone();
-            }
-            let motion = motion.validated().map_err(|e| BadInput(format!("{e} (--scale)")))?;
-            return Ok((motion, "the scene's ground motion".into()));
-        }
+/// g), else the scene's `ground_motion`, and how to call it.
+fn motion(args: &ShakeArgs, scene: &crate::model::Scene) -> Result<(GroundMotion, String), BadInput> {
+    let named = NamedMotion {
+        pulse: args.pulse.as_deref(),
+        sine: args.sine.as_deref(),
+        record: args.record.as_deref(),
+        scale: args.scale,
+        direction: args.direction,
+        supports: &args.shake_supports,
     };
-    let mut motion = GroundMotion::horizontal(excitation, args.direction);
-    motion.scale = args.scale;
-    motion.supports = args.shake_supports.clone();
-    let label = if args.scale != 1.0 { format!("{label}, scaled by {}", args.scale) } else { label };
-    let motion = motion.validated().map_err(|e| BadInput(format!("{e} (--scale, --direction, the motion)")))?;
-    Ok((motion, label))
+    let path = std::path::Path::new(args.scene.as_deref().unwrap_or("."));
+    named_motion(&named, scene, path, "--").map_err(BadInput)
 }
 
 /// λ* as text: a number, unlimited or none.
@@ -206,7 +179,8 @@ fn shake_settings(args: &ShakeArgs, engine: Engine) -> ShakeSettings {
     settings.drop.engine = engine;
     settings.drop.dt = args.dt;
     settings.drop.friction = args.solver.mu;
-    settings.drop.exact.friction_model = args.solver.settings().statics.friction_model;
+    let statics = args.solver.settings().statics;
+    (settings.drop.exact.friction_model, settings.drop.exact.backend) = (statics.friction_model, statics.backend);
     settings
 }
 

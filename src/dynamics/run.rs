@@ -89,10 +89,6 @@ pub enum Stepper {
 }
 
 impl Stepper {
-    fn new(assembly: &Assembly, settings: &DropSettings) -> Self {
-        Self::with_paths(assembly, settings, &[])
-    }
-
     /// The engine `settings` name, with the supports `paths` name moving along them
     /// ([`Self::step_supports`]).
     pub fn with_paths(assembly: &Assembly, settings: &DropSettings, paths: &[SupportPath]) -> Self {
@@ -234,9 +230,15 @@ pub struct DropRun {
 impl DropRun {
     /// A drop test of `assembly` at its start (the settings checked first).
     pub fn new(assembly: &Assembly, settings: &DropSettings) -> Result<Self, DropError> {
+        Self::with_paths(assembly, settings, &[])
+    }
+
+    /// A drop test whose supports `paths` name are kinematic bodies (their motion given by the
+    /// caller's steps).
+    fn with_paths(assembly: &Assembly, settings: &DropSettings, paths: &[SupportPath]) -> Result<Self, DropError> {
         settings.validate()?;
         let start = Instant::now();
-        let sim = Stepper::new(assembly, settings);
+        let sim = Stepper::with_paths(assembly, settings, paths);
         let origins = assembly.blocks.iter().map(|b| b.mass.centroid).collect();
         let free: Vec<usize> = (0..assembly.blocks.len()).filter(|&i| !assembly.blocks[i].support).collect();
         let size: Vec<f64> = free.iter().map(|&i| assembly.blocks[i].aabb.diagonal()).collect();
@@ -282,11 +284,8 @@ impl DropRun {
     pub fn shaken(assembly: &Assembly, settings: &DropSettings, motion: GroundMotion) -> Result<Self, DropError> {
         let motion = motion.validated()?;
         let paths = motion.shaken_supports(assembly)?;
-        let mut run = Self::new(assembly, settings)?;
-        if !paths.is_empty() {
-            run.sim = Stepper::with_paths(assembly, settings, &paths);
-            run.shaken = true;
-        }
+        let mut run = Self::with_paths(assembly, settings, &paths)?;
+        run.shaken = !paths.is_empty();
         run.ground = Some(motion);
         Ok(run)
     }
@@ -388,10 +387,10 @@ impl DropRun {
     /// The largest drift (a fraction of the block's size) and rotation (rad) of a free block
     /// now.
     pub fn largest_now(&self) -> (f64, f64) {
-        self.free.iter().zip(&self.size).fold((0.0, 0.0), |(d, r), (&i, size)| {
-            let (drift, rotation) = self.sim.displacement(i);
-            (f64::max(d, drift / size), f64::max(r, rotation))
-        })
+        self.motions
+            .iter()
+            .zip(&self.size)
+            .fold((0.0, 0.0), |(d, r), (m, size)| (f64::max(d, m.final_drift / size), f64::max(r, m.final_rotation)))
     }
 
     /// Block `i`'s centroid (m) and rotation since the start (unit quaternion [w, x, y, z]).
@@ -424,7 +423,7 @@ impl DropRun {
             max_drift: motions.iter().map(|m| m.max_drift_ratio).fold(0.0, f64::max),
             max_rotation: motions.iter().map(|m| m.max_rotation).fold(0.0, f64::max),
             worst_block: worst.map(|m| m.name.clone()),
-            fell: motions.iter().filter_map(|m| m.fell).min_by(f64::total_cmp),
+            fell: self.fell(),
             simulated_s: self.steps as f64 * s.dt,
             wall_s: self.wall,
             steps: self.steps,

@@ -116,6 +116,71 @@ pub fn ground_motion(shaking: &Shaking, scene: &Path, g: f64) -> Result<GroundMo
         .map_err(|e| e.to_string())
 }
 
+/// A ground motion as a caller names it (the command line's options, Python's keywords): at
+/// most one of a pulse (`SHAPE:AMP_G,DURATION_S`), a harmonic (`AMP_G,PERIOD_S,CYCLES`) or a
+/// record ([`load_record`]'s names) along the horizontal `direction` (degrees), else the scene's
+/// own `ground_motion`; times `scale`; moving the named `supports` alone (none: the whole base).
+#[derive(Clone, Copy, Debug)]
+pub struct NamedMotion<'a> {
+    /// A pulse.
+    pub pulse: Option<&'a str>,
+    /// A harmonic.
+    pub sine: Option<&'a str>,
+    /// A record.
+    pub record: Option<&'a str>,
+    /// A factor on the acceleration.
+    pub scale: f64,
+    /// The horizontal direction, degrees from +x towards +y (the scene's motion names its own).
+    pub direction: f64,
+    /// The supports it moves alone (empty: the whole base, or the scene's own choice).
+    pub supports: &'a [String],
+}
+
+/// The motion `named` names for `scene` (read from `path`: the scene's records are relative to
+/// it), amplitudes in the design's g, checked, and a label for it. Messages name the option as
+/// `prefix` + its name (`--pulse` on the command line, `pulse` in Python).
+pub fn named_motion(
+    named: &NamedMotion,
+    scene: &crate::model::Scene,
+    path: &Path,
+    prefix: &str,
+) -> Result<(GroundMotion, String), String> {
+    let g = scene.gravity.norm();
+    let (excitation, label) = match (named.pulse, named.sine, named.record) {
+        (Some(p), None, None) => {
+            (Excitation::parse_pulse(p, g).map_err(|e| format!("{prefix}pulse {e}"))?, format!("pulse {p} (g, s)"))
+        }
+        (None, Some(s), None) => (
+            Excitation::parse_harmonic(s, g).map_err(|e| format!("{prefix}sine {e}"))?,
+            format!("harmonic {s} (g, s, cycles)"),
+        ),
+        (None, None, Some(r)) => {
+            let record = load_record(r).map_err(|e| e.to_string())?;
+            let label = format!("record {r} ({:.2} s)", record.duration());
+            (Excitation::Record(Arc::new(Record::new(record))), label)
+        }
+        (None, None, None) => {
+            let shaking = scene.ground_motion.as_ref().ok_or_else(|| {
+                format!(
+                    "name a motion: {prefix}pulse, {prefix}sine or {prefix}record, or give the scene a `ground_motion`"
+                )
+            })?;
+            let mut motion =
+                ground_motion(shaking, path, g).map_err(|e| format!("{}: ground_motion: {e}", path.display()))?;
+            motion.scale *= named.scale;
+            if !named.supports.is_empty() {
+                motion.supports = named.supports.to_vec();
+            }
+            return Ok((motion.validated().map_err(|e| e.to_string())?, "the scene's ground motion".into()));
+        }
+        _ => return Err(format!("give one of {prefix}pulse, {prefix}sine, {prefix}record")),
+    };
+    let mut motion = GroundMotion::horizontal(excitation, named.direction);
+    (motion.scale, motion.supports) = (named.scale, named.supports.to_vec());
+    let label = if named.scale != 1.0 { format!("{label}, scaled by {}", named.scale) } else { label };
+    Ok((motion.validated().map_err(|e| e.to_string())?, label))
+}
+
 /// The synthetic record's parameters from `synthetic?seed=N&pga=G&duration=S` (each bounded).
 fn synthetic_spec(query: &str) -> Result<SyntheticRecord, String> {
     let mut spec = SyntheticRecord::default();

@@ -467,22 +467,25 @@ impl Effects<'_> {
     /// Shakes the design on the exact engine by its own ground motion, else by El Centro's
     /// first 15 s (the strong part), and shows it.
     fn shake(&mut self) {
-        use crate::dynamics::{Engine, Excitation, GroundMotion, Record};
+        use crate::io::accelerogram::{NamedMotion, named_motion};
         let s = &mut *self.state;
-        let g = s.design.gravity.norm();
         let scene_file = s.input.clone().unwrap_or_default();
-        let motion = match &s.design.ground_motion {
-            Some(shaking) => crate::io::accelerogram::ground_motion(shaking, &scene_file, g),
-            None => crate::io::accelerogram::load_record("builtin:elcentro")
-                .map(|r| GroundMotion::horizontal(Excitation::Record(std::sync::Arc::new(Record::new(r))), 0.0))
-                .map_err(|e| e.to_string()),
+        let own = s.design.ground_motion.is_some();
+        let named = NamedMotion {
+            pulse: None,
+            sine: None,
+            record: (!own).then_some("builtin:elcentro"),
+            scale: 1.0,
+            direction: 0.0,
+            supports: &[],
         };
-        let duration = s.design.ground_motion.is_none().then_some(15.0);
-        match motion {
-            Ok(motion) => {
+        let duration = (!own).then_some(15.0);
+        match named_motion(&named, &s.design, &scene_file, "") {
+            Ok((motion, _)) => {
                 (s.drop_view, s.settle_view, s.shake_view) = (false, false, true);
                 let settings = crate::studies::shake::ShakeSettings { duration, ..Default::default() };
-                self.studies.shakes.write(RunShake { motion, settings, engines: vec![Engine::Exact] });
+                let engines = vec![crate::dynamics::Engine::Exact];
+                self.studies.shakes.write(RunShake { motion, settings, engines });
             }
             Err(e) => s.message = Some(format!("shake: {e}")),
         }

@@ -246,43 +246,6 @@ solve_function! {
     }
 }
 
-/// The ground motion the keywords name (one of `pulse`, `sine`, `record`), else the scene's
-/// `ground_motion` (records relative to `source`'s folder); amplitudes in the design's g.
-fn motion_of(
-    design: &voussoir::model::Scene,
-    source: &str,
-    (pulse, sine, record): (Option<String>, Option<String>, Option<String>),
-    scale: f64,
-    direction: f64,
-    shake_supports: Option<Vec<String>>,
-) -> Result<voussoir::dynamics::GroundMotion, String> {
-    use voussoir::dynamics::{Excitation, GroundMotion, Record};
-    let g = design.gravity.norm();
-    let excitation = match (pulse, sine, record) {
-        (Some(p), None, None) => Excitation::parse_pulse(&p, g).map_err(|e| format!("pulse {e}"))?,
-        (None, Some(s), None) => Excitation::parse_harmonic(&s, g).map_err(|e| format!("sine {e}"))?,
-        (None, None, Some(r)) => Excitation::Record(std::sync::Arc::new(Record::new(
-            voussoir::io::accelerogram::load_record(&r).map_err(|e| e.to_string())?,
-        ))),
-        (None, None, None) => {
-            let shaking = design.ground_motion.as_ref().ok_or(
-                "name a motion: pulse=\"rect:AMP_G,DURATION_S\", sine=\"AMP_G,PERIOD_S,CYCLES\" or record=FILE (or give the scene a ground_motion)",
-            )?;
-            let mut motion = voussoir::io::accelerogram::ground_motion(shaking, std::path::Path::new(source), g)?;
-            motion.scale *= scale;
-            if let Some(names) = shake_supports {
-                motion.supports = names;
-            }
-            return motion.validated().map_err(|e| e.to_string());
-        }
-        _ => return Err("give one of pulse, sine, record".into()),
-    };
-    let mut motion = GroundMotion::horizontal(excitation, direction);
-    motion.scale = scale;
-    motion.supports = shake_supports.unwrap_or_default();
-    motion.validated().map_err(|e| e.to_string())
-}
-
 solve_function! {
     /// The design on a shaking ground (`voussoir shake --json` as a dict): `pulse`
     /// ("rect:AMP_G,DURATION_S", "sine:…", "ricker:…"), `sine` ("AMP_G,PERIOD_S,CYCLES") or
@@ -305,7 +268,16 @@ solve_function! {
         use voussoir::studies::shake::{ShakeSettings, shake_study};
         let (design, settings) = options.apply(scene)?;
         let source = scene.source.as_str();
-        let motion = motion_of(&design, source, (pulse, sine, record), scale, direction, shake_supports)
+        let supports = shake_supports.unwrap_or_default();
+        let named = voussoir::io::accelerogram::NamedMotion {
+            pulse: pulse.as_deref(),
+            sine: sine.as_deref(),
+            record: record.as_deref(),
+            scale,
+            direction,
+            supports: &supports,
+        };
+        let (motion, _) = voussoir::io::accelerogram::named_motion(&named, &design, std::path::Path::new(source), "")
             .map_err(|e| errors::input(source, e))?;
         let engines = match engine.as_deref() {
             None | Some("exact") => vec![Engine::Exact],
@@ -318,7 +290,8 @@ solve_function! {
         let mut study = ShakeSettings { duration, ..ShakeSettings::default() };
         study.drop.dt = dt.unwrap_or(study.drop.dt);
         study.drop.friction = options.mu;
-        study.drop.exact.friction_model = settings.statics.friction_model;
+        (study.drop.exact.friction_model, study.drop.exact.backend) =
+            (settings.statics.friction_model, settings.statics.backend);
         let statics = settings.statics.clone();
         let report = py
             .detach(|| {
