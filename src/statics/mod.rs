@@ -84,7 +84,7 @@ pub use load_factor::{FactorOutcome, Motion, component_load_factor, failure_mech
 pub use mechanism::{BlockMotion, InterfaceMotion, JointState, Mechanism, Uniqueness};
 pub use problem::{Accuracy, BlockColumn, Cone, ConicProblem, FrictionModel, SolverStatus, StressBlock};
 // The contact form, for the exact-contact engine's steps on the structured solver.
-pub(crate) use backend::{Warm, WarmStart, run_warm as solve_contact_problem};
+pub(crate) use backend::{BlockLu, Warm, WarmStart, run_warm as solve_contact_problem};
 pub(crate) use problem::{Contact, ContactProblem, Geometry, PointRows, Side, Var};
 pub(crate) use problem::{StrengthColumn, stress_block, stress_block_cones};
 pub use rate::{KinematicSettings, RateOutcome, RateState, rate_problem};

@@ -11,13 +11,18 @@
 //! normal velocity, a facet's slip along its normal only). It is solved by the method of
 //! multipliers: (M + ρ JᵀB R J) u = M u* + JᵀB (λ + ρ r), λ ← λ + ρ (r − R J u), one
 //! factorisation and a few back-substitutions, from the last step's impulses (contacts that share
-//! a face have no unique forces; the last step's split carries on).
+//! a face have no unique forces; the last step's split carries on). The system's pattern is the
+//! component's contact graph, so it is factorised by the bodies' 6×6 blocks
+//! ([`crate::statics::BlockLu`]: the work of a chain of n blocks grows as n, not n³), each solve
+//! refined twice against the system's own product.
 //!
 //! Its answer is then checked against every condition of the exact-Coulomb step (each
 //! contact's Signorini condition, its friction within μ λ_n, a sliding contact's friction at
 //! the set's point opposing its slip): where a state is wrong it is changed (a point pulling
 //! opens, one whose friction is beyond its set slides, a slide that reverses sticks, an open
-//! point closing sticks) and the step solved again, up to [`PASSES`] times. An answer that
+//! point closing sticks) and the step solved again, up to [`PASSES`] times: every change of
+//! the most basic kind at once, and once those changes cycle, one contact's a pass (the
+//! lowest-numbered, Murty's rule) for up to [`SINGLE_PASSES`] more. An answer that
 //! meets every condition is the rounds' fixed point (the same conditions; velocities unique
 //! where the forces are); otherwise the caller runs the rounds. Friction sets: the cone, and
 //! the regular polygons (box4, pyramid8: facets at unit distance, `model.facets()`).
@@ -28,7 +33,8 @@ use super::contacts::{Side, State};
 use super::problem::{Active, Solution};
 use crate::geometry::Vector3;
 use crate::model::FrictionModel;
-use nalgebra::{DMatrix, DVector};
+use crate::statics::BlockLu;
+use nalgebra::{DVector, Matrix6};
 use std::f64::consts::PI;
 
 /// A row's error, a closing speed or a slip counted as none, as a fraction of the rest
@@ -41,12 +47,18 @@ const IMPULSE: f64 = 1e-9;
 /// Solves of changed states before the rounds take over.
 const PASSES: usize = 10;
 
+/// Further passes of one change each once the block changes cycle.
+const SINGLE_PASSES: usize = 20;
+
 /// Friction beyond its capacity by this fraction of it is within it (the Tresca rounds'
 /// capacities settle to 1e-4 of the largest: `ExactSettings::settle`).
 const SLACK: f64 = 1e-6;
 
 /// Back-substitutions of the method of multipliers within one factorisation.
 const MULTIPLIER_STEPS: usize = 30;
+
+/// Refinement steps of each solve of the states' system ([`refined_solve`]).
+const REFINEMENTS: usize = 2;
 
 /// The penalty ρ as a multiple of the component's smallest mass: each multiplier step shrinks
 /// a row's error by ~1 / (1 + ρ / m), and the factorisation keeps ~16 − 7 digits.
@@ -203,12 +215,12 @@ fn gauge(sides: Option<usize>, t: (f64, f64)) -> f64 {
     }
 }
 
-/// The component's dense rigid-body algebra: its bodies' mass matrices and free motion.
+/// The component's rigid-body algebra: its bodies' mass matrices and free motion.
 pub(super) struct Component<'a> {
     bodies: Vec<&'a Body>,
     local: &'a [usize],
-    /// M (6 per body: translation, then rotation in world axes), and M u*.
-    mass: DMatrix<f64>,
+    /// M's block per body (6 rows: translation, then rotation in world axes), and M u*.
+    mass: Vec<Matrix6<f64>>,
     free: DVector<f64>,
     /// Each body's inverse inertia now, world axes.
     inverse_inertia: Vec<nalgebra::Matrix3<f64>>,
@@ -285,19 +297,29 @@ impl<'a> Component<'a> {
         y
     }
 
+    /// M u, body by body.
+    fn mass_times(&self, u: &DVector<f64>) -> DVector<f64> {
+        let mut y = u.clone();
+        for (j, m) in self.mass.iter().enumerate() {
+            let part = m * u.fixed_rows::<6>(6 * j);
+            y.fixed_rows_mut::<6>(6 * j).copy_from(&part);
+        }
+        y
+    }
+
     pub(super) fn new(all: &'a [Body], comp: &[usize], local: &'a [usize], h: f64) -> Self {
         let n = 6 * comp.len();
-        let mut mass = DMatrix::zeros(n, n);
+        let mut mass = vec![Matrix6::zeros(); comp.len()];
         let mut free = DVector::zeros(n);
         for (j, &k) in comp.iter().enumerate() {
             let b = &all[k];
             let inertia = b.inertia_now();
             let (o, l) = (6 * j, &b.load);
             for r in 0..3 {
-                mass[(o + r, o + r)] = b.mass;
+                mass[j][(r, r)] = b.mass;
                 free[o + r] = b.mass * b.v[r] + h * l[r];
             }
-            mass.view_mut((o + 3, o + 3), (3, 3)).copy_from(&inertia);
+            mass[j].fixed_view_mut::<3, 3>(3, 3).copy_from(&inertia);
             let momentum = inertia * b.w;
             for r in 0..3 {
                 free[o + 3 + r] = momentum[r] + h * l[3 + r];
@@ -335,26 +357,44 @@ impl World {
             Tolerances { speed: SPEED * self.settings.still * self.ctx.units.g * h, impulse: IMPULSE * weight * h };
         let mut tried: Vec<Tried> = states.iter().map(Tried::of).collect();
         let mut seen = vec![states.clone()];
-        for _ in 0..PASSES {
+        // Every change of the most basic kind at once, until the changes cycle; then one
+        // contact's change a pass (the lowest-numbered: Murty's rule, which ends where the
+        // block rule cycles).
+        let mut single = false;
+        let mut passes = 0;
+        while passes < PASSES + if single { SINGLE_PASSES } else { 0 } {
+            passes += 1;
             let unknowns = self.unknowns(active, &states, sides);
             let start = self.last_impulses(active, &unknowns);
             let (u, lambda, converged) = self.solve_states(&parts, active, (&unknowns, start), tol)?;
             let check = self.check(&parts, active, (&states, &tried), &unknowns, (&u, &lambda), tol, sides);
-            match check {
+            let changes = match check {
                 // Rows that cannot all hold (states asking for more than the blocks' motion
                 // allows) whose impulses still meet every condition: no answer of these states.
                 Check::Holds(..) if !converged => return None,
                 Check::Holds(normal, impulses) => {
                     return Some(self.solution(&parts, active, &u, normal, impulses));
                 }
-                // States met before: the changes cycle, and more passes would repeat them.
-                Check::Change(next) if seen.contains(&next) => return None,
-                Check::Change(next) => {
-                    seen.push(next.clone());
-                    tried.iter_mut().zip(&next).for_each(|(t, s)| *t = t.with(s));
-                    states = next
+                Check::Change(changes) => changes,
+            };
+            let apply = |changes: &[(usize, State)]| {
+                let mut next = states.clone();
+                changes.iter().for_each(|&(i, s)| next[i] = s);
+                next
+            };
+            let mut next = apply(if single { &changes[..1] } else { &changes });
+            if seen.contains(&next) {
+                // States met before: more passes of this rule would repeat them.
+                if single {
+                    return None;
                 }
+                single = true;
+                next = apply(&changes[..1]);
+                seen = vec![states.clone()];
             }
+            seen.push(next.clone());
+            tried.iter_mut().zip(&next).for_each(|(t, s)| *t = t.with(s));
+            states = next
         }
         None
     }
@@ -403,7 +443,7 @@ impl World {
         (unknowns, start): (&[Unknown], DVector<f64>),
         tol: Tolerances,
     ) -> Option<(DVector<f64>, DVector<f64>, bool)> {
-        let n = parts.mass.nrows();
+        let n = parts.free.len();
         let sparse: Vec<(Sparse, Sparse)> = unknowns
             .iter()
             .map(|q| {
@@ -414,22 +454,24 @@ impl World {
             })
             .collect();
         let rho: Vec<f64> = sparse.iter().map(|(row, _)| PENALTY / parts.compliance(row)).collect();
-        let mut system = parts.mass.clone();
+        // M + Σ ρ f rᵀ by the bodies' 6×6 blocks: its pattern is the component's contact graph.
+        let links = sparse
+            .iter()
+            .flat_map(|(row, force)| force.iter().flat_map(move |(jf, _)| row.iter().map(move |(jr, _)| (*jf, *jr))));
+        let mut system = BlockLu::new(parts.mass.len(), links)?;
+        for (j, m) in parts.mass.iter().enumerate() {
+            system.add(j, j, m);
+        }
         for ((row, force), r) in sparse.iter().zip(&rho) {
             for (jf, f) in force.iter() {
                 for (jr, w) in row.iter() {
-                    let mut block = system.view_mut((6 * jf, 6 * jr), (6, 6));
-                    block.ger(*r, f, w, 1.0);
+                    system.add(*jf, *jr, &(f * w.transpose() * *r));
                 }
             }
         }
-        // Symmetric (every force along its own row: no vertex or cone slide) and positive
-        // definite: Cholesky, half an LU's work.
-        let symmetric = unknowns.iter().all(|q| q.force == q.row);
-        let factor = match symmetric.then(|| system.clone().cholesky()).flatten() {
-            Some(cholesky) => Factor::Cholesky(cholesky),
-            None => Factor::Lu(system.lu()),
-        };
+        if !system.factor() {
+            return None;
+        }
         let mut lambda = start;
         let mut rhs = DVector::zeros(n);
         let mut converged = false;
@@ -438,7 +480,7 @@ impl World {
             for (((_, force), l), (q, r)) in sparse.iter().zip(lambda.iter()).zip(unknowns.iter().zip(&rho)) {
                 force.add_to(&mut rhs, l + r * q.target);
             }
-            let u = factor.solve(&rhs)?;
+            let u = refined_solve(&system, parts, (&sparse, &rho), &rhs);
             let mut worst = 0.0f64;
             for (((row, _), l), (q, r)) in sparse.iter().zip(lambda.iter_mut()).zip(unknowns.iter().zip(&rho)) {
                 let error = q.target - row.dot(&u);
@@ -529,11 +571,8 @@ impl World {
         // One kind of change a pass, the most basic first (a contact that pulls opens before
         // one that penetrates closes, before friction changes): all kinds at once cycle.
         let first = changes.iter().map(|(i, s)| kind(&states[*i], s)).min().unwrap_or(0);
-        let mut next = states.to_vec();
-        for (i, s) in changes.into_iter().filter(|(i, s)| kind(&states[*i], s) == first) {
-            next[i] = s;
-        }
-        Check::Change(next)
+        changes.retain(|(i, s)| kind(&states[*i], s) == first);
+        Check::Change(changes)
     }
 
     /// The accepted states' answer as a step's [`Solution`] (its momentum residual, N).
@@ -545,7 +584,7 @@ impl World {
         normal: Vec<f64>,
         impulses: Vec<Vector3>,
     ) -> Solution {
-        let mut momentum = &parts.mass * u - &parts.free;
+        let mut momentum = parts.mass_times(u) - &parts.free;
         for (a, g) in active.iter().zip(&impulses) {
             let c = &self.contacts[a.contact];
             parts.sparse_row(c.a, c.b, &a.geometry.point, g).add_to(&mut momentum, -1.0);
@@ -554,6 +593,28 @@ impl World {
         let residual = momentum.amax() / self.ctx.h;
         Solution { velocities, normal, work: impulses.clone(), impulses, residual }
     }
+}
+
+/// K u = `rhs` for the states' system K = M + Σ ρ f rᵀ factorised in `system`, refined against
+/// K's own product: the block factorisation pivots within a body's block only, so a body held
+/// by a few stiff rows loses digits that a refinement step, at a product's cost, wins back.
+fn refined_solve(
+    system: &BlockLu,
+    parts: &Component,
+    (sparse, rho): (&[(Sparse, Sparse)], &[f64]),
+    rhs: &DVector<f64>,
+) -> DVector<f64> {
+    let mut u = rhs.clone();
+    system.solve(u.as_mut_slice());
+    for _ in 0..REFINEMENTS {
+        let mut residual = rhs - parts.mass_times(&u);
+        for ((row, force), r) in sparse.iter().zip(rho) {
+            force.add_to(&mut residual, -r * row.dot(&u));
+        }
+        system.solve(residual.as_mut_slice());
+        u += residual;
+    }
+    u
 }
 
 /// b's point's velocity relative to a's at `point` in the component's velocities `u`, m/s
@@ -576,21 +637,6 @@ pub(super) fn relative_velocity(
     vel(b) - vel(a)
 }
 
-/// The states' system factorised.
-enum Factor {
-    Cholesky(nalgebra::Cholesky<f64, nalgebra::Dyn>),
-    Lu(nalgebra::LU<f64, nalgebra::Dyn, nalgebra::Dyn>),
-}
-
-impl Factor {
-    fn solve(&self, b: &DVector<f64>) -> Option<DVector<f64>> {
-        match self {
-            Self::Cholesky(c) => Some(c.solve(b)),
-            Self::Lu(lu) => lu.solve(b),
-        }
-    }
-}
-
 #[derive(Clone, Copy)]
 pub(super) struct Tolerances {
     /// m/s: a row's error, a contact's closing speed or slip counted as none.
@@ -601,7 +647,8 @@ pub(super) struct Tolerances {
 
 enum Check {
     Holds(Vec<f64>, Vec<Vector3>),
-    Change(Vec<State>),
+    /// The changes of the most basic kind (module docs), by contact, lowest-numbered first.
+    Change(Vec<(usize, State)>),
 }
 
 /// The state a contact ends a step in: open without a normal force (`normal` at most `noise`),

@@ -13,6 +13,7 @@ pub(crate) mod structured;
 
 pub use clarabel::{ConicOutcome, solve_conic};
 pub use outcome::{Backend, QpOutcome};
+pub(crate) use structured::BlockLu;
 pub use structured::profile as kernel_profile;
 pub use structured::{Warm, WarmStart};
 

@@ -27,15 +27,15 @@ const DELTA: f64 = 2e-7;
 /// target, and where each stored entry of S's lower triangle goes.
 pub(super) struct BlockSymbolic {
     /// Elimination position → block.
-    perm: Vec<usize>,
+    pub(super) perm: Vec<usize>,
     /// Block column j's off-diagonal blocks are `col_ptr[j]..col_ptr[j+1]`, at rows `rows`
     /// (elimination positions, increasing).
-    col_ptr: Vec<usize>,
-    rows: Vec<usize>,
+    pub(super) col_ptr: Vec<usize>,
+    pub(super) rows: Vec<usize>,
     /// Column j's updates `upd_ptr[j]..upd_ptr[j+1]`: for each pair b ≤ a of its off-diagonal
     /// blocks (a outer), the target block in the storage (diagonal blocks first).
-    upd_ptr: Vec<usize>,
-    upd: Vec<u32>,
+    pub(super) upd_ptr: Vec<usize>,
+    pub(super) upd: Vec<u32>,
     /// Per stored entry of S's lower triangle (its CSC order), its place in the storage
     /// (block × 36 + c × 6 + r).
     gather: Vec<u32>,

@@ -15,6 +15,7 @@
 #![allow(clippy::needless_range_loop)]
 
 mod block_cholesky;
+mod block_lu;
 mod cones;
 mod iterate;
 mod kkt;
@@ -25,6 +26,7 @@ mod shape;
 mod solver;
 
 use crate::statics::problem::{Accuracy, ContactProblem};
+pub(crate) use block_lu::BlockLu;
 pub(crate) use kkt::FactorPlan;
 use solver::solve_c;
 pub use solver::{IpmOutcome, Warm, WarmStart};
