@@ -24,17 +24,18 @@
 //! the most basic kind at once, and once those changes cycle, one contact's a pass (the
 //! lowest-numbered, Murty's rule) for up to [`SINGLE_PASSES`] more. An answer that
 //! meets every condition is the rounds' fixed point (the same conditions; velocities unique
-//! where the forces are); otherwise the caller runs the rounds. Friction sets: the cone, and
+//! where the forces are); otherwise the caller tries the states Gauss–Seidel gives
+//! ([`super::gauss_seidel`]), then one round's, then runs the rounds. Friction sets: the cone, and
 //! the regular polygons (box4, pyramid8: facets at unit distance, `model.facets()`).
 
 use super::World;
-use super::bodies::Body;
-use super::contacts::{Side, State};
+use super::component::{Component, Sparse, relative_velocity};
+use super::contacts::State;
 use super::problem::{Active, Solution};
 use crate::geometry::Vector3;
 use crate::model::FrictionModel;
 use crate::statics::BlockLu;
-use nalgebra::{DVector, Matrix6};
+use nalgebra::DVector;
 use std::f64::consts::PI;
 
 /// A row's error, a closing speed or a slip counted as none, as a fraction of the rest
@@ -203,7 +204,7 @@ fn angle_in(frame: &[Vector3; 3], t: &Vector3) -> f64 {
 }
 
 /// The least capacity whose set holds friction `t` (in the frame's u, v components).
-fn gauge(sides: Option<usize>, t: (f64, f64)) -> f64 {
+pub(super) fn gauge(sides: Option<usize>, t: (f64, f64)) -> f64 {
     match sides {
         None => t.0.hypot(t.1),
         Some(n) => (0..n)
@@ -215,128 +216,6 @@ fn gauge(sides: Option<usize>, t: (f64, f64)) -> f64 {
     }
 }
 
-/// The component's rigid-body algebra: its bodies' mass matrices and free motion.
-pub(super) struct Component<'a> {
-    bodies: Vec<&'a Body>,
-    local: &'a [usize],
-    /// M's block per body (6 rows: translation, then rotation in world axes), and M u*.
-    mass: Vec<Matrix6<f64>>,
-    free: DVector<f64>,
-    /// Each body's inverse inertia now, world axes.
-    inverse_inertia: Vec<nalgebra::Matrix3<f64>>,
-}
-
-/// A generalized row with at most two bodies' parts: (the body's local index, its 6 entries).
-struct Sparse {
-    parts: [(usize, nalgebra::Vector6<f64>); 2],
-    len: usize,
-}
-
-impl Sparse {
-    fn iter(&self) -> impl Iterator<Item = &(usize, nalgebra::Vector6<f64>)> {
-        self.parts[..self.len].iter()
-    }
-
-    fn dot(&self, u: &DVector<f64>) -> f64 {
-        self.iter().map(|(j, r)| r.dot(&u.fixed_rows::<6>(6 * j))).sum()
-    }
-
-    fn add_to(&self, u: &mut DVector<f64>, scale: f64) {
-        for (j, r) in self.iter() {
-            let mut s = u.fixed_rows_mut::<6>(6 * j);
-            s.axpy(scale, r, 1.0);
-        }
-    }
-}
-
-impl<'a> Component<'a> {
-    /// The generalized row of direction `d` at `point` on a contact's sides (+ on b, − on a).
-    fn sparse_row(&self, a: Side, b: Side, point: &crate::geometry::Point3, d: &Vector3) -> Sparse {
-        let mut out = Sparse { parts: [(0, nalgebra::Vector6::zeros()); 2], len: 0 };
-        for (side, sign) in [(a, -1.0), (b, 1.0)] {
-            let Side::Free(k) = side else { continue };
-            let j = self.local[k];
-            let m = (point - self.bodies[j].x).cross(d);
-            let r = nalgebra::Vector6::new(d.x, d.y, d.z, m.x, m.y, m.z) * sign;
-            out.parts[out.len] = (j, r);
-            out.len += 1;
-        }
-        out
-    }
-
-    /// r M⁻¹ rᵀ of a row (a floor keeps a row with no free body finite).
-    fn compliance(&self, row: &Sparse) -> f64 {
-        row.iter().map(|(j, r)| r.dot(&self.inverse_mass(*j, r))).sum::<f64>().max(f64::MIN_POSITIVE)
-    }
-
-    /// Body `j`'s M⁻¹ applied to 6 entries.
-    fn inverse_mass(&self, j: usize, x: &nalgebra::Vector6<f64>) -> nalgebra::Vector6<f64> {
-        let b = self.bodies[j];
-        let t = x.fixed_rows::<3>(0) / b.mass;
-        let w = self.inverse_inertia[j] * x.fixed_rows::<3>(3);
-        nalgebra::Vector6::new(t.x, t.y, t.z, w.x, w.y, w.z)
-    }
-
-    /// Each body's (velocity, angular velocity) in `u`.
-    pub(super) fn velocities(&self, u: &DVector<f64>) -> Vec<(Vector3, Vector3)> {
-        (0..self.bodies.len())
-            .map(|j| {
-                let s = u.rows(6 * j, 6);
-                (Vector3::new(s[0], s[1], s[2]), Vector3::new(s[3], s[4], s[5]))
-            })
-            .collect()
-    }
-
-    /// M⁻¹ x, body by body.
-    fn solve_mass(&self, x: &DVector<f64>) -> DVector<f64> {
-        let mut y = x.clone();
-        for j in 0..self.bodies.len() {
-            let part = self.inverse_mass(j, &x.fixed_rows::<6>(6 * j).into_owned());
-            y.fixed_rows_mut::<6>(6 * j).copy_from(&part);
-        }
-        y
-    }
-
-    /// M u, body by body.
-    fn mass_times(&self, u: &DVector<f64>) -> DVector<f64> {
-        let mut y = u.clone();
-        for (j, m) in self.mass.iter().enumerate() {
-            let part = m * u.fixed_rows::<6>(6 * j);
-            y.fixed_rows_mut::<6>(6 * j).copy_from(&part);
-        }
-        y
-    }
-
-    pub(super) fn new(all: &'a [Body], comp: &[usize], local: &'a [usize], h: f64) -> Self {
-        let n = 6 * comp.len();
-        let mut mass = vec![Matrix6::zeros(); comp.len()];
-        let mut free = DVector::zeros(n);
-        for (j, &k) in comp.iter().enumerate() {
-            let b = &all[k];
-            let inertia = b.inertia_now();
-            let (o, l) = (6 * j, &b.load);
-            for r in 0..3 {
-                mass[j][(r, r)] = b.mass;
-                free[o + r] = b.mass * b.v[r] + h * l[r];
-            }
-            mass[j].fixed_view_mut::<3, 3>(3, 3).copy_from(&inertia);
-            let momentum = inertia * b.w;
-            for r in 0..3 {
-                free[o + 3 + r] = momentum[r] + h * l[3 + r];
-            }
-        }
-        let inverse_inertia = comp
-            .iter()
-            .map(|&k| {
-                let b = &all[k];
-                let a = b.axes_now();
-                a * nalgebra::Matrix3::from_diagonal(&Vector3::from(b.moments.map(|m| 1.0 / m))) * a.transpose()
-            })
-            .collect();
-        Self { bodies: comp.iter().map(|&k| &all[k]).collect(), local, mass, free, inverse_inertia }
-    }
-}
-
 impl World {
     /// The step of moving component `comp` from its contacts' `states` (module docs), or None
     /// where no states within [`PASSES`] changes meet the exact-Coulomb conditions.
@@ -345,7 +224,7 @@ impl World {
         comp: &[usize],
         local: &[usize],
         active: &[Active],
-        mut states: Vec<State>,
+        (mut states, seed): (Vec<State>, Option<&[Vector3]>),
     ) -> Option<Solution> {
         let h = self.ctx.h;
         let sides = polygon(self.ctx.model);
@@ -365,7 +244,10 @@ impl World {
         while passes < PASSES + if single { SINGLE_PASSES } else { 0 } {
             passes += 1;
             let unknowns = self.unknowns(active, &states, sides);
-            let start = self.last_impulses(active, &unknowns);
+            let start = match seed {
+                Some(impulses) => seeded_impulses(&unknowns, impulses),
+                None => self.last_impulses(active, &unknowns),
+            };
             let (u, lambda, converged) = self.solve_states(&parts, active, (&unknowns, start), tol)?;
             let check = self.check(&parts, active, (&states, &tried), &unknowns, (&u, &lambda), tol, sides);
             let changes = match check {
@@ -499,17 +381,11 @@ impl World {
         Some((parts.solve_mass(&rhs), lambda, converged))
     }
 
-    /// The last step's impulses along the unknowns' force directions (their normal parts for a
-    /// state's first unknown), N·s: the multipliers' start.
+    /// The last step's impulses, each unknown's part along its row ([`seeded_impulses`]), N·s:
+    /// the multipliers' start.
     fn last_impulses(&self, active: &[Active], unknowns: &[Unknown]) -> DVector<f64> {
-        let h = self.ctx.h;
-        DVector::from_iterator(
-            unknowns.len(),
-            unknowns.iter().map(|q| {
-                let last = self.contacts[active[q.contact].contact].last_normal * h;
-                if q.force.dot(&active[q.contact].geometry.frame[0]) > 0.5 { last } else { 0.0 }
-            }),
-        )
+        let last: Vec<Vector3> = active.iter().map(|a| self.contacts[a.contact].last_force * self.ctx.h).collect();
+        seeded_impulses(unknowns, &last)
     }
 
     /// Whether the states' answer meets every condition of the exact-Coulomb step; if so the
@@ -617,24 +493,11 @@ fn refined_solve(
     u
 }
 
-/// b's point's velocity relative to a's at `point` in the component's velocities `u`, m/s
-/// (a side outside the component, fixed or moved, contributes its prescribed part elsewhere).
-pub(super) fn relative_velocity(
-    parts: &Component,
-    a: Side,
-    b: Side,
-    point: &crate::geometry::Point3,
-    u: &DVector<f64>,
-) -> Vector3 {
-    let vel = |s: Side| match s {
-        Side::Free(k) => {
-            let j = parts.local[k];
-            let (v, w) = (u.fixed_rows::<3>(6 * j).into_owned(), u.fixed_rows::<3>(6 * j + 3).into_owned());
-            v + w.cross(&(point - parts.bodies[j].x))
-        }
-        _ => Vector3::zeros(),
-    };
-    vel(b) - vel(a)
+/// The multipliers' start from a solve's `impulses` (N·s, on b, per active contact): each
+/// unknown's part along its own row (a slide's normal row reads its λ, a facet's free row its
+/// free friction), so that the states' answer keeps that solve's split among a face's points.
+fn seeded_impulses(unknowns: &[Unknown], impulses: &[Vector3]) -> DVector<f64> {
+    DVector::from_iterator(unknowns.len(), unknowns.iter().map(|q| impulses[q.contact].dot(&q.row)))
 }
 
 #[derive(Clone, Copy)]

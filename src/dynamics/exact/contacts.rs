@@ -76,6 +76,8 @@ pub(super) struct Contact {
     pub scale: f64,
     /// The normal force of the last step that solved it, N (warms the friction capacity).
     pub last_normal: f64,
+    /// Its force in that step, N on b (world axes): the next step's multipliers' start.
+    pub last_force: Vector3,
     /// Its state at the end of the last step that solved it (starts the next step's states).
     pub state: State,
 }
@@ -152,6 +154,7 @@ pub(super) fn build(
                 reach,
                 scale,
                 last_normal: 0.0,
+                last_force: Vector3::zeros(),
                 state: Default::default(),
             });
         }
@@ -170,6 +173,7 @@ pub(super) fn build(
                     reach: f64::INFINITY,
                     scale: block_size(assembly, body.block),
                     last_normal: 0.0,
+                    last_force: Vector3::zeros(),
                     state: Default::default(),
                 });
             }

@@ -18,8 +18,9 @@
 //! accounted apart ([`super::EnergyBalance::correction`]).
 
 use super::World;
-use super::active_set::{Component, Tolerances, Unknown, relative_velocity};
+use super::active_set::{Tolerances, Unknown};
 use super::bodies::Body;
+use super::component::{Component, relative_velocity};
 use super::problem::{self, Active, StepContext};
 use crate::dynamics::settings::Coulomb;
 use crate::geometry::Vector3;

@@ -88,7 +88,7 @@ impl World {
             // Each later round's states may settle where the first round's did not.
             if exact && moving && self.by_states() && rounds > 1 {
                 let states = self.states_of(&sol, &local, &active);
-                if let Some(sol) = self.step_by_states(comp, &local, &active, states) {
+                if let Some(sol) = self.step_by_states(comp, &local, &active, (states, Some(&sol.impulses))) {
                     return self.accept_by_states(comp, &active, sol);
                 }
             }
@@ -281,16 +281,20 @@ impl World {
         out.status.solved().then_some(out)
     }
 
-    /// Takes a moving component's step by its contacts' last states, else by the states one
-    /// Tresca round gives ([`super::active_set`]); where neither settles, that round (its
-    /// problem and solve) for the rounds to start from.
+    /// Takes a moving component's step by its contacts' last states, else by the states and
+    /// impulses nonsmooth Gauss–Seidel gives ([`super::gauss_seidel`]), else by those one Tresca
+    /// round gives ([`super::active_set`]); where none settles, that round (its problem and
+    /// solve) for the rounds to start from.
     fn step_taken_by_states(&mut self, comp: &[usize], local: &[usize], active: &[Active]) -> ByStates {
         let last = active.iter().map(|a| self.contacts[a.contact].state).collect();
         let mut round = None;
-        let by_states = match self.step_by_states(comp, local, active, last) {
+        let by_states = match self.step_by_states(comp, local, active, (last, None)).or_else(|| {
+            let (states, impulses) = self.states_by_gauss_seidel(comp, local, active)?;
+            self.step_by_states(comp, local, active, (states, Some(&impulses)))
+        }) {
             Some(sol) => Some(sol),
-            None => self.one_round(comp, local, active).and_then(|(states, p, out)| {
-                let sol = self.step_by_states(comp, local, active, states);
+            None => self.one_round(comp, local, active).and_then(|(states, impulses, p, out)| {
+                let sol = self.step_by_states(comp, local, active, (states, Some(&impulses)));
                 round = Some(Box::new((p, out)));
                 sol
             }),
@@ -325,19 +329,19 @@ impl World {
     }
 
     /// One Tresca round (one interior-point solve with the last step's capacities) and the
-    /// contacts' states after it: where the last step's states no longer settle (a contact
-    /// closing, a slip starting), the round's velocities and forces say which contacts are
-    /// open, sticking or sliding, and the states' step from there needs no more rounds. None
-    /// where the solve fails.
+    /// contacts' states after it, and its impulses: where the last step's states no longer
+    /// settle (a contact closing, a slip starting), the round's velocities and forces say which
+    /// contacts are open, sticking or sliding, and the states' step from there (its multipliers
+    /// started from the round's impulses) needs no more rounds. None where the solve fails.
     fn one_round(
         &mut self,
         comp: &[usize],
         local: &[usize],
         active: &[Active],
-    ) -> Option<(Vec<State>, StepProblem, ConicOutcome)> {
+    ) -> Option<(Vec<State>, Vec<Vector3>, StepProblem, ConicOutcome)> {
         let (p, out) = self.round(comp, local, active, &BTreeSet::new())?;
         let sol = p.read(&self.ctx, &self.bodies, comp, active, &out.x);
-        Some((self.states_of(&sol, local, active), p, out))
+        Some((self.states_of(&sol, local, active), sol.impulses, p, out))
     }
 
     /// The contacts' states after a round's solve `sol`: open without force, else sticking or
@@ -440,6 +444,7 @@ impl World {
         }
         for c in self.contacts.iter_mut().filter(|c| comp.iter().any(|&k| c.touches(k))) {
             c.last_normal = 0.0;
+            c.last_force = Vector3::zeros();
             c.state = State::Open;
         }
         let slow = self.settings.still * self.ctx.units.g * h;
@@ -461,6 +466,7 @@ impl World {
             let state = state_after((n, noise), &a.geometry.frame, &slip, slow);
             let c = &mut self.contacts[a.contact];
             c.last_normal = n * self.ctx.units.force;
+            c.last_force = impulse / h;
             c.state = state;
         }
         let e = &mut self.stats.energy;

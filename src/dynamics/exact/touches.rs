@@ -211,6 +211,7 @@ impl World {
                         reach: f64::INFINITY,
                         scale: self.solids.size(i).min(self.solids.size(j)),
                         last_normal: 0.0,
+                        last_force: Vector3::zeros(),
                         state: Default::default(),
                     });
                 }
