@@ -56,7 +56,7 @@ const SINGLE_PASSES: usize = 20;
 const SLACK: f64 = 1e-6;
 
 /// Back-substitutions of the method of multipliers within one factorisation.
-const MULTIPLIER_STEPS: usize = 30;
+const MULTIPLIER_STEPS: usize = 10;
 
 /// Refinement steps of each solve of the states' system ([`refined_solve`]).
 const REFINEMENTS: usize = 2;
