@@ -217,8 +217,10 @@ pub(super) fn gauge(sides: Option<usize>, t: (f64, f64)) -> f64 {
 }
 
 impl World {
-    /// The step of moving component `comp` from its contacts' `states` (module docs), or None
-    /// where no states within [`PASSES`] changes meet the exact-Coulomb conditions.
+    /// The step of moving component `comp` from its contacts' `states` (module docs), its
+    /// multipliers started from `seed`'s impulses where given, else the last step's; None where
+    /// no states within [`PASSES`] (and [`SINGLE_PASSES`]) changes meet the exact-Coulomb
+    /// conditions.
     pub(super) fn step_by_states(
         &self,
         comp: &[usize],

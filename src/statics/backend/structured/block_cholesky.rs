@@ -53,11 +53,18 @@ impl BlockSymbolic {
     /// `kkt::lower_pattern` does with no budget rows. `None` when the storage would not fit
     /// 32-bit indices or holds more than `max_updates` block updates.
     pub fn new(nb: usize, below: &[Vec<usize>], max_updates: usize) -> Option<Self> {
+        let (mut symbolic, inv) = Self::structure(nb, below, max_updates)?;
+        symbolic.gather = gather_map(nb, below, &inv, &symbolic.col_ptr, &symbolic.rows)?;
+        Some(symbolic)
+    }
+
+    /// [`BlockSymbolic::new`]'s structure without the gather map (for a caller that places its
+    /// blocks itself), and the order's inverse: block → elimination position.
+    pub fn structure(nb: usize, below: &[Vec<usize>], max_updates: usize) -> Option<(Self, Vec<usize>)> {
         let (perm, inv) = block_ordering(nb, below)?;
         let (col_ptr, rows) = column_rows(nb, below, &inv);
         let (upd_ptr, upd) = update_targets(nb, &col_ptr, &rows, max_updates)?;
-        let gather = gather_map(nb, below, &inv, &col_ptr, &rows)?;
-        Some(Self { perm, col_ptr, rows, upd_ptr, upd, gather })
+        Some((Self { perm, col_ptr, rows, upd_ptr, upd, gather: Vec::new() }, inv))
     }
 
     pub fn storage_blocks(&self) -> usize {

@@ -41,9 +41,7 @@ impl BlockLu {
             rows.sort_unstable();
             rows.dedup();
         });
-        let symbolic = BlockSymbolic::new(blocks, &below, usize::MAX)?;
-        let mut position = vec![0; blocks];
-        symbolic.perm.iter().enumerate().for_each(|(at, &b)| position[b] = at);
+        let (symbolic, position) = BlockSymbolic::structure(blocks, &below, usize::MAX)?;
         let slots = symbolic.rows.len();
         Some(Self {
             symbolic,
