@@ -137,7 +137,7 @@ fn slide_state(
     }
     let vertex = (angle / spacing).floor() * spacing + 0.5 * spacing;
     let off = wrap(turned - vertex);
-    if off.abs() < 0.5 * spacing - ON_FACET {
+    if off.abs() <= 0.5 * spacing + ON_FACET {
         State::Slide { angle }
     } else {
         State::Slide { angle: vertex + 0.5 * spacing * off.signum() }
@@ -205,15 +205,15 @@ fn angle_in(frame: &[Vector3; 3], t: &Vector3) -> f64 {
 
 /// The least capacity whose set holds friction `t` (in the frame's u, v components).
 pub(super) fn gauge(sides: Option<usize>, t: (f64, f64)) -> f64 {
-    match sides {
-        None => t.0.hypot(t.1),
-        Some(n) => (0..n)
-            .map(|k| {
-                let a = 2.0 * PI * k as f64 / n as f64;
-                t.0 * a.cos() + t.1 * a.sin()
-            })
-            .fold(0.0, f64::max),
+    let Some(n) = sides else { return t.0.hypot(t.1) };
+    // The facets' normals by turning the first one n times (one sine and cosine a call).
+    let (s, c) = (2.0 * PI / n as f64).sin_cos();
+    let (mut dx, mut dy, mut largest) = (1.0, 0.0, 0.0f64);
+    for _ in 0..n {
+        largest = largest.max(t.0 * dx + t.1 * dy);
+        (dx, dy) = (dx * c - dy * s, dx * s + dy * c);
     }
+    largest
 }
 
 impl World {
@@ -236,6 +236,7 @@ impl World {
         // gap terms of joints closed to round-off (1e-11 m / h), which tighter rows cannot all meet.
         let tol =
             Tolerances { speed: SPEED * self.settings.still * self.ctx.units.g * h, impulse: IMPULSE * weight * h };
+        let mut system = self.states_pattern(&parts, active)?;
         let mut tried: Vec<Tried> = states.iter().map(Tried::of).collect();
         let mut seen = vec![states.clone()];
         // Every change of the most basic kind at once, until the changes cycle; then one
@@ -250,7 +251,7 @@ impl World {
                 Some(impulses) => seeded_impulses(&unknowns, impulses),
                 None => self.last_impulses(active, &unknowns),
             };
-            let (u, lambda, converged) = self.solve_states(&parts, active, (&unknowns, start), tol)?;
+            let (u, lambda, converged) = self.solve_states(&parts, active, (&unknowns, start), tol, &mut system)?;
             let check = self.check(&parts, active, (&states, &tried), &unknowns, (&u, &lambda), tol, sides);
             let changes = match check {
                 // Rows that cannot all hold (states asking for more than the blocks' motion
@@ -287,7 +288,7 @@ impl World {
     fn unknowns(&self, active: &[Active], states: &[State], sides: Option<usize>) -> Vec<Unknown> {
         let (h, mu) = (self.ctx.h, self.ctx.mu);
         let recovery = self.ctx.recovery * self.ctx.units.speed();
-        let mut out = Vec::new();
+        let mut out = Vec::with_capacity(3 * active.len());
         for (i, (a, s)) in active.iter().zip(states).enumerate() {
             let f = &a.geometry.frame;
             let gap_term = (a.geometry.gap / h).max(-recovery) + a.prescribed.dot(&f[0]);
@@ -313,6 +314,17 @@ impl World {
         out
     }
 
+    /// The states' systems' block pattern for `active`'s contacts in component `parts`: the
+    /// links of every contact whatever its state, so one ordering serves every pass.
+    pub(super) fn states_pattern(&self, parts: &Component, active: &[Active]) -> Option<BlockLu> {
+        let body = |s: super::Side| if let super::Side::Free(k) = s { Some(parts.local[k]) } else { None };
+        let links = active.iter().filter_map(|a| {
+            let c = &self.contacts[a.contact];
+            body(c.a).zip(body(c.b))
+        });
+        BlockLu::new(parts.mass.len(), links)
+    }
+
     /// u⁺ and the impulses λ of the states' linear step by the method of multipliers, from
     /// impulses `start` (the last step's), and whether every row holds (where they cannot all hold the
     /// multipliers grow along the conflict: their signs say which states to change); None where
@@ -326,6 +338,7 @@ impl World {
         active: &[Active],
         (unknowns, start): (&[Unknown], DVector<f64>),
         tol: Tolerances,
+        system: &mut BlockLu,
     ) -> Option<(DVector<f64>, DVector<f64>, bool)> {
         let n = parts.free.len();
         let sparse: Vec<(Sparse, Sparse)> = unknowns
@@ -338,18 +351,17 @@ impl World {
             })
             .collect();
         let rho: Vec<f64> = sparse.iter().map(|(row, _)| PENALTY / parts.compliance(row)).collect();
-        // M + Σ ρ f rᵀ by the bodies' 6×6 blocks: its pattern is the component's contact graph.
-        let links = sparse
-            .iter()
-            .flat_map(|(row, force)| force.iter().flat_map(move |(jf, _)| row.iter().map(move |(jr, _)| (*jf, *jr))));
-        let mut system = BlockLu::new(parts.mass.len(), links)?;
+        // M + Σ ρ f rᵀ by the bodies' 6×6 blocks, on `system`'s pattern (the contact graph).
+        system.clear();
         for (j, m) in parts.mass.iter().enumerate() {
             system.add(j, j, m);
         }
         for ((row, force), r) in sparse.iter().zip(&rho) {
             for (jf, f) in force.iter() {
                 for (jr, w) in row.iter() {
-                    system.add(*jf, *jr, &(f * w.transpose() * *r));
+                    if !system.add(*jf, *jr, &(f * w.transpose() * *r)) {
+                        return None;
+                    }
                 }
             }
         }
@@ -364,7 +376,7 @@ impl World {
             for (((_, force), l), (q, r)) in sparse.iter().zip(lambda.iter()).zip(unknowns.iter().zip(&rho)) {
                 force.add_to(&mut rhs, l + r * q.target);
             }
-            let u = refined_solve(&system, parts, (&sparse, &rho), &rhs);
+            let u = refined_solve(system, parts, (&sparse, &rho), &rhs);
             let mut worst = 0.0f64;
             for (((row, _), l), (q, r)) in sparse.iter().zip(lambda.iter_mut()).zip(unknowns.iter().zip(&rho)) {
                 let error = q.target - row.dot(&u);

@@ -45,15 +45,25 @@ impl<'a> Poses<'a> {
 }
 
 /// Where a contact comes from.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
 pub(super) enum Origin {
     /// Vertex `vertex` of interface `interface`.
     Interface { interface: usize, vertex: usize },
     /// Vertex `vertex` of the free block's mesh, on the ground.
     Ground { vertex: usize },
-    /// Point `point` found between convex parts `parts` of the contact's two blocks, closing
-    /// under large motion ([`super::touches`]); a contact of one step.
-    Touch { parts: [usize; 2], point: usize },
+    /// A point found between convex parts `parts` of the contact's two blocks, closing under
+    /// large motion ([`super::touches`]); found anew each step, the touching vertex `point`
+    /// naming it from step to step.
+    Touch { parts: [usize; 2], point: TouchVertex },
+}
+
+/// Which point of a pair of convex parts touches: a vertex of b on a, a vertex of a on b, or
+/// the pair's closest points (no vertex within reach).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub(super) enum TouchVertex {
+    OfB(usize),
+    OfA(usize),
+    Closest,
 }
 
 #[derive(Clone, Debug)]

@@ -109,7 +109,7 @@ impl World {
             let (mut change, mut largest) = (0.0f64, 0.0f64);
             for ((p, ri), state) in points.iter().zip(r.iter_mut()).zip(states.iter_mut()) {
                 let q = p.velocity(&u) - p.delassus * *ri;
-                let (next, s) = local_coulomb(&p.delassus, &q, mu, sides);
+                let (next, s) = local_coulomb(&p.delassus, &q, mu, sides, *state);
                 let dr = next - *ri;
                 p.apply(&mut u, &dr);
                 change = change.max(dr.amax());
@@ -155,9 +155,10 @@ impl World {
 
 /// One contact's exact-Coulomb impulse (n, u, v) for v = W r + q on a regular polygon of
 /// `sides` facets at distance μ r_n, and its state: the first case whose conditions hold
-/// (open, stick, a facet's slide, a vertex's slide); where round-off leaves none, the stick's
-/// impulse brought into the set.
-fn local_coulomb(w: &Matrix3<f64>, q: &Vector3, mu: f64, sides: usize) -> (Vector3, State) {
+/// (open, stick, the slide of the contact's last state `last`, a facet's slide, a vertex's
+/// slide — a contact mostly keeps its case from sweep to sweep); where round-off leaves none,
+/// the stick's impulse brought into the set.
+fn local_coulomb(w: &Matrix3<f64>, q: &Vector3, mu: f64, sides: usize, last: State) -> (Vector3, State) {
     if q.x >= 0.0 {
         return (Vector3::zeros(), State::Open);
     }
@@ -168,6 +169,17 @@ fn local_coulomb(w: &Matrix3<f64>, q: &Vector3, mu: f64, sides: usize) -> (Vecto
         && gauge(Some(sides), (r.y, r.z)) <= mu * r.x * (1.0 + EPS)
     {
         return (r, State::Stick);
+    }
+    if let State::Slide { angle } = last {
+        let k = angle / spacing;
+        let found = if (k - k.round()).abs() < 1e-9 {
+            facet_slide(w, q, mu, angle, spacing)
+        } else {
+            vertex_slide(w, q, mu, angle, spacing)
+        };
+        if let Some(found) = found {
+            return found;
+        }
     }
     for k in 0..sides {
         if let Some(found) = facet_slide(w, q, mu, k as f64 * spacing, spacing) {
@@ -236,20 +248,26 @@ mod tests {
     fn local_cases_on_the_identity() {
         let w = Matrix3::identity();
         // Separating: open.
-        let (r, s) = local_coulomb(&w, &Vector3::new(1.0, 3.0, 0.0), 0.5, 8);
+        let (r, s) = local_coulomb(&w, &Vector3::new(1.0, 3.0, 0.0), 0.5, 8, State::Open);
         assert_eq!((r, s), (Vector3::zeros(), State::Open));
         // Approaching slowly along the tangent: r = −q, friction 0.2 ≤ μ·1.
-        let (r, s) = local_coulomb(&w, &Vector3::new(-1.0, 0.2, 0.0), 0.5, 8);
+        let (r, s) = local_coulomb(&w, &Vector3::new(-1.0, 0.2, 0.0), 0.5, 8, State::Open);
         assert_eq!(s, State::Stick);
         assert!((r - Vector3::new(1.0, -0.2, 0.0)).norm() < 1e-15);
         // Fast slip along +u: friction at the facet facing −u, r_n = 1, friction μ, slip 3 − μ.
-        let (r, s) = local_coulomb(&w, &Vector3::new(-1.0, 3.0, 0.0), 0.5, 8);
+        let (r, s) = local_coulomb(&w, &Vector3::new(-1.0, 3.0, 0.0), 0.5, 8, State::Open);
         assert_eq!(s, State::Slide { angle: PI });
         assert!((r - Vector3::new(1.0, -0.5, 0.0)).norm() < 1e-12, "{r:?}");
         // Slip at 22.5° + 180° on pyramid8: at the vertex between the facets at 180° and 225°.
         let a = PI / 8.0;
-        let (r, s) = local_coulomb(&w, &Vector3::new(-1.0, 3.0 * a.cos(), 3.0 * a.sin()), 0.5, 8);
+        let (r, s) = local_coulomb(&w, &Vector3::new(-1.0, 3.0 * a.cos(), 3.0 * a.sin()), 0.5, 8, State::Open);
         assert!(matches!(s, State::Slide { angle } if (angle - (PI + a)).abs() < 1e-12), "{s:?}");
         assert!((r.x - 1.0).abs() < 1e-12 && (gauge(Some(8), (r.y, r.z)) - 0.5).abs() < 1e-12, "{r:?}");
+        // The last state only orders the search: a right one, a wrong facet or a wrong vertex
+        // give the same case.
+        let q = Vector3::new(-1.0, 3.0 * a.cos(), 3.0 * a.sin());
+        for last in [State::Slide { angle: PI + a }, State::Slide { angle: 0.0 }, State::Slide { angle: a }] {
+            assert_eq!(local_coulomb(&w, &q, 0.5, 8, last), (r, s), "{last:?}");
+        }
     }
 }

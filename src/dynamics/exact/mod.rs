@@ -184,6 +184,8 @@ pub struct World {
     /// The interface and ground contacts (the first `persistent`), then the step's touches.
     contacts: Vec<Contact>,
     persistent: usize,
+    /// Per assembly block, whether an interface contact holds it at the start.
+    interfaced: Vec<bool>,
     /// Each assembly block's side in a contact.
     sides: Vec<Side>,
     solids: touches::Solids,
@@ -280,6 +282,8 @@ impl World {
         };
         let acc = Accuracy::uniform(s.solver_tolerance);
         let reactions = vec![[Vector3::zeros(); 2]; movers.len()];
+        let mut interfaced = vec![false; assembly.blocks.len()];
+        contacts.iter().filter_map(|c| c.pair).flatten().for_each(|k| interfaced[k] = true);
         let steady_force = bodies.iter().map(|b| Vector3::new(b.load[0], b.load[1], b.load[2])).collect();
         Self {
             bodies,
@@ -287,6 +291,7 @@ impl World {
             paths: paths.to_vec(),
             reactions,
             persistent: contacts.len(),
+            interfaced,
             contacts,
             sides,
             solids,

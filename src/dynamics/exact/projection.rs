@@ -122,6 +122,7 @@ impl World {
         let tol = Tolerances { speed: TOLERANCE * smallest / unit, impulse: TOLERANCE * mass * smallest / unit };
         let gap = |a: &Active| a.geometry.gap / unit;
         let mut held: Vec<bool> = active.iter().map(|a| a.geometry.gap < 0.0).collect();
+        let mut system = self.states_pattern(&parts, active)?;
         for _ in 0..PASSES {
             let unknowns: Vec<Unknown> = (0..active.len())
                 .filter(|&i| held[i])
@@ -131,7 +132,7 @@ impl World {
                 })
                 .collect();
             let start = DVector::zeros(unknowns.len());
-            let (u, lambda, converged) = self.solve_states(&parts, active, (&unknowns, start), tol)?;
+            let (u, lambda, converged) = self.solve_states(&parts, active, (&unknowns, start), tol, &mut system)?;
             if !converged {
                 return None;
             }

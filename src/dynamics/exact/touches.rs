@@ -17,7 +17,7 @@
 //! ~1e-7 of a block whatever the model's size or distance from the origin.
 
 use super::World;
-use super::contacts::{Contact, Origin, Side};
+use super::contacts::{Contact, Origin, Side, TouchVertex};
 use crate::geometry::polygon::Frame;
 use crate::geometry::{Point3, Vector3};
 use crate::interfaces::penetration::{convex_shapes, hull_shape, v32};
@@ -26,7 +26,6 @@ use nalgebra::UnitQuaternion;
 use rapier3d::math::{Pose, Rotation, Vector};
 use rapier3d::parry::query::{DefaultQueryDispatcher, QueryDispatcher};
 use rapier3d::parry::shape::SharedShape;
-use std::collections::BTreeSet;
 use std::sync::{Arc, OnceLock};
 
 /// Every block's convex parts, built when a pair first needs them.
@@ -35,7 +34,7 @@ pub(super) struct Solids {
     blocks: Arc<[AssemblyBlock]>,
     /// Per block: its start centroid (m) and the farthest vertex from it (m).
     centres: Vec<(Point3, f64)>,
-    parts: Vec<OnceLock<Arc<[SharedShape]>>>,
+    parts: Vec<OnceLock<Arc<[Part]>>>,
     /// The shapes' length unit, m (the smallest block's size).
     unit: f64,
 }
@@ -63,7 +62,7 @@ impl Solids {
         let local = v32(q.inverse() * (p - x) / self.unit);
         let depth = (depth / self.unit) as f32;
         self.parts(i).iter().any(|s| {
-            let proj = s.project_local_point(local, false);
+            let proj = s.shape.project_local_point(local, false);
             proj.is_inside && (proj.point - local).length() > depth
         })
     }
@@ -79,15 +78,45 @@ impl Solids {
     }
 
     /// Block `i`'s convex parts (its hull when it has no exact decomposition within the limits).
-    fn parts(&self, i: usize) -> Arc<[SharedShape]> {
+    fn parts(&self, i: usize) -> Arc<[Part]> {
         let (b, unit) = (&self.blocks[i], self.unit);
         self.parts[i]
             .get_or_init(|| {
                 let tol = 1e-3 * b.aabb.diagonal();
                 let shapes = convex_shapes(b, tol, unit).or_else(|| hull_shape(b, unit).map(|h| vec![h]));
-                shapes.unwrap_or_default().into()
+                shapes.unwrap_or_default().into_iter().map(Part::new).collect()
             })
             .clone()
+    }
+}
+
+/// A convex part (shape units) with its vertices and face planes in f64, read once.
+pub(super) struct Part {
+    shape: SharedShape,
+    points: Vec<Vector3>,
+    /// Outward unit normal n and offset d of each face: n · p = d on the face.
+    planes: Vec<(Vector3, f64)>,
+}
+
+impl Part {
+    fn new(shape: SharedShape) -> Self {
+        let f64v = |v: Vector| Vector3::new(v.x as f64, v.y as f64, v.z as f64);
+        let (points, planes) = match shape.as_convex_polyhedron() {
+            Some(poly) => {
+                let (points, around) = (poly.points(), poly.vertices_adj_to_face());
+                let planes = poly
+                    .faces()
+                    .iter()
+                    .map(|f| {
+                        let n = f64v(f.normal);
+                        (n, n.dot(&f64v(points[around[f.first_vertex_or_edge as usize] as usize])))
+                    })
+                    .collect();
+                (points.iter().map(|p| f64v(*p)).collect(), planes)
+            }
+            None => (Vec::new(), Vec::new()),
+        };
+        Self { shape, points, planes }
     }
 }
 
@@ -115,17 +144,21 @@ impl World {
         self.solids.contains(a, &pa.x, &pa.q, &pb, 0.5 * self.settings.envelope * c.scale)
     }
 
-    /// Drops the last step's touches and finds this step's (module docs).
+    /// Drops the last step's touches and finds this step's (module docs), each starting from
+    /// the force and state its point had in the last step, where it was found there too.
     pub(super) fn find_touches(&mut self) {
-        self.contacts.truncate(self.persistent);
+        let last: Vec<Contact> = self.contacts.drain(self.persistent..).collect();
         let envelope = self.settings.envelope;
         let candidates = self.touch_candidates(envelope);
         if candidates.is_empty() {
             return;
         }
+        let mut last: Vec<(([usize; 2], Origin), &Contact)> =
+            last.iter().filter_map(|c| Some(((c.pair?, c.origin), c))).collect();
+        last.sort_unstable_by_key(|(k, _)| *k);
         let held = self.held_pairs(&candidates);
         let mut found = Vec::new();
-        for &[i, j] in candidates.difference(&held) {
+        for &[i, j] in candidates.iter().filter(|p| held.binary_search(p).is_err()) {
             let (pi, pj) = (self.placed(i), self.placed(j));
             let scale = self.solids.size(i).min(self.solids.size(j));
             let prediction = envelope * scale + 2.0 * self.ctx.h * (pi.speed + pj.speed);
@@ -135,39 +168,51 @@ impl World {
             }
             self.pair_touches(i, j, &pi, &pj, prediction, &mut found);
         }
+        for c in &mut found {
+            let key = (c.pair.unwrap_or_default(), c.origin);
+            if let Ok(k) = last.binary_search_by_key(&key, |(k, _)| *k) {
+                let before = last[k].1;
+                (c.last_normal, c.last_force, c.state) = (before.last_normal, before.last_force, before.state);
+            }
+        }
         self.contacts.extend(found);
     }
 
     /// The pairs of blocks (ascending) one of which is awake and has moved by more than
     /// `envelope` of its own size since the start, the other any block.
-    fn touch_candidates(&self, envelope: f64) -> BTreeSet<[usize; 2]> {
+    fn touch_candidates(&self, envelope: f64) -> Vec<[usize; 2]> {
         // A block held by no interface at the start (set on an edge, or above its support) may
         // meet any block from the first step.
-        let held: BTreeSet<usize> = self.contacts[..self.persistent].iter().filter_map(|c| c.pair).flatten().collect();
         let moved = |b: &super::Body| {
-            !held.contains(&b.block)
+            !self.interfaced[b.block]
                 || (b.x - b.start).norm() + b.q.angle() * b.radius > envelope * self.solids.size(b.block)
         };
-        let mut pairs = BTreeSet::new();
+        let mut pairs = Vec::new();
         let movers = self.bodies.iter().filter(|b| !b.asleep).chain(&self.movers);
         for b in movers.filter(|b| moved(b)) {
             for j in (0..self.solids.centres.len()).filter(|&j| j != b.block) {
-                pairs.insert([b.block.min(j), b.block.max(j)]);
+                pairs.push([b.block.min(j), b.block.max(j)]);
             }
         }
+        pairs.sort_unstable();
+        pairs.dedup();
         pairs
     }
 
     /// Those of `candidates` an interface contact holds this step: one not released and within
     /// the envelope (or closing it), as the step's persistent contacts are chosen.
-    fn held_pairs(&self, candidates: &BTreeSet<[usize; 2]>) -> BTreeSet<[usize; 2]> {
-        self.contacts
+    fn held_pairs(&self, candidates: &[[usize; 2]]) -> Vec<[usize; 2]> {
+        let mut held: Vec<[usize; 2]> = self
+            .contacts
             .iter()
             .enumerate()
             .filter(|(_, c)| matches!(c.origin, Origin::Interface { .. }))
-            .filter(|(_, c)| c.pair.is_some_and(|p| candidates.contains(&p)))
+            .filter(|(_, c)| c.pair.is_some_and(|p| candidates.binary_search(&p).is_ok()))
             .filter_map(|(i, c)| self.near(i, c).and(c.pair))
-            .collect()
+            .collect();
+        held.sort_unstable();
+        held.dedup();
+        held
     }
 
     pub(super) fn placed(&self, i: usize) -> Placed {
@@ -197,13 +242,13 @@ impl World {
         for (pa, part_a) in si.iter().enumerate() {
             for (pb, part_b) in sj.iter().enumerate() {
                 let poses = (&pos12, &exact);
-                for (k, point) in part_touches(part_a, part_b, poses, reach).into_iter().enumerate() {
+                for point in part_touches(part_a, part_b, poses, reach) {
                     // b's material point back in b's own frame, in f64.
                     let on_b = pj.q.inverse() * (pi.x + pi.q * (point.on_b * unit) - pj.x);
                     out.push(Contact {
                         a,
                         b,
-                        origin: Origin::Touch { parts: [pa, pb], point: k },
+                        origin: Origin::Touch { parts: [pa, pb], point: point.vertex },
                         pair: Some([i, j]),
                         ra: oa + point.on_a * unit,
                         rb: ob + on_b,
@@ -222,6 +267,7 @@ impl World {
 
 /// A contact point of two convex parts, in a's frame (a's shape units).
 struct PartPoint {
+    vertex: TouchVertex,
     /// The material points on a and on b, both in a's frame (b's at the pair's pose).
     on_a: Vector3,
     on_b: Vector3,
@@ -241,13 +287,8 @@ const TOUCHING: f64 = 1e-5;
 /// The pair's normal serves where a vertex touches exactly. A contact manifold clipping two
 /// faces can miss the far end of an edge lying on a face (the end that then swings in), and
 /// one normal for the pair turns a vertex sliding off a corner into a deep overlap.
-fn part_touches(
-    a: &SharedShape,
-    b: &SharedShape,
-    (pos12, exact): (&Pose, &RelativePose),
-    reach: f32,
-) -> Vec<PartPoint> {
-    let Ok(Some(c)) = DefaultQueryDispatcher.contact(pos12, a.as_ref(), b.as_ref(), reach) else {
+fn part_touches(a: &Part, b: &Part, (pos12, exact): (&Pose, &RelativePose), reach: f32) -> Vec<PartPoint> {
+    let Ok(Some(c)) = DefaultQueryDispatcher.contact(pos12, a.shape.as_ref(), b.shape.as_ref(), reach) else {
         return Vec::new();
     };
     let f64v = |v: Vector| Vector3::new(v.x as f64, v.y as f64, v.z as f64);
@@ -256,9 +297,9 @@ fn part_touches(
         return Vec::new();
     }
     let pair = pair.normalize();
-    let point = |on_a: Vector3, on_b: Vector3, n: Vector3| {
+    let point = |vertex, on_a: Vector3, on_b: Vector3, n: Vector3| {
         let f = Frame::from_normal(Point3::origin(), n);
-        PartPoint { on_a, on_b, frame: [f.n, f.u, f.v] }
+        PartPoint { vertex, on_a, on_b, frame: [f.n, f.u, f.v] }
     };
     // The normal from a into b along `from → to`, or the pair's when they (nearly) coincide.
     let along = |from: Vector3, to: Vector3, flip: bool| {
@@ -269,7 +310,6 @@ fn part_touches(
             false => pair,
         }
     };
-    let vertices = |s: &SharedShape| s.as_convex_polyhedron().map(|p| p.points().to_vec()).unwrap_or_default();
     let mut out: Vec<PartPoint> = Vec::new();
     // Coincident points (a corner on a corner) would make the step's problem degenerate.
     let mut push = |p: PartPoint| {
@@ -277,23 +317,23 @@ fn part_touches(
             out.push(p);
         }
     };
-    for w in vertices(b).into_iter().map(|w| exact.to_a(f64v(w))) {
+    for (k, w) in b.points.iter().map(|w| exact.to_a(*w)).enumerate() {
         let (p, inside) = project(a, w);
         if (w - p).norm() <= reach as f64 || inside {
             // b's vertex outside a: a → b is p → w; inside, the way out is w → p.
-            push(point(p, w, along(p, w, inside)));
+            push(point(TouchVertex::OfB(k), p, w, along(p, w, inside)));
         }
     }
-    for v in vertices(a).into_iter().map(f64v) {
+    for (k, &v) in a.points.iter().enumerate() {
         let (p, inside) = project(b, exact.to_b(v));
         let p = exact.to_a(p);
         if (p - v).norm() <= reach as f64 || inside {
             // a's vertex outside b: a → b is v → p; inside, b leaves it along p → v.
-            push(point(v, p, along(v, p, inside)));
+            push(point(TouchVertex::OfA(k), v, p, along(v, p, inside)));
         }
     }
     if out.is_empty() {
-        out.push(point(f64v(c.point1), f64v(pos12.transform_point(c.point2)), pair));
+        out.push(point(TouchVertex::Closest, f64v(c.point1), f64v(pos12.transform_point(c.point2)), pair));
     }
     out
 }
@@ -319,22 +359,13 @@ impl RelativePose {
 /// face plane's foot) and outside over a face (the foot lies on the part). Outside near an edge
 /// or a corner, parry's projection (GJK in f32, whose tolerance grows with the part's size: a
 /// point 1e-3 of a block outside a slab 50 blocks wide it can call inside).
-fn project(part: &SharedShape, p: Vector3) -> (Vector3, bool) {
+fn project(part: &Part, p: Vector3) -> (Vector3, bool) {
     let f64v = |v: Vector| Vector3::new(v.x as f64, v.y as f64, v.z as f64);
     let parry = |p: Vector3| {
-        let proj = part.project_local_point(v32(p), false);
+        let proj = part.shape.project_local_point(v32(p), false);
         (f64v(proj.point), proj.is_inside)
     };
-    let Some(poly) = part.as_convex_polyhedron() else { return parry(p) };
-    let (points, around) = (poly.points(), poly.vertices_adj_to_face());
-    let planes: Vec<(Vector3, f64)> = poly
-        .faces()
-        .iter()
-        .map(|f| {
-            let n = f64v(f.normal);
-            (n, n.dot(&f64v(points[around[f.first_vertex_or_edge as usize] as usize])))
-        })
-        .collect();
+    let planes = &part.planes;
     let Some(&(n, d)) = planes.iter().max_by(|x, y| (x.0.dot(&p) - x.1).total_cmp(&(y.0.dot(&p) - y.1))) else {
         return parry(p);
     };
