@@ -282,15 +282,16 @@ impl World {
     }
 
     /// Takes a moving component's step by its contacts' last states, else by the states and
-    /// impulses nonsmooth Gauss–Seidel gives ([`super::gauss_seidel`]), else by those one Tresca
-    /// round gives ([`super::active_set`]); where none settles, that round (its problem and
-    /// solve) for the rounds to start from.
+    /// impulses nonsmooth Gauss–Seidel gives ([`super::gauss_seidel`]) or, where its sweeps
+    /// settled, by their answer, else by the states one Tresca round gives
+    /// ([`super::active_set`]); where none settles, that round (its problem and solve) for the
+    /// rounds to start from.
     fn step_taken_by_states(&mut self, comp: &[usize], local: &[usize], active: &[Active]) -> ByStates {
         let last = active.iter().map(|a| self.contacts[a.contact].state).collect();
         let mut round = None;
         let by_states = match self.step_by_states(comp, local, active, (last, None)).or_else(|| {
-            let (states, impulses) = self.states_by_gauss_seidel(comp, local, active)?;
-            self.step_by_states(comp, local, active, (states, Some(&impulses)))
+            let sweeps = self.states_by_gauss_seidel(comp, local, active)?;
+            self.step_by_states(comp, local, active, (sweeps.states, Some(&sweeps.impulses))).or(sweeps.settled)
         }) {
             Some(sol) => Some(sol),
             None => self.one_round(comp, local, active).and_then(|(states, impulses, p, out)| {
