@@ -466,7 +466,7 @@ impl World {
     }
 
     /// The accepted states' answer as a step's [`Solution`] (its momentum residual, N).
-    fn solution(
+    pub(super) fn solution(
         &self,
         parts: &Component,
         active: &[Active],

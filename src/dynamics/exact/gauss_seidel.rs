@@ -137,14 +137,11 @@ impl World {
             .zip(&r)
             .map(|(a, ri)| a.geometry.frame.iter().zip(ri.iter()).map(|(d, x)| d * *x).sum())
             .collect();
-        let sol = settled.then(|| Solution {
-            velocities: parts.velocities(&u),
-            normal: r.iter().map(|ri| ri.x / (h * self.ctx.units.force)).collect(),
-            impulses: impulses.clone(),
-            work: impulses.clone(),
-            residual: 0.0,
+        let settled = settled.then(|| {
+            let normal = r.iter().map(|ri| ri.x / (h * self.ctx.units.force)).collect();
+            self.solution(&parts, active, &u, normal, impulses.clone())
         });
-        Some(Sweeps { states, impulses, settled: sol })
+        Some(Sweeps { states, impulses, settled })
     }
 
     /// Contact `a`'s rows, pushes, Delassus block and velocity offset in component `parts`.

@@ -143,7 +143,7 @@ impl BlockLu {
 }
 
 /// A 6×6 block's inverse by Gauss–Jordan elimination with partial pivoting on fixed arrays
-/// (the factorisation's hot loop: nalgebra's general LU inverse costs about twice as much);
+/// (the factorisation's hot loop, where nalgebra's general LU inverse showed in the profile);
 /// None where a pivot is zero.
 fn invert(block: &Matrix6<f64>) -> Option<Matrix6<f64>> {
     let mut a: [[f64; 6]; 6] = std::array::from_fn(|r| std::array::from_fn(|c| block[(r, c)]));
