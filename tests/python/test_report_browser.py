@@ -117,6 +117,14 @@ class Page:
         """Lets the page draw what it was just asked to (two animation frames)."""
         self.js("new Promise(r => requestAnimationFrame(() => requestAnimationFrame(r)))")
 
+    def wait_until(self, expression, timeout=30.0):
+        """Polls a condition the page reaches asynchronously (a mode loads its glTF first)."""
+        end = time.time() + timeout
+        while not self.js(expression):
+            assert time.time() < end, f"{expression}: not true after {timeout} s; errors: {self.errors}"
+            time.sleep(0.05)
+        self.settle()
+
     def rect(self, selector):
         return self.js(f"(() => {{ const r = document.querySelector({json.dumps(selector)}).getBoundingClientRect();"
                        " return [r.left, r.top, r.width, r.height]; })()")
@@ -263,7 +271,7 @@ def test_the_vectors_diagram_draws_each_resultant_as_an_arrow(page, tmp):
     page.click_on("#blocks-toggle")
     before = page.shot("#design-view")[0]
     page.click_on("#modes button[data-mode=vectors]")
-    assert "arrows" in page.js("document.getElementById('legend').textContent")
+    page.wait_until("document.getElementById('legend').textContent.includes('arrows')")
     after, (left, top) = page.shot("#design-view")
     dark = lambda px: (px.max(axis=2) < 70)
     new_dark = dark(after) & ~dark(before)
@@ -285,6 +293,7 @@ def test_a_click_on_an_interface_shows_its_normal_force_as_the_json_report_gives
     largest = max(rep["interfaces"], key=lambda r: r["normal_force"])
     at = page.js(f"window.voussoir.onPage('interface', {largest['index']})")
     page.click(at["x"], at["y"])
+    page.wait_until("!document.getElementById('info').textContent.startsWith('Click')")
     info = page.js("document.getElementById('info').textContent")
     assert info.startswith("interface "), info
     shown = int(info.split()[1].rstrip(":"))
