@@ -1,7 +1,7 @@
 """The exact engine's cost over an ensemble of collapsing arches, not one draw.
 
-A collapse is chaotic: a change of round-off alone (the same equations, summed in another order)
-moves one arch's engine time by 2× either way, and the sum over 39 arches by ~5 %
+A collapse is chaotic: a change of round-off alone (the same equations, rounded differently)
+moves one dropped arch's engine time by ×0.7 to ×2.4, and the sum over 39 arches by a few per cent
 (docs/benchmarks.md, 2026-11-29 afternoon). A change to the engine's steps is therefore judged
 by sums over many arches, each run to 2 s as `voussoir drop ... --engine exact` runs it:
 
