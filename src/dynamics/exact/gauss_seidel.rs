@@ -8,7 +8,11 @@
 //! in the friction set; else sliding (v_n = 0) with friction at a facet of the polygon (the slip
 //! along the facet's normal only) or at a vertex (the slip within the vertex's cone of normals).
 //! The sweeps start from the last step's forces and stop when no impulse changes by more than
-//! [`SETTLED`] of the largest, or after [`SWEEPS`].
+//! [`SETTLED`] of the largest, or when, checked every [`CHECK_EVERY`] sweeps, every contact's
+//! conditions hold on their answer to [`CONDITIONS`] of the largest impulse (impulses may still
+//! move among a face's redundant points, which moves no velocity), or after [`SWEEPS`]; either
+//! way only where the contacts' work on the blocks' motion creates no energy beyond round-off
+//! ([`ENERGY`]: a sweep's answer is not exact, and a push on parting faces would feed the motion).
 //!
 //! A sweep's convergence is linear and slow on a chain of blocks, so its answer first serves as
 //! a start: it gives each contact its state and a split of a face's forces among its points in
@@ -18,9 +22,10 @@
 //! Where those passes do not settle (a face landing whose rows hold only with one of its points
 //! open, which their block changes miss) but the sweeps did, the sweeps' answer is the step's:
 //! each contact's conditions then hold to [`SETTLED`] of the largest impulse with the others'
-//! impulses as they ended, and the momentum exactly (every impulse change is applied to the
-//! velocities as it is made) — as close to the exact-Coulomb step as the Tresca rounds' own
-//! settling (1e-4 of the largest capacity), at no interior-point solve.
+//! impulses as they ended (or to [`CONDITIONS`] of it, checked), and the momentum exactly
+//! (every impulse change is applied to the velocities as it is made) — as close to the
+//! exact-Coulomb step as the Tresca rounds' own settling (1e-4 of the largest capacity), at no
+//! interior-point solve.
 //! Polygonal friction sets only (pyramid8, box4); the cone keeps the interior point.
 
 use super::World;
@@ -38,6 +43,21 @@ const SWEEPS: usize = 100;
 
 /// A sweep whose largest impulse change is this fraction of the largest impulse has settled.
 const SETTLED: f64 = 1e-6;
+
+/// Sweeps between checks of the step's conditions on the sweeps' answer ([`conditions_hold`]).
+const CHECK_EVERY: usize = 10;
+
+/// The step's conditions hold on the sweeps' answer to this fraction of the largest impulse
+/// (a speed: that impulse's on the component's mass): the tolerance their test states.
+const CONDITIONS: f64 = 1e-5;
+
+/// A slipping contact's friction dissipates at least this fraction less than the most its set
+/// allows.
+const DISSIPATION: f64 = 1e-4;
+
+/// A settled answer's contacts may create this fraction of the largest impulse's kinetic energy
+/// on the component's mass (J: round-off), no more.
+const ENERGY: f64 = 1e-8;
 
 /// Round-off allowed in a local case's sign conditions, relative to the quantities compared.
 const EPS: f64 = 1e-12;
@@ -64,6 +84,8 @@ struct Point {
     parts: Vec<BodyPart>,
     delassus: Matrix3<f64>,
     bias: Vector3,
+    /// The gap term within `bias`'s normal part, m/s: not a velocity of the blocks.
+    gap_term: f64,
 }
 
 impl Point {
@@ -115,7 +137,9 @@ impl World {
         }
         let mut states = vec![State::Open; active.len()];
         let mut settled = false;
-        for _ in 0..SWEEPS {
+        let mass: f64 = comp.iter().map(|&k| self.bodies[k].mass).sum();
+        let floor = mass * self.ctx.units.g * h;
+        for sweep in 0..SWEEPS {
             let (mut change, mut largest) = (0.0f64, 0.0f64);
             for ((p, ri), state) in points.iter().zip(r.iter_mut()).zip(states.iter_mut()) {
                 let q = p.velocity(&u) - p.delassus * *ri;
@@ -127,7 +151,12 @@ impl World {
                 *ri = next;
                 *state = s;
             }
-            if change <= SETTLED * largest {
+            // Impulses can still move among a face's redundant points (no velocity moves with
+            // them) where every contact's conditions already hold.
+            let check = sweep % CHECK_EVERY == CHECK_EVERY - 1;
+            let scale = (largest.max(floor), mass);
+            let holds = change <= SETTLED * largest || check && conditions_hold(&points, &r, &u, (mu, sides), scale);
+            if holds && creates_no_energy(&points, &r, &u, scale) {
                 settled = true;
                 break;
             }
@@ -167,8 +196,52 @@ impl World {
         let recovery = self.ctx.recovery * self.ctx.units.speed();
         let gap_term = (a.geometry.gap / self.ctx.h).max(-recovery);
         let bias = Vector3::new(gap_term + a.prescribed.dot(&f[0]), a.prescribed.dot(&f[1]), a.prescribed.dot(&f[2]));
-        Point { parts: out, delassus, bias }
+        Point { parts: out, delassus, bias, gap_term }
     }
+}
+
+/// Whether the sweeps' impulses `r` (per contact, in its frame) and velocities `u` meet every
+/// contact's exact-Coulomb conditions to [`CONDITIONS`] of the `largest` impulse (speeds: that
+/// impulse on the component's `mass`): no closing, no push where it opens, and a slip's
+/// friction dissipating the most its polygon (μ r_n, `sides` facets) allows, to [`DISSIPATION`].
+/// The friction set holds by each local case; the momentum by every change applied as made.
+fn conditions_hold(
+    points: &[Point],
+    r: &[Vector3],
+    u: &nalgebra::DVector<f64>,
+    (mu, sides): (f64, usize),
+    (largest, mass): (f64, f64),
+) -> bool {
+    let speed = CONDITIONS * largest / mass;
+    let spacing = 2.0 * PI / sides as f64;
+    let radius = 1.0 / (0.5 * spacing).cos();
+    points.iter().zip(r).all(|(p, r)| {
+        let v = p.velocity(u);
+        if v.x < -speed || (r.x > CONDITIONS * largest && v.x > speed) {
+            return false;
+        }
+        if v.y.hypot(v.z) <= speed {
+            return true;
+        }
+        let dissipated = -(r.y * v.y + r.z * v.z);
+        let most = (0..sides)
+            .map(|k| {
+                let a = (k as f64 + 0.5) * spacing;
+                -(a.cos() * v.y + a.sin() * v.z)
+            })
+            .fold(f64::MIN, f64::max)
+            * mu
+            * r.x
+            * radius;
+        dissipated >= most * (1.0 - DISSIPATION)
+    })
+}
+
+/// Whether the contacts' work on the blocks' motion (their impulses `r` against the velocities
+/// `u` give them, gap terms aside) creates no energy beyond [`ENERGY`] × `largest`² / `mass`.
+fn creates_no_energy(points: &[Point], r: &[Vector3], u: &nalgebra::DVector<f64>, (largest, mass): (f64, f64)) -> bool {
+    let work: f64 = points.iter().zip(r).map(|(p, r)| -(p.velocity(u) - Vector3::x() * p.gap_term).dot(r)).sum();
+    work >= -ENERGY * largest * largest / mass
 }
 
 /// One contact's exact-Coulomb impulse (n, u, v) for v = W r + q on a regular polygon of
@@ -348,6 +421,64 @@ mod tests {
             6 * sol.velocities.len(),
             sol.velocities.iter().flat_map(|(v, w)| [v.x, v.y, v.z, w.x, w.y, w.z]),
         )
+    }
+
+    /// One contact on one body whose linear velocity is its (n, u, v) velocity: W = I, the
+    /// contact's velocity its bias plus the body's velocity.
+    fn lone_point(gap_term: f64) -> Point {
+        let unit = |k: usize| Vector6::from_fn(|i, _| if i == k { 1.0 } else { 0.0 });
+        let rows = [unit(0), unit(1), unit(2)];
+        let part = BodyPart { body: 0, rows, pushed: rows };
+        Point { parts: vec![part], delassus: Matrix3::identity(), bias: Vector3::new(gap_term, 0.0, 0.0), gap_term }
+    }
+
+    fn velocity(v: [f64; 3]) -> nalgebra::DVector<f64> {
+        nalgebra::DVector::from_column_slice(&[v[0], v[1], v[2], 0.0, 0.0, 0.0])
+    }
+
+    /// Invariant: the sweeps' answer passes the conditions' check exactly where it is an
+    /// exact-Coulomb answer to the check's tolerance (1e-5 of the largest impulse, 1 here, on a
+    /// mass of 1): a closed contact may not close further nor push while it opens, and a slip's
+    /// friction is the polygon's point that dissipates most — at a vertex for a slip between
+    /// two facets' normals, not the facet's point that also opposes it.
+    #[test]
+    fn the_conditions_check_holds_a_slip_to_its_most_dissipating_friction() {
+        let (mu, sides) = (0.5, 8);
+        let p = [lone_point(0.0)];
+        let scale = (1.0, 1.0);
+        let resting = [Vector3::new(1.0, 0.0, 0.0)];
+        assert!(conditions_hold(&p, &resting, &velocity([0.0, 0.0, 0.0]), (mu, sides), scale));
+        assert!(!conditions_hold(&p, &resting, &velocity([-1e-4, 0.0, 0.0]), (mu, sides), scale), "closing");
+        assert!(!conditions_hold(&p, &resting, &velocity([1e-4, 0.0, 0.0]), (mu, sides), scale), "pushing");
+        assert!(conditions_hold(&[lone_point(1e-3)], &[Vector3::zeros()], &velocity([0.0; 3]), (mu, sides), scale));
+        // Slip along −(cos 22.5°, sin 22.5°): the vertex at 22.5° (radius μ / cos 22.5°) dissipates most.
+        let a = PI / 8.0;
+        let slip = velocity([0.0, -a.cos(), -a.sin()]);
+        let vertex = Vector3::new(1.0, mu * a.cos() / a.cos(), mu * a.sin() / a.cos());
+        assert!(conditions_hold(&p, &[vertex], &slip, (mu, sides), scale));
+        let facet = Vector3::new(1.0, mu, 0.0);
+        assert!(!conditions_hold(&p, &[facet], &slip, (mu, sides), scale), "a facet's friction on a vertex's slip");
+        assert!(
+            !conditions_hold(&p, &[Vector3::new(1.0, 0.0, 0.0)], &slip, (mu, sides), scale),
+            "a slip without friction"
+        );
+    }
+
+    /// Invariant: a settled answer whose impulses do work on the blocks' separating motion (a
+    /// push while they part, gap terms aside) is refused beyond round-off; one whose contact
+    /// only stops a closing gap, or dissipates, is not.
+    #[test]
+    fn a_settled_answer_may_not_create_energy() {
+        let scale = (1.0, 1.0);
+        let push = [Vector3::new(1.0, 0.0, 0.0)];
+        assert!(!creates_no_energy(&[lone_point(0.0)], &push, &velocity([1e-6, 0.0, 0.0]), scale));
+        assert!(creates_no_energy(&[lone_point(0.0)], &push, &velocity([0.0; 3]), scale));
+        // Closing its 1e-3 m/s gap term exactly (its velocity −1e-3 m/s): work 1e-3 J absorbed.
+        assert!(creates_no_energy(&[lone_point(1e-3)], &push, &velocity([-1e-3, 0.0, 0.0]), scale));
+        // Friction against a slip dissipates.
+        let rubbing = [Vector3::new(1.0, 0.5, 0.0)];
+        assert!(creates_no_energy(&[lone_point(0.0)], &rubbing, &velocity([0.0, -1.0, 0.0]), scale));
+        assert!(!creates_no_energy(&[lone_point(0.0)], &rubbing, &velocity([0.0, 1.0, 0.0]), scale));
     }
 
     #[test]
