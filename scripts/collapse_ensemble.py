@@ -40,7 +40,11 @@ def run(binary, name, n, t, out):
         args = ["shake", scene, "--record", "builtin:elcentro", "--engine", "exact", "--duration", "10"]
     else:
         args = ["drop", scene, "--engine", "exact"]
-    subprocess.run([binary, *args, "--json", str(out)], cwd=ROOT, capture_output=True, check=False)
+    out.unlink(missing_ok=True)
+    # Exit 1 is a verdict (the design falls); 2 and above, or no report, is a failed run.
+    done = subprocess.run([binary, *args, "--json", str(out)], cwd=ROOT, capture_output=True, text=True)
+    if done.returncode > 1 or not out.exists():
+        sys.exit(f"{binary} {' '.join(args)}: exit {done.returncode}: {done.stderr.strip()}")
     report = json.loads(out.read_text())
     return next(found(report, "dynamic")) if name != "shake" else report
 

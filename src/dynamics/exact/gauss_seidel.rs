@@ -153,12 +153,15 @@ impl World {
             }
             // Impulses can still move among a face's redundant points (no velocity moves with
             // them) where every contact's conditions already hold.
-            let check = sweep % CHECK_EVERY == CHECK_EVERY - 1;
-            let scale = (largest.max(floor), mass);
-            let holds = change <= SETTLED * largest || check && conditions_hold(&points, &r, &u, (mu, sides), scale);
-            if holds && creates_no_energy(&points, &r, &u, scale) {
-                settled = true;
-                break;
+            let by_change = change <= SETTLED * largest;
+            if by_change || sweep % CHECK_EVERY == CHECK_EVERY - 1 {
+                let v: Vec<Vector3> = points.iter().map(|p| p.velocity(&u)).collect();
+                let scale = (largest.max(floor), mass);
+                let holds = by_change || conditions_hold(&v, &r, (mu, sides), scale);
+                if holds && creates_no_energy(&points, &v, &r, scale) {
+                    settled = true;
+                    break;
+                }
             }
         }
         let impulses: Vec<Vector3> = active
@@ -200,23 +203,18 @@ impl World {
     }
 }
 
-/// Whether the sweeps' impulses `r` (per contact, in its frame) and velocities `u` meet every
-/// contact's exact-Coulomb conditions to [`CONDITIONS`] of the `largest` impulse (speeds: that
-/// impulse on the component's `mass`): no closing, no push where it opens, and a slip's
-/// friction dissipating the most its polygon (μ r_n, `sides` facets) allows, to [`DISSIPATION`].
-/// The friction set holds by each local case; the momentum by every change applied as made.
-fn conditions_hold(
-    points: &[Point],
-    r: &[Vector3],
-    u: &nalgebra::DVector<f64>,
-    (mu, sides): (f64, usize),
-    (largest, mass): (f64, f64),
-) -> bool {
+/// Whether the sweeps' impulses `r` and the contacts' velocities `v` (per contact, in its
+/// frame, gap terms included) meet every contact's exact-Coulomb conditions to [`CONDITIONS`]
+/// of the `largest` impulse (speeds: that impulse on the component's `mass`): no closing, no
+/// push where it opens, and a slip's friction dissipating the most its polygon (μ r_n, `sides`
+/// facets) allows, to [`DISSIPATION`]. The friction set holds by each local case; the momentum
+/// by every change applied as made.
+fn conditions_hold(v: &[Vector3], r: &[Vector3], (mu, sides): (f64, usize), (largest, mass): (f64, f64)) -> bool {
     let speed = CONDITIONS * largest / mass;
     let spacing = 2.0 * PI / sides as f64;
-    let radius = 1.0 / (0.5 * spacing).cos();
-    points.iter().zip(r).all(|(p, r)| {
-        let v = p.velocity(u);
+    // The polygon's vertices lie half a facet round from its facets' normals, at 1 / cos of it.
+    let (s, c) = (0.5 * spacing).sin_cos();
+    v.iter().zip(r).all(|(v, r)| {
         if v.x < -speed || (r.x > CONDITIONS * largest && v.x > speed) {
             return false;
         }
@@ -224,23 +222,18 @@ fn conditions_hold(
             return true;
         }
         let dissipated = -(r.y * v.y + r.z * v.z);
-        let most = (0..sides)
-            .map(|k| {
-                let a = (k as f64 + 0.5) * spacing;
-                -(a.cos() * v.y + a.sin() * v.z)
-            })
-            .fold(f64::MIN, f64::max)
-            * mu
-            * r.x
-            * radius;
+        // The most −v_t · t over the set: its support at −v_t, by the facets' gauge turned.
+        let (x, y) = (-v.y, -v.z);
+        let most = mu * r.x * gauge(Some(sides), (x * c + y * s, y * c - x * s)) / c;
         dissipated >= most * (1.0 - DISSIPATION)
     })
 }
 
-/// Whether the contacts' work on the blocks' motion (their impulses `r` against the velocities
-/// `u` give them, gap terms aside) creates no energy beyond [`ENERGY`] × `largest`² / `mass`.
-fn creates_no_energy(points: &[Point], r: &[Vector3], u: &nalgebra::DVector<f64>, (largest, mass): (f64, f64)) -> bool {
-    let work: f64 = points.iter().zip(r).map(|(p, r)| -(p.velocity(u) - Vector3::x() * p.gap_term).dot(r)).sum();
+/// Whether the contacts' work on the blocks' motion (their impulses `r` against their
+/// velocities `v`, per contact in its frame, each point's gap term aside) creates no energy
+/// beyond [`ENERGY`] × `largest`² / `mass`.
+fn creates_no_energy(points: &[Point], v: &[Vector3], r: &[Vector3], (largest, mass): (f64, f64)) -> bool {
+    let work: f64 = points.iter().zip(v).zip(r).map(|((p, v), r)| -(v - Vector3::x() * p.gap_term).dot(r)).sum();
     work >= -ENERGY * largest * largest / mass
 }
 
@@ -436,6 +429,11 @@ mod tests {
         nalgebra::DVector::from_column_slice(&[v[0], v[1], v[2], 0.0, 0.0, 0.0])
     }
 
+    /// The points' velocities in their frames at the body's velocity `u`.
+    fn at(points: &[Point], u: &nalgebra::DVector<f64>) -> Vec<Vector3> {
+        points.iter().map(|p| p.velocity(u)).collect()
+    }
+
     /// Invariant: the sweeps' answer passes the conditions' check exactly where it is an
     /// exact-Coulomb answer to the check's tolerance (1e-5 of the largest impulse, 1 here, on a
     /// mass of 1): a closed contact may not close further nor push while it opens, and a slip's
@@ -447,19 +445,27 @@ mod tests {
         let p = [lone_point(0.0)];
         let scale = (1.0, 1.0);
         let resting = [Vector3::new(1.0, 0.0, 0.0)];
-        assert!(conditions_hold(&p, &resting, &velocity([0.0, 0.0, 0.0]), (mu, sides), scale));
-        assert!(!conditions_hold(&p, &resting, &velocity([-1e-4, 0.0, 0.0]), (mu, sides), scale), "closing");
-        assert!(!conditions_hold(&p, &resting, &velocity([1e-4, 0.0, 0.0]), (mu, sides), scale), "pushing");
-        assert!(conditions_hold(&[lone_point(1e-3)], &[Vector3::zeros()], &velocity([0.0; 3]), (mu, sides), scale));
+        assert!(conditions_hold(&at(&p, &velocity([0.0, 0.0, 0.0])), &resting, (mu, sides), scale));
+        assert!(!conditions_hold(&at(&p, &velocity([-1e-4, 0.0, 0.0])), &resting, (mu, sides), scale), "closing");
+        assert!(!conditions_hold(&at(&p, &velocity([1e-4, 0.0, 0.0])), &resting, (mu, sides), scale), "pushing");
+        assert!(conditions_hold(
+            &at(&[lone_point(1e-3)], &velocity([0.0; 3])),
+            &[Vector3::zeros()],
+            (mu, sides),
+            scale
+        ));
         // Slip along −(cos 22.5°, sin 22.5°): the vertex at 22.5° (radius μ / cos 22.5°) dissipates most.
         let a = PI / 8.0;
         let slip = velocity([0.0, -a.cos(), -a.sin()]);
         let vertex = Vector3::new(1.0, mu * a.cos() / a.cos(), mu * a.sin() / a.cos());
-        assert!(conditions_hold(&p, &[vertex], &slip, (mu, sides), scale));
+        assert!(conditions_hold(&at(&p, &slip), &[vertex], (mu, sides), scale));
         let facet = Vector3::new(1.0, mu, 0.0);
-        assert!(!conditions_hold(&p, &[facet], &slip, (mu, sides), scale), "a facet's friction on a vertex's slip");
         assert!(
-            !conditions_hold(&p, &[Vector3::new(1.0, 0.0, 0.0)], &slip, (mu, sides), scale),
+            !conditions_hold(&at(&p, &slip), &[facet], (mu, sides), scale),
+            "a facet's friction on a vertex's slip"
+        );
+        assert!(
+            !conditions_hold(&at(&p, &slip), &[Vector3::new(1.0, 0.0, 0.0)], (mu, sides), scale),
             "a slip without friction"
         );
     }
@@ -470,15 +476,17 @@ mod tests {
     #[test]
     fn a_settled_answer_may_not_create_energy() {
         let scale = (1.0, 1.0);
-        let push = [Vector3::new(1.0, 0.0, 0.0)];
-        assert!(!creates_no_energy(&[lone_point(0.0)], &push, &velocity([1e-6, 0.0, 0.0]), scale));
-        assert!(creates_no_energy(&[lone_point(0.0)], &push, &velocity([0.0; 3]), scale));
+        let (touching, closing) = ([lone_point(0.0)], [lone_point(1e-3)]);
+        let no_energy = |p: &[Point], u: [f64; 3], r: Vector3| creates_no_energy(p, &at(p, &velocity(u)), &[r], scale);
+        let push = Vector3::new(1.0, 0.0, 0.0);
+        assert!(!no_energy(&touching, [1e-6, 0.0, 0.0], push));
+        assert!(no_energy(&touching, [0.0; 3], push));
         // Closing its 1e-3 m/s gap term exactly (its velocity −1e-3 m/s): work 1e-3 J absorbed.
-        assert!(creates_no_energy(&[lone_point(1e-3)], &push, &velocity([-1e-3, 0.0, 0.0]), scale));
+        assert!(no_energy(&closing, [-1e-3, 0.0, 0.0], push));
         // Friction against a slip dissipates.
-        let rubbing = [Vector3::new(1.0, 0.5, 0.0)];
-        assert!(creates_no_energy(&[lone_point(0.0)], &rubbing, &velocity([0.0, -1.0, 0.0]), scale));
-        assert!(!creates_no_energy(&[lone_point(0.0)], &rubbing, &velocity([0.0, 1.0, 0.0]), scale));
+        let rubbing = Vector3::new(1.0, 0.5, 0.0);
+        assert!(no_energy(&touching, [0.0, -1.0, 0.0], rubbing));
+        assert!(!no_energy(&touching, [0.0, 1.0, 0.0], rubbing));
     }
 
     #[test]
