@@ -35,7 +35,7 @@ use super::problem::{Active, Solution};
 use crate::geometry::Vector3;
 use crate::model::FrictionModel;
 use crate::statics::BlockLu;
-use nalgebra::DVector;
+use nalgebra::{DVector, Matrix6};
 use std::f64::consts::PI;
 
 /// A row's error, a closing speed or a slip counted as none, as a fraction of the rest
@@ -222,11 +222,51 @@ impl World {
     /// no states within [`PASSES`] (and [`SINGLE_PASSES`]) changes meet the exact-Coulomb
     /// conditions.
     pub(super) fn step_by_states(
+        &mut self,
+        comp: &[usize],
+        local: &[usize],
+        active: &[Active],
+        start: (Vec<State>, Option<&[Vector3]>),
+    ) -> Option<Solution> {
+        let key = self.pattern_key(comp.len(), local, active);
+        let mut system = match self.patterns.remove(&key) {
+            Some(system) => system,
+            None => BlockLu::new(key.0, key.1.iter().map(|&[a, b]| (a, b)))?,
+        };
+        let sol = self.states_step(comp, local, active, start, &mut system);
+        if self.patterns.len() >= KEPT_PATTERNS {
+            self.patterns.clear();
+        }
+        self.patterns.insert(key, system);
+        sol
+    }
+
+    /// The states' systems' pattern of a component of `bodies` bodies with `active`'s
+    /// contacts: the links of every contact between two of its bodies, whatever their states,
+    /// so one ordering serves every pass.
+    fn pattern_key(&self, bodies: usize, local: &[usize], active: &[Active]) -> PatternKey {
+        let body = |s: super::Side| if let super::Side::Free(k) = s { Some(local[k]) } else { None };
+        let mut links: Vec<[usize; 2]> = active
+            .iter()
+            .filter_map(|a| {
+                let c = &self.contacts[a.contact];
+                body(c.a).zip(body(c.b)).map(|(x, y)| [x.min(y), x.max(y)])
+            })
+            .filter(|[x, y]| x != y)
+            .collect();
+        links.sort_unstable();
+        links.dedup();
+        (bodies, links)
+    }
+
+    /// [`Self::step_by_states`] on the pattern `system`.
+    fn states_step(
         &self,
         comp: &[usize],
         local: &[usize],
         active: &[Active],
         (mut states, seed): (Vec<State>, Option<&[Vector3]>),
+        system: &mut BlockLu,
     ) -> Option<Solution> {
         let h = self.ctx.h;
         let sides = polygon(self.ctx.model);
@@ -236,7 +276,6 @@ impl World {
         // gap terms of joints closed to round-off (1e-11 m / h), which tighter rows cannot all meet.
         let tol =
             Tolerances { speed: SPEED * self.settings.still * self.ctx.units.g * h, impulse: IMPULSE * weight * h };
-        let mut system = self.states_pattern(&parts, active)?;
         let mut tried: Vec<Tried> = states.iter().map(Tried::of).collect();
         let mut seen = vec![states.clone()];
         // Every change of the most basic kind at once, until the changes cycle; then one
@@ -251,7 +290,7 @@ impl World {
                 Some(impulses) => seeded_impulses(&unknowns, impulses),
                 None => self.last_impulses(active, &unknowns),
             };
-            let (u, lambda, converged) = self.solve_states(&parts, active, (&unknowns, start), tol, &mut system)?;
+            let (u, lambda, converged) = self.solve_states(&parts, active, (&unknowns, start), tol, system)?;
             let check = self.check(&parts, active, (&states, &tried), &unknowns, (&u, &lambda), tol, sides);
             let changes = match check {
                 // Rows that cannot all hold (states asking for more than the blocks' motion
@@ -314,15 +353,11 @@ impl World {
         out
     }
 
-    /// The states' systems' block pattern for `active`'s contacts in component `parts`: the
-    /// links of every contact whatever its state, so one ordering serves every pass.
+    /// The states' systems' block pattern for `active`'s contacts in component `parts`
+    /// ([`Self::pattern_key`]).
     pub(super) fn states_pattern(&self, parts: &Component, active: &[Active]) -> Option<BlockLu> {
-        let body = |s: super::Side| if let super::Side::Free(k) = s { Some(parts.local[k]) } else { None };
-        let links = active.iter().filter_map(|a| {
-            let c = &self.contacts[a.contact];
-            body(c.a).zip(body(c.b))
-        });
-        BlockLu::new(parts.mass.len(), links)
+        let (bodies, links) = self.pattern_key(parts.mass.len(), parts.local, active);
+        BlockLu::new(bodies, links.into_iter().map(|[a, b]| (a, b)))
     }
 
     /// u⁺ and the impulses λ of the states' linear step by the method of multipliers, from
@@ -358,8 +393,10 @@ impl World {
         }
         for ((row, force), r) in sparse.iter().zip(&rho) {
             for (jf, f) in force.iter() {
+                let f = f * *r;
                 for (jr, w) in row.iter() {
-                    if !system.add(*jf, *jr, &(f * w.transpose() * *r)) {
+                    // The outer product entry by entry (a general 6×1 · 1×6 product is slower).
+                    if !system.add(*jf, *jr, &Matrix6::from_fn(|i, j| f[i] * w[j])) {
                         return None;
                     }
                 }
@@ -489,7 +526,7 @@ impl World {
 /// K's own product: the block factorisation pivots within a body's block only, so a body held
 /// by a few stiff rows loses digits that a refinement step, at a product's cost, wins back.
 fn refined_solve(
-    system: &BlockLu,
+    system: &mut BlockLu,
     parts: &Component,
     (sparse, rho): (&[(Sparse, Sparse)], &[f64]),
     rhs: &DVector<f64>,
@@ -513,6 +550,12 @@ fn refined_solve(
 fn seeded_impulses(unknowns: &[Unknown], impulses: &[Vector3]) -> DVector<f64> {
     DVector::from_iterator(unknowns.len(), unknowns.iter().map(|q| impulses[q.contact].dot(&q.row)))
 }
+
+/// A states' system's pattern: its bodies, and its links (local body pairs, ascending).
+pub(super) type PatternKey = (usize, Vec<[usize; 2]>);
+
+/// Patterns kept at most before the store starts afresh (a collapse meets a few hundred).
+const KEPT_PATTERNS: usize = 256;
 
 #[derive(Clone, Copy)]
 pub(super) struct Tolerances {

@@ -194,6 +194,9 @@ pub struct World {
     /// The last structured solve's kept iterate per (force selection?, component's first
     /// body), with its layout ([`step`]'s `layout_key`).
     warm_starts: HashMap<(bool, usize), (u64, WarmStart)>,
+    /// The states' systems' block patterns by (bodies, links), ordered once for the steps
+    /// that share them ([`active_set`]).
+    patterns: HashMap<active_set::PatternKey, crate::statics::BlockLu>,
     ctx: StepContext,
     acc: Accuracy,
     settings: crate::dynamics::settings::ExactSettings,
@@ -297,6 +300,7 @@ impl World {
             solids,
             bearings,
             warm_starts: HashMap::new(),
+            patterns: HashMap::new(),
             ctx,
             acc,
             settings: s.clone(),

@@ -25,6 +25,7 @@ const DELTA: f64 = 2e-7;
 
 /// The factor's structure: the elimination order, each block column's rows and each update's
 /// target, and where each stored entry of S's lower triangle goes.
+#[derive(Clone)]
 pub(super) struct BlockSymbolic {
     /// Elimination position → block.
     pub(super) perm: Vec<usize>,

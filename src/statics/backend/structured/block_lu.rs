@@ -15,6 +15,7 @@ use nalgebra::{Matrix6, Vector6};
 
 /// The factorisation of one pattern: assemble with [`BlockLu::add`], then [`BlockLu::factor`]
 /// and [`BlockLu::solve`]. Blocks are named by the caller's indices.
+#[derive(Clone)]
 pub(crate) struct BlockLu {
     symbolic: BlockSymbolic,
     /// Caller's block → elimination position.
@@ -24,6 +25,8 @@ pub(crate) struct BlockLu {
     diag: Vec<Matrix6<f64>>,
     lower: Vec<Matrix6<f64>>,
     upper: Vec<Matrix6<f64>>,
+    /// [`BlockLu::solve`]'s right-hand side in elimination order, kept between solves.
+    work: Vec<Vector6<f64>>,
 }
 
 impl BlockLu {
@@ -49,6 +52,7 @@ impl BlockLu {
             diag: vec![Matrix6::zeros(); blocks],
             lower: vec![Matrix6::zeros(); slots],
             upper: vec![Matrix6::zeros(); slots],
+            work: vec![Vector6::zeros(); blocks],
         })
     }
 
@@ -118,11 +122,13 @@ impl BlockLu {
     }
 
     /// Solves A x = `b` in place (6 entries per block, the caller's order) with the factor.
-    pub fn solve(&self, b: &mut [f64]) {
+    pub fn solve(&mut self, b: &mut [f64]) {
         let s = &self.symbolic;
         let n = s.perm.len();
-        let mut work: Vec<Vector6<f64>> =
-            s.perm.iter().map(|&p| Vector6::from_column_slice(&b[6 * p..6 * p + 6])).collect();
+        let work = &mut self.work;
+        for (w, &p) in work.iter_mut().zip(&s.perm) {
+            *w = Vector6::from_column_slice(&b[6 * p..6 * p + 6]);
+        }
         for j in 0..n {
             let z = work[j];
             for k in s.col_ptr[j]..s.col_ptr[j + 1] {
