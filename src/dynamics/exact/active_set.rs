@@ -407,13 +407,14 @@ impl World {
         }
         let mut lambda = start;
         let mut rhs = DVector::zeros(n);
+        let (mut u, mut residual) = (DVector::zeros(n), DVector::zeros(n));
         let mut converged = false;
         for _ in 0..MULTIPLIER_STEPS {
             rhs.copy_from(&parts.free);
             for (((_, force), l), (q, r)) in sparse.iter().zip(lambda.iter()).zip(unknowns.iter().zip(&rho)) {
                 force.add_to(&mut rhs, l + r * q.target);
             }
-            let u = refined_solve(system, parts, (&sparse, &rho), &rhs);
+            refined_solve(system, parts, (&sparse, &rho), &rhs, (&mut u, &mut residual));
             let mut worst = 0.0f64;
             for (((row, _), l), (q, r)) in sparse.iter().zip(lambda.iter_mut()).zip(unknowns.iter().zip(&rho)) {
                 let error = q.target - row.dot(&u);
@@ -522,7 +523,8 @@ impl World {
     }
 }
 
-/// K u = `rhs` for the states' system K = M + Σ ρ f rᵀ factorised in `system`, refined against
+/// K u = `rhs` for the states' system K = M + Σ ρ f rᵀ factorised in `system` (into `u`, with
+/// `residual` as scratch), refined against
 /// K's own product: the block factorisation pivots within a body's block only, so a body held
 /// by a few stiff rows loses digits that a refinement step, at a product's cost, wins back.
 fn refined_solve(
@@ -530,18 +532,18 @@ fn refined_solve(
     parts: &Component,
     (sparse, rho): (&[(Sparse, Sparse)], &[f64]),
     rhs: &DVector<f64>,
-) -> DVector<f64> {
-    let mut u = rhs.clone();
+    (u, residual): (&mut DVector<f64>, &mut DVector<f64>),
+) {
+    u.copy_from(rhs);
     system.solve(u.as_mut_slice());
     for _ in 0..REFINEMENTS {
-        let mut residual = rhs - parts.mass_times(&u);
+        parts.residual_of(rhs, u, residual);
         for ((row, force), r) in sparse.iter().zip(rho) {
-            force.add_to(&mut residual, -r * row.dot(&u));
+            force.add_to(residual, -r * row.dot(u));
         }
         system.solve(residual.as_mut_slice());
-        u += residual;
+        *u += &*residual;
     }
-    u
 }
 
 /// The multipliers' start from a solve's `impulses` (N·s, on b, per active contact): each

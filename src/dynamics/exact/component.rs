@@ -99,6 +99,14 @@ impl<'a> Component<'a> {
         y
     }
 
+    /// `rhs` − M u into `out`, body by body.
+    pub(super) fn residual_of(&self, rhs: &DVector<f64>, u: &DVector<f64>, out: &mut DVector<f64>) {
+        for (j, m) in self.mass.iter().enumerate() {
+            let part = rhs.fixed_rows::<6>(6 * j) - m * u.fixed_rows::<6>(6 * j);
+            out.fixed_rows_mut::<6>(6 * j).copy_from(&part);
+        }
+    }
+
     pub(super) fn new(all: &'a [Body], comp: &[usize], local: &'a [usize], h: f64) -> Self {
         let n = 6 * comp.len();
         let mut mass = vec![Matrix6::zeros(); comp.len()];
