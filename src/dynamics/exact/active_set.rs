@@ -523,10 +523,10 @@ impl World {
     }
 }
 
-/// K u = `rhs` for the states' system K = M + Σ ρ f rᵀ factorised in `system` (into `u`, with
-/// `residual` as scratch), refined against
-/// K's own product: the block factorisation pivots within a body's block only, so a body held
-/// by a few stiff rows loses digits that a refinement step, at a product's cost, wins back.
+/// K u = `rhs` into `u` (`residual` its scratch) for the states' system K = M + Σ ρ f rᵀ
+/// factorised in `system`, refined against K's own product: the block factorisation pivots
+/// within a body's block only, so a body held by a few stiff rows loses digits that a
+/// refinement step, at a product's cost, wins back.
 fn refined_solve(
     system: &mut BlockLu,
     parts: &Component,
