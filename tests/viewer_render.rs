@@ -119,7 +119,10 @@ fn picture(s: &Value, viewport: &str) -> Census {
 
 fn main() {
     no_display_is_one_clear_error();
-    let dir = std::env::temp_dir().join(format!("voussoir-viewer-{}", std::process::id()));
+    // Cargo's scratch space for integration tests, emptied first: nothing left in the system's
+    // temporary folder, no screenshot of an earlier run read as this one's.
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("viewer");
+    let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     let path = |name: &str| dir.join(format!("{name}.png"));
     let friction = DiagramMode::Friction { threshold: 0.5 };
@@ -263,7 +266,8 @@ fn main() {
 
 /// Without a display `view` says so and exits 2, and writes no screenshot.
 fn no_display_is_one_clear_error() {
-    let out = std::env::temp_dir().join(format!("voussoir-no-display-{}.png", std::process::id()));
+    let out = Path::new(env!("CARGO_TARGET_TMPDIR")).join("no-display.png");
+    let _ = std::fs::remove_file(&out);
     let run = std::process::Command::new(env!("CARGO_BIN_EXE_voussoir"))
         .args(["view", "--screenshot"])
         .arg(&out)

@@ -10,9 +10,7 @@ fn voussoir(args: &[&str]) -> Output {
 }
 
 fn tmp(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("voussoir-cli-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir.join(name)
+    crate::common::scratch("cli").join(name)
 }
 
 fn compas_data(rel: &str) -> String {

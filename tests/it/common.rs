@@ -1,10 +1,27 @@
 //! Helpers shared by the integration tests.
 #![allow(dead_code)]
 
-use std::path::PathBuf;
+use std::collections::BTreeSet;
+use std::path::{Path, PathBuf};
+use std::sync::Mutex;
 use voussoir::geometry::{Mesh, Point3};
 use voussoir::model::{Assembly, Block, Scene};
 use voussoir::pipeline::{Analysis, AnalysisSettings, analyze};
+
+/// This run's folder for the files of the tests of `kind`, in cargo's scratch space for
+/// integration tests (`CARGO_TARGET_TMPDIR`, inside the target directory), emptied on its first
+/// use in a run: the tests leave nothing in the system's temporary folder, and a run does not see
+/// the files of the run before.
+pub fn scratch(kind: &str) -> PathBuf {
+    static EMPTIED: Mutex<BTreeSet<String>> = Mutex::new(BTreeSet::new());
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(kind);
+    let mut emptied = EMPTIED.lock().unwrap_or_else(|e| e.into_inner());
+    if emptied.insert(kind.to_string()) {
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+    std::fs::create_dir_all(&dir).expect("cargo's scratch folder for tests");
+    dir
+}
 
 /// `assets/compas/<rel>` in the checkout (the BRG reference assemblies).
 pub fn compas_data(rel: &str) -> PathBuf {

@@ -15,9 +15,7 @@ fn json(rel: &str) -> Value {
 }
 
 fn tmp(name: &str, content: &str) -> std::path::PathBuf {
-    let dir = std::env::temp_dir().join(format!("voussoir-compas-formats-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let p = dir.join(name);
+    let p = crate::common::scratch("compas-formats").join(name);
     std::fs::write(&p, content).unwrap();
     p
 }

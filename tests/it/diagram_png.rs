@@ -26,8 +26,7 @@ fn render(spec: &str, mode: DiagramMode) -> Counts {
         builtin(spec).unwrap()
     };
     let a = analyze(&scene, &AnalysisSettings::default()).unwrap();
-    let dir = std::env::temp_dir().join(format!("voussoir-diagram-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = crate::common::scratch("diagram");
     let path = dir.join(format!("{}.png", spec.replace(['?', '&', '='], "_")));
     let picture = DiagramPicture::new(&a, mode);
     write_diagram(&picture, &path).unwrap();

@@ -159,8 +159,7 @@ fn a_collapse_draws_as_a_strip_of_key_frames() {
     let (asm, _, motion) = collapse();
     let strip = FrameStrip::new(&asm, &motion);
     assert_eq!(strip.key_frames(), [0, 3, 6, 9, 12, 15]);
-    let dir = std::env::temp_dir().join(format!("voussoir-strip-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = crate::common::scratch("strip");
     let png = dir.join("strip.png");
     write_strip(&strip, &png).unwrap();
     let img = image::open(&png).unwrap().to_rgb8();

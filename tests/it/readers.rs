@@ -6,9 +6,7 @@ use voussoir::io::{load_scene, scene_json};
 use voussoir::model::Assembly;
 
 fn tmp(name: &str, content: &[u8]) -> std::path::PathBuf {
-    let dir = std::env::temp_dir().join(format!("voussoir-readers-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let p = dir.join(name);
+    let p = crate::common::scratch("readers").join(name);
     std::fs::write(&p, content).unwrap();
     p
 }

@@ -19,9 +19,7 @@ fn voussoir(args: &[&str]) -> Output {
 }
 
 fn tmp(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("voussoir-report-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir.join(name)
+    crate::common::scratch("report").join(name)
 }
 
 /// RFC 4648 base64, the inverse of the page's encoding (a test-side decoder, written apart).

@@ -207,8 +207,7 @@ fn a_settlement_records_its_motion() {
         assert!((turn - run.stages[k - 1].rotation).abs() < 1e-9, "{turn} vs {}", run.stages[k - 1].rotation);
     }
 
-    let dir = std::env::temp_dir().join(format!("voussoir-settle-motion-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = crate::common::scratch("settle-motion");
     let file = dir.join("lintel.json");
     std::fs::write(&file, voussoir::io::scene_json::scene_to_string(&scene)).unwrap();
     let (glb, png) = (dir.join("lintel.glb"), dir.join("lintel.png"));

@@ -12,9 +12,7 @@ fn voussoir(args: &[&str]) -> Output {
 }
 
 fn tmp(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("voussoir-shake-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir.join(name)
+    crate::common::scratch("shake").join(name)
 }
 
 const STANDING: &str = "builtin:arch?n=15&t=0.25";

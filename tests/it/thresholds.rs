@@ -63,8 +63,7 @@ fn scan_and_plot_show_both_verdicts() {
         }
     }
     let r = run(family, (0.0, 60.0));
-    let dir = std::env::temp_dir().join(format!("voussoir-plot-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = crate::common::scratch("plot");
     let plot = ThresholdPlot { title: "slope".into(), parameter: "angle".into(), scan: &scan, result: Some(&r) };
     let png = dir.join("slope.png");
     write_thresholds(&plot, &png).unwrap();
@@ -102,8 +101,7 @@ fn both_engines_side_by_side() {
     assert!((studies[1].dynamic.mid() - exact).abs() < 0.1, "exact: {studies:?}");
     assert!(studies.iter().all(|s| s.evaluations == 24 && s.gap == s.dynamic.mid() - s.statics.mid()));
 
-    let dir = std::env::temp_dir().join(format!("voussoir-both-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = crate::common::scratch("both");
     let json = dir.join("sweep.json");
     let out = std::process::Command::new(env!("CARGO_BIN_EXE_voussoir"))
         .args(["sweep", "slope", "--mu", "0.6", "--lo", "20", "--hi", "40", "--iterations", "4", "--both-engines"])

@@ -8,9 +8,7 @@ use voussoir::io::load_scene;
 use voussoir::model::{Assembly, Block, ModelError, Scene};
 
 fn write(name: &str, content: &[u8]) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("voussoir-bad-input-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let p = dir.join(name);
+    let p = crate::common::scratch("bad-input").join(name);
     std::fs::write(&p, content).unwrap();
     p
 }

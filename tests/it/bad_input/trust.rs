@@ -13,9 +13,7 @@ use voussoir::model::{Assembly, Block, ModelError, Overlap, Scene, Warning, buil
 use voussoir::pipeline::{AnalysisError, AnalysisSettings, Pipeline, analyze};
 
 fn write(name: &str, content: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("voussoir-input-checks-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let p = dir.join(name);
+    let p = crate::common::scratch("input-checks").join(name);
     std::fs::write(&p, content).unwrap();
     p
 }
