@@ -73,7 +73,7 @@ fn census(img: &RgbImage, rect: [u32; 4]) -> Census {
             let (h, s, v) = hsv(img.get_pixel(x, y).0);
             c.total += 1;
             // Tension's light end is pink (the gradient is per face): red and pink count.
-            if (h < 12.0 || h > 348.0) && s > 0.08 && v > 0.4 {
+            if !(12.0..=348.0).contains(&h) && s > 0.08 && v > 0.4 {
                 c.red += 1;
                 continue;
             }
