@@ -231,7 +231,7 @@ impl World {
         let key = self.pattern_key(comp.len(), local, active);
         let mut system = match self.patterns.remove(&key) {
             Some(system) => system,
-            None => BlockLu::new(key.0, key.1.iter().map(|&[a, b]| (a, b)))?,
+            None => ordered(&key)?,
         };
         let sol = self.states_step(comp, local, active, start, &mut system);
         if self.patterns.len() >= KEPT_PATTERNS {
@@ -356,8 +356,7 @@ impl World {
     /// The states' systems' block pattern for `active`'s contacts in component `parts`
     /// ([`Self::pattern_key`]).
     pub(super) fn states_pattern(&self, parts: &Component, active: &[Active]) -> Option<BlockLu> {
-        let (bodies, links) = self.pattern_key(parts.mass.len(), parts.local, active);
-        BlockLu::new(bodies, links.into_iter().map(|[a, b]| (a, b)))
+        ordered(&self.pattern_key(parts.mass.len(), parts.local, active))
     }
 
     /// u⁺ and the impulses λ of the states' linear step by the method of multipliers, from
@@ -555,6 +554,11 @@ fn seeded_impulses(unknowns: &[Unknown], impulses: &[Vector3]) -> DVector<f64> {
 
 /// A states' system's pattern: its bodies, and its links (local body pairs, ascending).
 pub(super) type PatternKey = (usize, Vec<[usize; 2]>);
+
+/// The block factorisation of pattern `key`, ordered (None where it cannot be).
+fn ordered((bodies, links): &PatternKey) -> Option<BlockLu> {
+    BlockLu::new(*bodies, links.iter().map(|&[a, b]| (a, b)))
+}
 
 /// Patterns kept at most before the store starts afresh (a collapse meets a few hundred).
 const KEPT_PATTERNS: usize = 256;
