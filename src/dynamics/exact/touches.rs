@@ -11,6 +11,8 @@
 //! the start every contact of a block that has interfaces is an interface's (the statics' force
 //! points), so the first step stays the kinematic check's rate problem, and edges that merely
 //! touch in the design (a stack bond's diagonal neighbours) carry nothing until the blocks move.
+//! A pair farther apart than its reach along the line of its centroids ([`apart`]: a few dot
+//! products) is passed over without parry's query, which would find nothing in it.
 //!
 //! Shapes are given to parry (f32) relative to each block's centroid in units of the smallest
 //! block's size, and the pair's relative pose is formed in f64 first: a contact point is exact to
@@ -163,7 +165,10 @@ impl World {
             let scale = self.solids.size(i).min(self.solids.size(j));
             let prediction = envelope * scale + 2.0 * self.ctx.h * (pi.speed + pj.speed);
             let (ri, rj) = (self.solids.centres[i].1, self.solids.centres[j].1);
-            if (pj.x - pi.x).norm() > ri + rj + prediction {
+            let (si, sj) = (self.solids.parts(i), self.solids.parts(j));
+            if (pj.x - pi.x).norm() > ri + rj + prediction
+                || apart((&si, &pi), (&sj, &pj), (prediction / self.solids.unit, self.solids.unit))
+            {
                 continue;
             }
             self.pair_touches(i, j, &pi, &pj, prediction, &mut found);
@@ -227,12 +232,7 @@ impl World {
     fn pair_touches(&self, i: usize, j: usize, pi: &Placed, pj: &Placed, prediction: f64, out: &mut Vec<Contact>) {
         let unit = self.solids.unit;
         let (si, sj) = (self.solids.parts(i), self.solids.parts(j));
-        let inv = pi.q.inverse();
-        let rot = inv * pj.q;
-        let t = v32(inv * (pj.x - pi.x) / unit);
-        let rot = Rotation::from_xyzw(rot.i as f32, rot.j as f32, rot.k as f32, rot.w as f32).normalize();
-        let pos12 = Pose::from_parts(t, rot);
-        let exact = RelativePose { rot: inv * pj.q, t: inv * (pj.x - pi.x) / unit };
+        let (pos12, exact) = relative_pose(pi, pj, unit);
         let (a, b) = (self.sides[i], self.sides[j]);
         // A fixed side's material point is the world point; a moving one's its offset.
         let anchor =
@@ -263,6 +263,34 @@ impl World {
             }
         }
     }
+}
+
+/// Block j's pose in block i's frame (shape units of `unit` m): for parry (f32) and in f64.
+fn relative_pose(pi: &Placed, pj: &Placed, unit: f64) -> (Pose, RelativePose) {
+    let inv = pi.q.inverse();
+    let exact = RelativePose { rot: inv * pj.q, t: inv * (pj.x - pi.x) / unit };
+    let r = &exact.rot;
+    let rot = Rotation::from_xyzw(r.i as f32, r.j as f32, r.k as f32, r.w as f32).normalize();
+    (Pose::from_parts(v32(exact.t), rot), exact)
+}
+
+/// Whether two blocks' convex parts, each at its pose (centroid in m, rotation), are farther
+/// apart than `reach` (shape units) along the line of their centroids: every vertex of the
+/// first below every vertex of the second along it by more than that (and [`APART`]). Then
+/// no point of either is within reach of the other and parry's query would find nothing: a
+/// few dot products in place of its query, for neighbours apart across a joint.
+fn apart((a, pa): (&[Part], &Placed), (b, pb): (&[Part], &Placed), (reach, unit): (f64, f64)) -> bool {
+    let line = pb.x - pa.x;
+    let Some(d) = line.try_normalize(f64::MIN_POSITIVE) else { return false };
+    // The farthest a block's parts reach along `d` from its centroid, in shape units; None
+    // where a part has no vertices (not a polyhedron: no bound).
+    let farthest = |parts: &[Part], q: &UnitQuaternion<f64>, d: Vector3| {
+        let local = q.inverse() * d;
+        let far = |p: &Part| p.points.iter().map(|v| v.dot(&local)).reduce(f64::max);
+        parts.iter().map(far).try_fold(f64::NEG_INFINITY, |m, r| Some(m.max(r?)))
+    };
+    let (Some(ahead), Some(behind)) = (farthest(a, &pa.q, d), farthest(b, &pb.q, -d)) else { return false };
+    line.norm() / unit - ahead - behind > reach + APART
 }
 
 /// A contact point of two convex parts, in a's frame (a's shape units).
@@ -378,6 +406,66 @@ fn project(part: &Part, p: Vector3) -> (Vector3, bool) {
     if on_part { (foot, false) } else { (parry(p).0, false) }
 }
 
+/// Margin (shape units) of [`apart`] over parry's reach: the shapes are f32, the test's
+/// points their f64 copies.
+const APART: f64 = 1e-3;
+
 /// How far outside a face plane (shape units) a face's foot point may lie and still be on the
 /// part (the planes' f32 round-off).
 const ON_PLANE: f64 = 1e-6;
+
+#[cfg(test)]
+mod tests {
+    //! Invariant: a pair of blocks [`apart`] passes over is one in which [`part_touches`] (parry's
+    //! query, then every vertex) finds no point within reach, so the test changes no step.
+    use super::*;
+    use proptest::prelude::*;
+
+    /// A box of half-sizes `h` about its centroid, as a convex part.
+    fn cuboid(h: [f64; 3]) -> Part {
+        let corner = |k: usize| v32(Vector3::from_fn(|i, _| if k >> i & 1 == 1 { h[i] } else { -h[i] }));
+        let corners: Vec<Vector> = (0..8).map(corner).collect();
+        Part::new(SharedShape::convex_hull(&corners).expect("a box's hull"))
+    }
+
+    fn placed(x: [f64; 3], turn: [f64; 3]) -> Placed {
+        Placed { x: Point3::from(x), q: UnitQuaternion::from_scaled_axis(Vector3::from(turn)), speed: 0.0 }
+    }
+
+    /// The points [`part_touches`] finds between two one-part blocks within `reach` (unit 1 m).
+    fn touches(a: &Part, pa: &Placed, b: &Part, pb: &Placed, reach: f64) -> usize {
+        let (pos12, exact) = relative_pose(pa, pb, 1.0);
+        part_touches(a, b, (&pos12, &exact), reach as f32).len()
+    }
+
+    #[test]
+    fn cubes_side_by_side_are_apart_beyond_the_reach_only() {
+        let cube = cuboid([0.5; 3]);
+        let at = |x: f64| placed([x, 0.0, 0.0], [0.0; 3]);
+        // Gaps of 0.2 and 0.05 against a reach of 0.1 (the margin is 1e-3).
+        assert!(apart((std::slice::from_ref(&cube), &at(0.0)), (std::slice::from_ref(&cube), &at(1.2)), (0.1, 1.0)));
+        assert!(!apart((std::slice::from_ref(&cube), &at(0.0)), (std::slice::from_ref(&cube), &at(1.05)), (0.1, 1.0)));
+        assert!(touches(&cube, &at(0.0), &cube, &at(1.05), 0.1) > 0);
+        // Turned 45° about z, the second cube's edge reaches 0.707 towards the first.
+        let turned = placed([1.3, 0.0, 0.0], [0.0, 0.0, std::f64::consts::FRAC_PI_4]);
+        assert!(!apart((std::slice::from_ref(&cube), &at(0.0)), (std::slice::from_ref(&cube), &turned), (0.1, 1.0)));
+    }
+
+    proptest! {
+        #[test]
+        fn a_pair_apart_has_no_touch(
+            ha in prop::array::uniform3(0.05f64..1.0),
+            hb in prop::array::uniform3(0.05f64..2.0),
+            x in prop::array::uniform3(-3.0f64..3.0),
+            ta in prop::array::uniform3(-3.0f64..3.0),
+            tb in prop::array::uniform3(-3.0f64..3.0),
+            reach in 0.0f64..0.3,
+        ) {
+            let (a, b) = (cuboid(ha), cuboid(hb));
+            let (pa, pb) = (placed([0.0; 3], ta), placed(x, tb));
+            if apart((std::slice::from_ref(&a), &pa), (std::slice::from_ref(&b), &pb), (reach, 1.0)) {
+                prop_assert_eq!(touches(&a, &pa, &b, &pb, reach), 0);
+            }
+        }
+    }
+}
