@@ -27,6 +27,10 @@ mod common;
 
 use common::bisect;
 
+/// The allocator the `voussoir` binary runs on (src/main.rs): the engines timed as they run there.
+#[global_allocator]
+static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
+
 fn main() {
     if !std::env::args().any(|a| a == "--bench") {
         return;

@@ -13,6 +13,10 @@ use voussoir::geometry::{Mesh, Point3};
 use voussoir::model::{Assembly, Block, Scene, builtin};
 use voussoir::statics::Backend;
 
+/// The allocator the `voussoir` binary runs on (src/main.rs): the engines timed as they run there.
+#[global_allocator]
+static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
+
 fn drops(c: &mut Criterion) {
     let mut g = c.benchmark_group("dynamics/drop_2s");
     g.sample_size(10).measurement_time(Duration::from_secs(8));

@@ -13,6 +13,10 @@ use voussoir::geometry::{Mesh, Point3};
 use voussoir::model::{Assembly, Block, Scene, builtin};
 use voussoir::studies::shake::{ShakeSettings, SpectrumSettings, collapse_spectrum, shake};
 
+/// The allocator the `voussoir` binary runs on (src/main.rs): the engines timed as they run there.
+#[global_allocator]
+static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
+
 /// El Centro's first 10 s along +x.
 fn elcentro() -> GroundMotion {
     let record = voussoir::io::accelerogram::load_record("builtin:elcentro").unwrap();

@@ -20,6 +20,10 @@ mod common;
 
 use common::bisect;
 
+/// The allocator the `voussoir` binary runs on (src/main.rs): the engines timed as they run there.
+#[global_allocator]
+static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
+
 const STEPS: [f64; 7] = [60.0, 120.0, 240.0, 480.0, 1000.0, 2000.0, 4000.0];
 const ENGINES: [Engine; 2] = [Engine::Exact, Engine::Rapier];
 
