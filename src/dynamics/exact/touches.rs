@@ -165,13 +165,16 @@ impl World {
             let scale = self.solids.size(i).min(self.solids.size(j));
             let prediction = envelope * scale + 2.0 * self.ctx.h * (pi.speed + pj.speed);
             let (ri, rj) = (self.solids.centres[i].1, self.solids.centres[j].1);
-            let (si, sj) = (self.solids.parts(i), self.solids.parts(j));
-            if (pj.x - pi.x).norm() > ri + rj + prediction
-                || apart((&si, &pi), (&sj, &pj), (prediction / self.solids.unit, self.solids.unit))
-            {
+            if (pj.x - pi.x).norm() > ri + rj + prediction {
                 continue;
             }
-            self.pair_touches(i, j, &pi, &pj, prediction, &mut found);
+            // Built only for pairs within their spheres' reach (a block nothing nears keeps none).
+            let (si, sj) = (self.solids.parts(i), self.solids.parts(j));
+            let units = (prediction / self.solids.unit, self.solids.unit);
+            if apart((&si, &pi), (&sj, &pj), units) {
+                continue;
+            }
+            self.pair_touches((i, &si, &pi), (j, &sj, &pj), prediction, &mut found);
         }
         for c in &mut found {
             let key = (c.pair.unwrap_or_default(), c.origin);
@@ -228,10 +231,15 @@ impl World {
     }
 
     /// The contact points of blocks `i` and `j` within `prediction` (m), from every pair of
-    /// their convex parts, as contacts from i (side a) into j (side b).
-    fn pair_touches(&self, i: usize, j: usize, pi: &Placed, pj: &Placed, prediction: f64, out: &mut Vec<Contact>) {
+    /// their convex parts (`si`, `sj`), as contacts from i (side a) into j (side b).
+    fn pair_touches(
+        &self,
+        (i, si, pi): (usize, &[Part], &Placed),
+        (j, sj, pj): (usize, &[Part], &Placed),
+        prediction: f64,
+        out: &mut Vec<Contact>,
+    ) {
         let unit = self.solids.unit;
-        let (si, sj) = (self.solids.parts(i), self.solids.parts(j));
         let (pos12, exact) = relative_pose(pi, pj, unit);
         let (a, b) = (self.sides[i], self.sides[j]);
         // A fixed side's material point is the world point; a moving one's its offset.
