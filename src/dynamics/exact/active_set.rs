@@ -14,7 +14,10 @@
 //! a face have no unique forces; the last step's split carries on). The system's pattern is the
 //! component's contact graph, so it is factorised by the bodies' 6×6 blocks
 //! ([`crate::statics::BlockLu`]: the work of a chain of n blocks grows as n, not n³), each solve
-//! refined twice against the system's own product.
+//! refined twice against the system's own product. Rows that cannot all hold keep their error
+//! from step to step while the multipliers grow along the conflict by the same amount each step:
+//! the loop stops at the first step that does not halve the error, the multipliers carried as far
+//! as all [`MULTIPLIER_STEPS`] steps would take them (the check reads the conflict from them).
 //!
 //! Its answer is then checked against every condition of the exact-Coulomb step (each
 //! contact's Signorini condition, its friction within μ λ_n, a sliding contact's friction at
@@ -57,6 +60,11 @@ const SLACK: f64 = 1e-6;
 
 /// Back-substitutions of the method of multipliers within one factorisation.
 const MULTIPLIER_STEPS: usize = 10;
+
+/// A multiplier step that leaves the worst row error above this fraction of the last one's has
+/// met rows that cannot all hold (a converging step shrinks it ~ρ / m-fold): the next steps would
+/// only grow the multipliers along the conflict, whose signs the check reads.
+const STALL: f64 = 0.5;
 
 /// Refinement steps of each solve of the states' system ([`refined_solve`]).
 const REFINEMENTS: usize = 2;
@@ -406,24 +414,35 @@ impl World {
         }
         let mut lambda = start;
         let mut rhs = DVector::zeros(n);
+        let mut growth = DVector::zeros(lambda.len());
         let (mut u, mut residual) = (DVector::zeros(n), DVector::zeros(n));
-        let mut converged = false;
-        for _ in 0..MULTIPLIER_STEPS {
+        let (mut converged, mut last) = (false, f64::INFINITY);
+        for step in 1..=MULTIPLIER_STEPS {
             rhs.copy_from(&parts.free);
             for (((_, force), l), (q, r)) in sparse.iter().zip(lambda.iter()).zip(unknowns.iter().zip(&rho)) {
                 force.add_to(&mut rhs, l + r * q.target);
             }
             refined_solve(system, parts, (&sparse, &rho), &rhs, (&mut u, &mut residual));
             let mut worst = 0.0f64;
-            for (((row, _), l), (q, r)) in sparse.iter().zip(lambda.iter_mut()).zip(unknowns.iter().zip(&rho)) {
+            for ((((row, _), l), d), (q, r)) in
+                sparse.iter().zip(lambda.iter_mut()).zip(growth.iter_mut()).zip(unknowns.iter().zip(&rho))
+            {
                 let error = q.target - row.dot(&u);
-                *l += r * error;
+                *d = r * error;
+                *l += *d;
                 worst = worst.max(error.abs());
             }
             if worst <= tol.speed {
                 converged = true;
                 break;
             }
+            // Rows in conflict: the error stays and each step adds the same growth to the
+            // multipliers; the steps left would add it again.
+            if worst > STALL * last {
+                lambda.axpy((MULTIPLIER_STEPS - step) as f64, &growth, 1.0);
+                break;
+            }
+            last = worst;
         }
         rhs.copy_from(&parts.free);
         for ((_, force), l) in sparse.iter().zip(lambda.iter()) {
@@ -589,6 +608,45 @@ pub(super) fn state_after((normal, noise): (f64, f64), frame: &[Vector3; 3], sli
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::dynamics::{DropSettings, Engine};
+    use crate::geometry::{Mesh, Point3};
+    use crate::model::{Assembly, Block, Scene};
+
+    /// Invariant: rows that cannot all hold stop the method of multipliers once the error
+    /// stays ([`STALL`]), with the multipliers the [`MULTIPLIER_STEPS`] steps would give.
+    /// Two rows along one contact's normal asking for closing speeds 0 and t: their sum settles
+    /// in a step (the normal speed t / 2), and each step adds ρ t to their difference, so after
+    /// all the steps λ₁ − λ₂ = −MULTIPLIER_STEPS ρ t exactly (ρ = PENALTY / the row's compliance).
+    #[test]
+    fn rows_in_conflict_stop_with_the_multipliers_of_every_step() {
+        let cube = Mesh::cuboid(Point3::new(-0.5, -0.5, 0.0), Point3::new(0.5, 0.5, 1.0));
+        let mut scene = Scene::new("cube", vec![Block::new("cube", cube)]);
+        scene.ground = true;
+        let asm = Assembly::new(&scene, &Default::default()).expect("a valid scene");
+        let world = World::new(&asm, &DropSettings { engine: Engine::Exact, ..Default::default() });
+        let near = world.near_contacts();
+        assert!(!near.is_empty(), "the cube stands on the ground");
+        let (comp, local) = (vec![0], vec![0]);
+        let parts = Component::new(&world.bodies, &comp, &local, world.ctx.h);
+        let n = near[0].geometry.frame[0];
+        let t = 1e-3;
+        let unknowns = [0.0, t].map(|target| Unknown { contact: 0, force: n, row: n, target });
+        let mut system = world.states_pattern(&parts, &near).expect("one body's pattern");
+        let tol = Tolerances { speed: 1e-9, impulse: 1e-12 };
+        let start = DVector::zeros(2);
+        let (u, lambda, converged) =
+            world.solve_states(&parts, &near, (&unknowns, start), tol, &mut system).expect("a factorisation");
+        assert!(!converged);
+        let c = &world.contacts[near[0].contact];
+        let row = parts.sparse_row(c.a, c.b, &near[0].geometry.point, &n);
+        let rho = PENALTY / parts.compliance(&row);
+        let expected = -(MULTIPLIER_STEPS as f64) * rho * t;
+        let difference = lambda[0] - lambda[1];
+        assert!((difference - expected).abs() <= 1e-9 * expected.abs(), "λ₁ − λ₂ {difference:e}, {expected:e}");
+        // The sum's remainder after a step (~1e-7 of the free fall's g h) is carried along too.
+        let speed = row.dot(&u);
+        assert!((speed - 0.5 * t).abs() <= 1e-4 * t, "normal speed {speed:e} against t / 2");
+    }
 
     /// Invariant: on the polygons a friction direction exactly along a facet normal lies on that
     /// facet (its free direction across it), any other at the vertex whose cone holds it, at
