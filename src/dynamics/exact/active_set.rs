@@ -414,7 +414,6 @@ impl World {
         }
         let mut lambda = start;
         let mut rhs = DVector::zeros(n);
-        let mut growth = DVector::zeros(lambda.len());
         let (mut u, mut residual) = (DVector::zeros(n), DVector::zeros(n));
         let (mut converged, mut last) = (false, f64::INFINITY);
         for step in 1..=MULTIPLIER_STEPS {
@@ -424,12 +423,9 @@ impl World {
             }
             refined_solve(system, parts, (&sparse, &rho), &rhs, (&mut u, &mut residual));
             let mut worst = 0.0f64;
-            for ((((row, _), l), d), (q, r)) in
-                sparse.iter().zip(lambda.iter_mut()).zip(growth.iter_mut()).zip(unknowns.iter().zip(&rho))
-            {
+            for (((row, _), l), (q, r)) in sparse.iter().zip(lambda.iter_mut()).zip(unknowns.iter().zip(&rho)) {
                 let error = q.target - row.dot(&u);
-                *d = r * error;
-                *l += *d;
+                *l += r * error;
                 worst = worst.max(error.abs());
             }
             if worst <= tol.speed {
@@ -439,7 +435,10 @@ impl World {
             // Rows in conflict: the error stays and each step adds the same growth to the
             // multipliers; the steps left would add it again.
             if worst > STALL * last {
-                lambda.axpy((MULTIPLIER_STEPS - step) as f64, &growth, 1.0);
+                let left = (MULTIPLIER_STEPS - step) as f64;
+                for (((row, _), l), (q, r)) in sparse.iter().zip(lambda.iter_mut()).zip(unknowns.iter().zip(&rho)) {
+                    *l += left * (r * (q.target - row.dot(&u)));
+                }
                 break;
             }
             last = worst;
