@@ -24,9 +24,9 @@
 //! the set's point opposing its slip): where a state is wrong it is changed (a point pulling
 //! opens, one whose friction is beyond its set slides, a slide that reverses sticks, an open
 //! point closing sticks) and the step solved again, up to [`PASSES`] times: every change of
-//! the most basic kind at once, and once those changes cycle, one contact's a pass (the
-//! lowest-numbered, Murty's rule) for up to [`SINGLE_PASSES`] more. An answer that
-//! meets every condition is the rounds' fixed point (the same conditions; velocities unique
+//! the most basic kind at once, and once those changes cycle (states met before, a slide's
+//! angle to its round-off), one contact's a pass (the lowest-numbered, Murty's rule) for up to
+//! [`SINGLE_PASSES`] more. An answer that meets every condition is the rounds' fixed point (the same conditions; velocities unique
 //! where the forces are); otherwise the caller tries the states Gauss–Seidel gives
 //! ([`super::gauss_seidel`]), then one round's, then runs the rounds. Friction sets: the cone, and
 //! the regular polygons (box4, pyramid8: facets at unit distance, `model.facets()`).
@@ -150,6 +150,15 @@ fn slide_state(
     } else {
         State::Slide { angle: vertex + 0.5 * spacing * off.signum() }
     }
+}
+
+/// Whether two steps' contact states are the same, a slide's friction angle to [`ON_FACET`]
+/// (the round-off of a slip's direction): states met again within that are a cycle.
+fn alike(a: &[State], b: &[State]) -> bool {
+    a.iter().zip(b).all(|(x, y)| match (x, y) {
+        (State::Slide { angle: p }, State::Slide { angle: q }) => wrap(p - q).abs() <= ON_FACET,
+        _ => x == y,
+    })
 }
 
 /// The kinds of state a contact has taken within a step's passes.
@@ -315,7 +324,7 @@ impl World {
                 next
             };
             let mut next = apply(if single { &changes[..1] } else { &changes });
-            if seen.contains(&next) {
+            if seen.iter().any(|s| alike(s, &next)) {
                 // States met before: more passes of this rule would repeat them.
                 if single {
                     return None;
@@ -645,6 +654,18 @@ mod tests {
         // The sum's remainder after a step (~1e-7 of the free fall's g h) is carried along too.
         let speed = row.dot(&u);
         assert!((speed - 0.5 * t).abs() <= 1e-4 * t, "normal speed {speed:e} against t / 2");
+    }
+
+    /// Invariant: states met before are recognised whatever the round-off of a slide's angle
+    /// (within [`ON_FACET`], across ±π too), and only then: another angle or kind is new.
+    #[test]
+    fn states_alike_to_a_slides_round_off() {
+        let slide = |angle| State::Slide { angle };
+        let base = [State::Stick, slide(-PI / 2.0), State::Open];
+        assert!(alike(&base, &[State::Stick, slide(-PI / 2.0 - 3e-6), State::Open]));
+        assert!(alike(&[slide(PI - 1e-6)], &[slide(-PI + 1e-6)]));
+        assert!(!alike(&base, &[State::Stick, slide(-PI / 2.0 - 1e-4), State::Open]));
+        assert!(!alike(&base, &[State::Stick, slide(-PI / 2.0), State::Stick]));
     }
 
     /// Invariant: on the polygons a friction direction exactly along a facet normal lies on that
