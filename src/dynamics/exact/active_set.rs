@@ -26,10 +26,11 @@
 //! point closing sticks) and the step solved again, up to [`PASSES`] times: every change of
 //! the most basic kind at once, and once those changes cycle (states met before, a slide's
 //! angle to its round-off), one contact's a pass (the lowest-numbered, Murty's rule) for up to
-//! [`SINGLE_PASSES`] more. An answer that meets every condition is the rounds' fixed point (the same conditions; velocities unique
-//! where the forces are); otherwise the caller tries the states Gauss–Seidel gives
-//! ([`super::gauss_seidel`]), then one round's, then runs the rounds. Friction sets: the cone, and
-//! the regular polygons (box4, pyramid8: facets at unit distance, `model.facets()`).
+//! [`SINGLE_PASSES`] more. An answer that meets every condition is the rounds' fixed point (the
+//! same conditions; velocities unique where the forces are); otherwise the caller tries the
+//! states Gauss–Seidel gives ([`super::gauss_seidel`]), then one round's, then runs the rounds.
+//! Friction sets: the cone, and the regular polygons (box4, pyramid8: facets at unit distance,
+//! `model.facets()`).
 
 use super::World;
 use super::component::{Component, Sparse, relative_velocity};
