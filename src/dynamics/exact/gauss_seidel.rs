@@ -72,25 +72,25 @@ pub(super) struct Sweeps {
 
 /// One body's part of a contact point: its index in the component, the point's three rows
 /// (n, u, v) on it, and M⁻¹ times each.
-struct BodyPart {
-    body: usize,
-    rows: [Vector6<f64>; 3],
-    pushed: [Vector6<f64>; 3],
+pub(super) struct BodyPart {
+    pub(super) body: usize,
+    pub(super) rows: [Vector6<f64>; 3],
+    pub(super) pushed: [Vector6<f64>; 3],
 }
 
 /// One contact point: its three generalized rows (n, u, v) on at most two bodies, each body's
 /// M⁻¹ Hᵀ (6 × 3), its Delassus block, and the velocity offset of its rows.
-struct Point {
-    parts: Vec<BodyPart>,
+pub(super) struct Point {
+    pub(super) parts: Vec<BodyPart>,
     delassus: Matrix3<f64>,
-    bias: Vector3,
+    pub(super) bias: Vector3,
     /// The gap term within `bias`'s normal part, m/s: not a velocity of the blocks.
     gap_term: f64,
 }
 
 impl Point {
     /// H u + bias: the contact's velocity in its frame.
-    fn velocity(&self, u: &nalgebra::DVector<f64>) -> Vector3 {
+    pub(super) fn velocity(&self, u: &nalgebra::DVector<f64>) -> Vector3 {
         let mut v = self.bias;
         for part in &self.parts {
             let s = u.fixed_rows::<6>(6 * part.body);
@@ -177,7 +177,7 @@ impl World {
     }
 
     /// Contact `a`'s rows, pushes, Delassus block and velocity offset in component `parts`.
-    fn point(&self, parts: &Component, a: &Active) -> Point {
+    pub(super) fn point(&self, parts: &Component, a: &Active) -> Point {
         let c = &self.contacts[a.contact];
         let f = &a.geometry.frame;
         let rows = f.map(|d| parts.sparse_row(c.a, c.b, &a.geometry.point, &d));

@@ -77,6 +77,8 @@ mod contacts;
 mod crushing;
 mod gauss_seidel;
 mod impacts;
+mod lcp;
+mod pivoting;
 mod problem;
 mod projection;
 mod step;

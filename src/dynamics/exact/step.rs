@@ -283,9 +283,9 @@ impl World {
 
     /// Takes a moving component's step by its contacts' last states, else by the states and
     /// impulses nonsmooth Gauss–Seidel gives ([`super::gauss_seidel`]) or, where its sweeps
-    /// settled, by their answer, else by the states one Tresca round gives
-    /// ([`super::active_set`]); where none settles, that round (its problem and solve) for the
-    /// rounds to start from.
+    /// settled, by their answer, else by the states Lemke's pivoting gives ([`super::lcp`]),
+    /// else by the states one Tresca round gives ([`super::active_set`]); where none settles,
+    /// that round (its problem and solve) for the rounds to start from.
     fn step_taken_by_states(&mut self, comp: &[usize], local: &[usize], active: &[Active]) -> ByStates {
         let last = active.iter().map(|a| self.contacts[a.contact].state).collect();
         let mut round = None;
@@ -294,6 +294,12 @@ impl World {
             self.step_by_states(comp, local, active, (sweeps.states, Some(&sweeps.impulses))).or(sweeps.settled)
         }) {
             Some(sol) => Some(sol),
+            None if let Some(sol) = self
+                .states_by_lcp(comp, local, active)
+                .and_then(|(states, impulses)| self.step_by_states(comp, local, active, (states, Some(&impulses)))) =>
+            {
+                Some(sol)
+            }
             None => self.one_round(comp, local, active).and_then(|(states, impulses, p, out)| {
                 let sol = self.step_by_states(comp, local, active, (states, Some(&impulses)));
                 round = Some(Box::new((p, out)));
