@@ -34,11 +34,13 @@
 //! - A moving component's step is first taken by its contacts' last states (`active_set`):
 //!   open, sticking or sliding one way, the step is one linear system, solved by the method of
 //!   multipliers and checked against every exact-Coulomb condition; states that fail are changed
-//!   and the system solved again, a few times; where they do not settle, one Tresca round's
-//!   states are tried, then each later round's, before the next round. In smooth motion (a
-//!   block rocking between impacts, an arch's hinges turning) the states hold and a step costs
-//!   one small factorisation; impacts and new slips may need the rounds. Drops only: a
-//!   settlement's runs take the rounds' pick ([`ExactSettings::by_states`][crate::dynamics::settings::ExactSettings]).
+//!   and the system solved again, a few times; where they do not settle, the states
+//!   Gauss–Seidel's sweeps give or, where the sweeps settled, their answer (`gauss_seidel`),
+//!   then the states Lemke's pivoting on the step's LCP gives (`lcp`: a conflict the passes
+//!   cycle through), then one Tresca round's, then each later round's before the next round.
+//!   In smooth motion (a block rocking between impacts, an arch's hinges turning) the states
+//!   hold and a step costs one small factorisation; impacts and new slips may need the rounds.
+//!   Drops only: a settlement's runs take the rounds' pick ([`ExactSettings::by_states`][crate::dynamics::settings::ExactSettings]).
 //! - A component touching nothing falls freely: M v⁺ = M v + h w, no solve.
 //! - A component whose step leaves every vertex slower than `still` × g h is set at rest; one
 //!   at rest whose step leaves it at rest sleeps — the next steps would repeat the same problem
