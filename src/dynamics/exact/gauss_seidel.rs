@@ -83,7 +83,7 @@ pub(super) struct BodyPart {
 pub(super) struct Point {
     pub(super) parts: Vec<BodyPart>,
     delassus: Matrix3<f64>,
-    pub(super) bias: Vector3,
+    bias: Vector3,
     /// The gap term within `bias`'s normal part, m/s: not a velocity of the blocks.
     gap_term: f64,
 }

@@ -33,7 +33,7 @@ const UP_TO: usize = 16;
 /// Pivots allowed, per LCP variable.
 const PIVOTS_PER_VARIABLE: usize = 4;
 
-/// An LCP variable below this fraction of the largest is zero.
+/// An impulse below this fraction of the largest is zero.
 const ZERO: f64 = 1e-9;
 
 impl World {
@@ -63,8 +63,11 @@ impl World {
         let g = impulse_columns(k);
         let (m, q) = complementarity(&points, &velocities, &taken, &g, self.ctx.mu);
         let z = super::pivoting::lemke(&m, &q, PIVOTS_PER_VARIABLE * q.len())?;
-        let tiny = ZERO * z.iter().fold(0.0f64, |s, v| s.max(*v)).max(f64::MIN_POSITIVE);
         let per = k + 2;
+        // Impulses (N·s) against the largest; slip speeds (m/s) against the rest criterion's,
+        // as a step's end reads a slip ([`super::active_set::state_after`]).
+        let largest = z.chunks(per).flat_map(|zi| &zi[..=k]).fold(0.0f64, |s, v| s.max(*v));
+        let (tiny, slow) = (ZERO * largest.max(f64::MIN_POSITIVE), self.settings.still * self.ctx.units.g * h);
         let mut out = (vec![State::Open; active.len()], vec![Vector3::zeros(); active.len()]);
         for (i, &c) in taken.iter().enumerate() {
             let zi = &z[i * per..(i + 1) * per];
@@ -73,7 +76,7 @@ impl World {
             out.1[c] = f[0] * r.x + f[1] * r.y + f[2] * r.z;
             out.0[c] = if zi[0] <= tiny {
                 State::Open
-            } else if zi[k + 1] <= tiny {
+            } else if zi[k + 1] <= slow {
                 State::Stick
             } else {
                 State::Slide { angle: slide_angle(&zi[1..=k], tiny) }
