@@ -633,7 +633,7 @@ mod tests {
         scene.ground = true;
         let asm = Assembly::new(&scene, &Default::default()).expect("a valid scene");
         let world = World::new(&asm, &DropSettings { engine: Engine::Exact, ..Default::default() });
-        let near = world.near_contacts();
+        let near = world.near_contacts(&[]);
         assert!(!near.is_empty(), "the cube stands on the ground");
         let (comp, local) = (vec![0], vec![0]);
         let parts = Component::new(&world.bodies, &comp, &local, world.ctx.h);

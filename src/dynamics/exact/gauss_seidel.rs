@@ -356,7 +356,7 @@ mod tests {
         let mut checked = 0;
         for _ in 0..240 {
             world.step();
-            let near = world.near_contacts();
+            let near = world.near_contacts(&[]);
             for comp in world.components(&near) {
                 let mut local = vec![usize::MAX; world.bodies.len()];
                 comp.iter().enumerate().for_each(|(j, &k)| local[k] = j);

@@ -189,7 +189,7 @@ mod tests {
     fn a_cube_rests_and_slides_with_coulomb_friction() {
         for v0 in [0.0, 1.0] {
             let mut world = cube_on_the_ground();
-            let near = world.near_contacts();
+            let near = world.near_contacts(&[]);
             assert_eq!(near.len(), 4, "the cube's four bottom corners on the ground");
             world.bodies[0].v = Vector3::x() * v0;
             let (comp, local) = (vec![0], vec![0]);

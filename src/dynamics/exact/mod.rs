@@ -378,8 +378,8 @@ impl World {
             }
         }
         self.reactions.iter_mut().for_each(|r| *r = [Vector3::zeros(); 2]);
-        self.find_touches();
-        let near = self.near_contacts();
+        let known = self.find_touches();
+        let near = self.near_contacts(&known);
         for comp in self.components(&near) {
             if comp.iter().all(|&k| self.bodies[k].asleep) {
                 self.stats.sleeping_steps += 1;
@@ -548,7 +548,8 @@ impl World {
     /// or closing it within two steps. With their geometry now. Those of the awake bodies, and
     /// through them of every sleeping body they reach (a support that moves the end of a
     /// sleeping chain moves the whole chain), in the contacts' order.
-    fn near_contacts(&self) -> Vec<Active> {
+    /// Contact i's [`Self::near`] is `known[i]` where that holds one (read at the same poses).
+    fn near_contacts(&self, known: &[Option<Option<Active>>]) -> Vec<Active> {
         let mut reached: Vec<bool> = self.bodies.iter().map(|b| !b.asleep).collect();
         let mut seen = vec![false; self.contacts.len()];
         let mut out = Vec::new();
@@ -560,7 +561,7 @@ impl World {
                     continue;
                 }
                 seen[i] = true;
-                if let Some(active) = self.near(i, c) {
+                if let Some(active) = known.get(i).copied().flatten().unwrap_or_else(|| self.near(i, c)) {
                     out.push(active);
                     for k in free.into_iter().flatten() {
                         grew |= !reached[k];

@@ -200,7 +200,7 @@ mod tests {
     fn problem(world: &World) -> (Vec<Body>, Vec<Active>, f64) {
         let still =
             world.bodies.iter().map(|b| Body { v: Vector3::zeros(), w: Vector3::zeros(), load: [0.0; 6], ..b.clone() });
-        let near = world.near_contacts();
+        let near = world.near_contacts(&[]);
         let active = near.iter().map(|a| Active { prescribed: Vector3::zeros(), capacity: 0.0, ..*a }).collect();
         (still.collect(), active, world.ctx.units.time())
     }

@@ -20,6 +20,7 @@
 
 use super::World;
 use super::contacts::{Contact, Origin, Side, TouchVertex};
+use super::problem::Active;
 use crate::geometry::polygon::Frame;
 use crate::geometry::{Point3, Vector3};
 use crate::interfaces::penetration::{convex_shapes, hull_shape, v32};
@@ -147,18 +148,20 @@ impl World {
     }
 
     /// Drops the last step's touches and finds this step's (module docs), each starting from
-    /// the force and state its point had in the last step, where it was found there too.
-    pub(super) fn find_touches(&mut self) {
+    /// the force and state its point had in the last step, where it was found there too. Returns
+    /// the persistent contacts' [`World::near`] it read (by contact, None where not read), for
+    /// the step's near contacts to take up.
+    pub(super) fn find_touches(&mut self) -> Vec<Option<Option<Active>>> {
         let last: Vec<Contact> = self.contacts.drain(self.persistent..).collect();
         let envelope = self.settings.envelope;
         let candidates = self.touch_candidates(envelope);
         if candidates.is_empty() {
-            return;
+            return Vec::new();
         }
         let mut last: Vec<(([usize; 2], Origin), &Contact)> =
             last.iter().filter_map(|c| Some(((c.pair?, c.origin), c))).collect();
         last.sort_unstable_by_key(|(k, _)| *k);
-        let held = self.held_pairs(&candidates);
+        let (held, known) = self.held_pairs(&candidates);
         let mut found = Vec::new();
         for &[i, j] in candidates.iter().filter(|p| held.binary_search(p).is_err()) {
             let (pi, pj) = (self.placed(i), self.placed(j));
@@ -184,6 +187,7 @@ impl World {
             }
         }
         self.contacts.extend(found);
+        known
     }
 
     /// The pairs of blocks (ascending) one of which is awake and has moved by more than
@@ -195,32 +199,32 @@ impl World {
             !self.interfaced[b.block]
                 || (b.x - b.start).norm() + b.q.angle() * b.radius > envelope * self.solids.size(b.block)
         };
-        let mut pairs = Vec::new();
+        let blocks = self.solids.centres.len();
+        let mut moving = vec![false; blocks];
         let movers = self.bodies.iter().filter(|b| !b.asleep).chain(&self.movers);
-        for b in movers.filter(|b| moved(b)) {
-            for j in (0..self.solids.centres.len()).filter(|&j| j != b.block) {
-                pairs.push([b.block.min(j), b.block.max(j)]);
-            }
-        }
-        pairs.sort_unstable();
-        pairs.dedup();
-        pairs
+        movers.filter(|b| moved(b)).for_each(|b| moving[b.block] = true);
+        pairs_with(&moving)
     }
 
     /// Those of `candidates` an interface contact holds this step: one not released and within
-    /// the envelope (or closing it), as the step's persistent contacts are chosen.
-    fn held_pairs(&self, candidates: &[[usize; 2]]) -> Vec<[usize; 2]> {
-        let mut held: Vec<[usize; 2]> = self
-            .contacts
-            .iter()
-            .enumerate()
-            .filter(|(_, c)| matches!(c.origin, Origin::Interface { .. }))
-            .filter(|(_, c)| c.pair.is_some_and(|p| candidates.binary_search(&p).is_ok()))
-            .filter_map(|(i, c)| self.near(i, c).and(c.pair))
-            .collect();
+    /// the envelope (or closing it), as the step's persistent contacts are chosen; and the
+    /// [`World::near`] of each contact read for it (by contact, None where not read).
+    fn held_pairs(&self, candidates: &[[usize; 2]]) -> (Vec<[usize; 2]>, Vec<Option<Option<Active>>>) {
+        let mut known = vec![None; self.contacts.len()];
+        let mut held = Vec::new();
+        for (i, c) in self.contacts.iter().enumerate() {
+            let Some(pair) = c.pair.filter(|p| candidates.binary_search(p).is_ok()) else { continue };
+            if matches!(c.origin, Origin::Interface { .. }) {
+                let near = self.near(i, c);
+                known[i] = Some(near);
+                if near.is_some() {
+                    held.push(pair);
+                }
+            }
+        }
         held.sort_unstable();
         held.dedup();
-        held
+        (held, known)
     }
 
     pub(super) fn placed(&self, i: usize) -> Placed {
@@ -271,6 +275,22 @@ impl World {
             }
         }
     }
+}
+
+/// The pairs of blocks (ascending) at least one of which is `moving`, without a sort: a moving
+/// block pairs with every later block, a still one with the later moving ones.
+fn pairs_with(moving: &[bool]) -> Vec<[usize; 2]> {
+    let blocks = moving.len();
+    let list: Vec<usize> = (0..blocks).filter(|&k| moving[k]).collect();
+    let mut pairs = Vec::new();
+    for i in 0..blocks {
+        if moving[i] {
+            pairs.extend((i + 1..blocks).map(|j| [i, j]));
+        } else {
+            pairs.extend(list[list.partition_point(|&j| j <= i)..].iter().map(|&j| [i, j]));
+        }
+    }
+    pairs
 }
 
 /// Block j's pose in block i's frame (shape units of `unit` m): for parry (f32) and in f64.
@@ -460,6 +480,15 @@ mod tests {
     }
 
     proptest! {
+        /// Invariant: the candidate pairs are every pair i < j with a moving block, ascending.
+        #[test]
+        fn candidate_pairs_are_every_pair_with_a_mover(moving in prop::collection::vec(any::<bool>(), 0..40)) {
+            let n = moving.len();
+            let every: Vec<[usize; 2]> =
+                (0..n).flat_map(|i| (i + 1..n).map(move |j| [i, j])).filter(|[i, j]| moving[*i] || moving[*j]).collect();
+            prop_assert_eq!(pairs_with(&moving), every);
+        }
+
         #[test]
         fn a_pair_apart_has_no_touch(
             ha in prop::array::uniform3(0.05f64..1.0),
