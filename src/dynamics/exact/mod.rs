@@ -548,6 +548,7 @@ impl World {
     /// or closing it within two steps. With their geometry now. Those of the awake bodies, and
     /// through them of every sleeping body they reach (a support that moves the end of a
     /// sleeping chain moves the whole chain), in the contacts' order.
+    ///
     /// Contact i's [`Self::near`] is `known[i]` where that holds one (read at the same poses).
     fn near_contacts(&self, known: &[Option<Option<Active>>]) -> Vec<Active> {
         let mut reached: Vec<bool> = self.bodies.iter().map(|b| !b.asleep).collect();

@@ -102,17 +102,18 @@ mod tests {
     //! Invariant: where Lemke's pivots end at a solution it is one: z ≥ 0, w = M z + q ≥ 0 and
     //! wᵀz = 0 to round-off, on random positive definite M (always solvable: Lemke ends there).
     use super::*;
+    use proptest::prelude::*;
 
-    fn lcg(seed: &mut u64) -> f64 {
-        *seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-        ((*seed >> 11) as f64 / (1u64 << 53) as f64) - 0.5
+    /// n, an n × n matrix A (row-major) and q, entries uniform.
+    fn problem() -> impl Strategy<Value = (usize, Vec<f64>, Vec<f64>)> {
+        (1usize..=30).prop_flat_map(|n| {
+            (Just(n), prop::collection::vec(-0.5f64..0.5, n * n), prop::collection::vec(-2.0f64..2.0, n))
+        })
     }
 
-    #[test]
-    fn solves_random_positive_definite_lcps() {
-        let mut seed = 7u64;
-        for n in [1, 2, 5, 12, 30] {
-            let a: Vec<f64> = (0..n * n).map(|_| lcg(&mut seed)).collect();
+    proptest! {
+        #[test]
+        fn solves_random_positive_definite_lcps((n, a, q) in problem()) {
             // M = A Aᵀ + I/10 + a skew part: positive definite, not symmetric.
             let m: Vec<f64> = (0..n * n)
                 .map(|k| {
@@ -121,12 +122,13 @@ mod tests {
                     sym + if i == j { 0.1 } else { 0.3 * (a[i * n + j] - a[j * n + i]) }
                 })
                 .collect();
-            let q: Vec<f64> = (0..n).map(|_| lcg(&mut seed) * 4.0).collect();
-            let z = lemke(&m, &q, 10 * n + 10).expect("a positive definite LCP has a solution");
+            let z = lemke(&m, &q, 10 * n + 10);
+            prop_assert!(z.is_some(), "a positive definite LCP has a solution");
+            let z = z.unwrap_or_default();
             for i in 0..n {
                 let w: f64 = (0..n).map(|j| m[i * n + j] * z[j]).sum::<f64>() + q[i];
-                assert!(z[i] >= 0.0 && w >= -1e-10, "n {n}: z {} w {w}", z[i]);
-                assert!((z[i] * w).abs() <= 1e-10, "n {n}: z {} w {w}", z[i]);
+                prop_assert!(z[i] >= 0.0 && w >= -1e-10, "n {}: z {} w {}", n, z[i], w);
+                prop_assert!((z[i] * w).abs() <= 1e-10, "n {}: z {} w {}", n, z[i], w);
             }
         }
     }

@@ -289,23 +289,22 @@ impl World {
     fn step_taken_by_states(&mut self, comp: &[usize], local: &[usize], active: &[Active]) -> ByStates {
         let last = active.iter().map(|a| self.contacts[a.contact].state).collect();
         let mut round = None;
-        let by_states = match self.step_by_states(comp, local, active, (last, None)).or_else(|| {
-            let sweeps = self.states_by_gauss_seidel(comp, local, active)?;
-            self.step_by_states(comp, local, active, (sweeps.states, Some(&sweeps.impulses))).or(sweeps.settled)
-        }) {
-            Some(sol) => Some(sol),
-            None if let Some(sol) = self
-                .states_by_lcp(comp, local, active)
-                .and_then(|(states, impulses)| self.step_by_states(comp, local, active, (states, Some(&impulses)))) =>
-            {
-                Some(sol)
-            }
-            None => self.one_round(comp, local, active).and_then(|(states, impulses, p, out)| {
+        let by_states = self
+            .step_by_states(comp, local, active, (last, None))
+            .or_else(|| {
+                let sweeps = self.states_by_gauss_seidel(comp, local, active)?;
+                self.step_by_states(comp, local, active, (sweeps.states, Some(&sweeps.impulses))).or(sweeps.settled)
+            })
+            .or_else(|| {
+                let (states, impulses) = self.states_by_lcp(comp, local, active)?;
+                self.step_by_states(comp, local, active, (states, Some(&impulses)))
+            })
+            .or_else(|| {
+                let (states, impulses, p, out) = self.one_round(comp, local, active)?;
                 let sol = self.step_by_states(comp, local, active, (states, Some(&impulses)));
                 round = Some(Box::new((p, out)));
                 sol
-            }),
-        };
+            });
         let Some(sol) = by_states else { return ByStates::Rounds(round) };
         self.accept_by_states(comp, active, sol);
         ByStates::Taken
